@@ -1,0 +1,81 @@
+// vrpd: maximal Poisson-disk sampling on Vulkan compute, with CPU backends that give the same points.
+// Implements section 1 of Mitchell, Rand, Ebeida, Bajaj, "Variable Radii Poisson-Disk Sampling".
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <glm/vec2.hpp>
+
+namespace vrpd {
+
+// Every failure the library reports: a one-line reason, never a print or an exit.
+class Error : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+enum class Boundary { Periodic, Free };
+enum class Backend { Gpu, Cpu, Serial };
+
+// The axis-aligned box [0, width) x [0, height): a torus (the paper's setting) or a free boundary,
+// where samples lie inside the box, coverage is required inside it and distance is Euclidean.
+struct Box {
+    double width = 1.0;
+    double height = 1.0;
+    Boundary boundary = Boundary::Periodic;
+};
+
+struct SampleOptions {
+    double radius = 0.0;         // inhibition = coverage radius r
+    Box box;
+    std::uint32_t seed = 0;
+    Backend backend = Backend::Gpu;
+    std::string device;          // Vulkan device by index or name substring; empty: $VRPD_DEVICE, else the best
+};
+
+struct SamplingStats {
+    std::uint32_t levels = 0;    // flat-quadtree levels visited (0 = base cells)
+    std::uint32_t rounds = 0;    // dart rounds thrown
+    std::uint64_t darts = 0;     // darts thrown in all rounds
+    double seconds = 0.0;        // wall time of the sampling, setup and read-back included
+};
+
+// A maximal sampling. Samples lie on an integer lattice of spacing `quantum` (exact predicates on
+// every device); points are in acceptance order, the order of the paper's sequence x_1..x_n.
+struct Sampling {
+    std::vector<glm::uvec2> lattice;  // sample i is at lattice[i] * quantum
+    double quantum = 0.0;
+    double radius = 0.0;
+    Box box;
+    std::string device;
+    SamplingStats stats;
+
+    std::size_t size() const { return lattice.size(); }
+    glm::dvec2 point(std::size_t i) const {
+        return {double(lattice[i].x) * quantum, double(lattice[i].y) * quantum};
+    }
+};
+
+Sampling sample(const SampleOptions& options);
+
+// Checks the options (radius, box) and throws Error with the reason if they cannot be sampled.
+void validate(const SampleOptions& options);
+
+struct DeviceInfo {
+    std::uint32_t index;
+    std::string name;
+    std::string type;            // "discrete", "integrated", "virtual", "cpu", "other"
+    std::string driver;
+    bool usable;                 // has what vrpd needs (Vulkan 1.2, int64, buffer device address)
+};
+
+// The Vulkan devices on this machine; throws Error when no Vulkan loader or driver is present.
+std::vector<DeviceInfo> list_devices();
+
+const char* version();
+
+}  // namespace vrpd

@@ -1,0 +1,96 @@
+// The sampling schedule (paper section 1; flat quadtree of Ebeida et al. 2012): rounds of darts
+// per level, refinement of the cells still active, until no cell is active, i.e. the sampling is
+// maximal. Each round's samples are put in arrival order, giving the sequence x_1..x_n.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <numeric>
+
+#include <fmt/format.h>
+
+#include "engine.h"
+
+namespace vrpd {
+namespace {
+
+using detail::Engine;
+using detail::Plan;
+
+struct LevelSchedule {
+    double lambda;           // Poisson mean of darts per active cell per round
+    std::uint32_t rounds;    // rounds before the active cells are refined
+};
+
+// Chosen by measuring darts and time per sample with `vrpd bench` (see README).
+LevelSchedule schedule_for(std::uint32_t level) {
+    return level == 0 ? LevelSchedule{1.0, 2} : LevelSchedule{1.0, 1};
+}
+
+constexpr std::uint32_t kMaxRounds = 100000;  // far above any run (a few dozen); a bug guard, not a limit
+
+std::uint32_t exp_neg(double lambda) { return std::uint32_t(std::floor(std::exp(-lambda) * 4294967296.0)); }
+
+std::unique_ptr<Engine> make_engine(const SampleOptions& o, const Plan& plan) {
+    switch (o.backend) {
+    case Backend::Gpu: return detail::make_vulkan_engine(plan, o.device);
+    case Backend::Cpu: return detail::make_host_engine(plan, detail::Resolution::Parallel);
+    case Backend::Serial: return detail::make_host_engine(plan, detail::Resolution::Serial);
+    }
+    throw Error("unknown backend");
+}
+
+}  // namespace
+
+Sampling sample(const SampleOptions& options) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const Plan plan = detail::make_plan(options);
+    const std::uint64_t need = detail::estimated_bytes(plan);
+    const std::uint64_t have = detail::host_memory_bytes();
+    if (need > have / 10 * 8)
+        throw Error(fmt::format("radius {} needs about {:.1f} GiB ({} base cells); this machine has {:.1f} GiB",
+                                options.radius, double(need) / (1 << 30), plan.base_cells, double(have) / (1 << 30)));
+
+    std::unique_ptr<Engine> engine = make_engine(options, plan);
+    Sampling result;
+    std::vector<std::uint64_t> per_round;
+    std::uint64_t active = engine->start();
+    std::uint32_t level = 0, round = 0;
+    while (active > 0) {
+        const LevelSchedule s = schedule_for(level);
+        const std::uint32_t side = 1u << (plan.deepest_level - level);
+        for (std::uint32_t r = 0; r < s.rounds && active > 0; ++r) {
+            if (round >= kMaxRounds) throw Error(fmt::format("internal: not maximal after {} rounds", round));
+            const bool refine = r + 1 == s.rounds && level < plan.deepest_level;
+            const detail::RoundResult rr = engine->round({round++, side, exp_neg(s.lambda), refine});
+            per_round.push_back(rr.accepted);
+            result.stats.darts += rr.darts;
+            active = rr.active;
+            if (refine) ++level;
+        }
+    }
+
+    detail::Emitted out = engine->samples();
+    // Each round's samples come in spatial order; their arrival order is (key, spatial index).
+    result.lattice.resize(out.lattice.size());
+    std::vector<std::uint32_t> order;
+    std::size_t begin = 0;
+    for (std::uint64_t count : per_round) {
+        order.resize(count);
+        std::iota(order.begin(), order.end(), std::uint32_t(begin));
+        std::stable_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return out.keys[a] < out.keys[b]; });
+        for (std::size_t i = 0; i < count; ++i) result.lattice[begin + i] = out.lattice[order[i]];
+        begin += count;
+    }
+    result.quantum = plan.quantum;
+    result.radius = options.radius;
+    result.box = options.box;
+    result.device = engine->device_name();
+    result.stats.levels = level + 1;
+    result.stats.rounds = round;
+    result.stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return result;
+}
+
+const char* version() { return "0.1.0"; }
+
+}  // namespace vrpd

@@ -1,0 +1,50 @@
+// The interface between the sampling schedule (driver.cpp) and the machines that run its rounds:
+// the Vulkan engine and the host engines (parallel `cpu`, one-dart-at-a-time `serial`).
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "plan.h"
+
+namespace vrpd::detail {
+
+struct RoundSpec {
+    std::uint32_t round;           // global round number, keys the RNG
+    std::uint32_t side;            // side of the active cells, in lattice units
+    std::uint32_t exp_neg_lambda;  // Poisson mean of darts per active cell, as exp(-lambda) * 2^32
+    bool refine;                   // after the round, split surviving cells into 4 children
+};
+
+struct RoundResult {
+    std::uint64_t darts;           // thrown this round
+    std::uint64_t accepted;
+    std::uint64_t active;          // active cells for the next round
+};
+
+// The samples of a run in emission order: within a round in spatial order, with arrival keys
+// so that the driver can put each round in arrival order.
+struct Emitted {
+    std::vector<glm::uvec2> lattice;
+    std::vector<std::uint32_t> keys;
+};
+
+class Engine {
+public:
+    virtual ~Engine() = default;
+    virtual std::string device_name() const = 0;
+    // The first active list: every base cell (side 2^cell_bits). Returns the active count.
+    virtual std::uint64_t start() = 0;
+    // One round: throw darts into the active cells, resolve them in arrival order, commit the
+    // accepted, and keep (or refine) the cells still active.
+    virtual RoundResult round(const RoundSpec& spec) = 0;
+    virtual Emitted samples() = 0;
+};
+
+enum class Resolution { Parallel, Serial };
+std::unique_ptr<Engine> make_host_engine(const Plan& plan, Resolution resolution);
+std::unique_ptr<Engine> make_vulkan_engine(const Plan& plan, const std::string& device);
+
+}  // namespace vrpd::detail

@@ -1,0 +1,169 @@
+// The host engines: `cpu` runs the GPU's kernel bodies (shaders/shared/sampler.h) over a thread
+// pool with the same parallel arrival-order resolution; `serial` accepts the same darts one at a
+// time in arrival order, the textbook definition of the process, kept simple as the oracle.
+#include <algorithm>
+#include <numeric>
+
+#include <fmt/format.h>
+
+#include "engine.h"
+#include "shared/sampler.h"
+#include "thread_pool.h"
+
+namespace vrpd::detail {
+namespace {
+
+using namespace shared;
+
+class HostEngine final : public Engine {
+public:
+    HostEngine(const Plan& plan, Resolution resolution) : plan_(plan), resolution_(resolution) {}
+
+    std::string device_name() const override {
+        return resolution_ == Resolution::Serial ? "serial (host, one dart at a time)"
+                                                 : fmt::format("cpu (host, {} threads)", pool_.size());
+    }
+
+    std::uint64_t start() override {
+        const Domain& d = plan_.domain;
+        grid_.assign(plan_.base_cells, uvec2(GRID_EMPTY, GRID_EMPTY));
+        cells_.resize(plan_.base_cells);
+        for (uint y = 0; y < d.cells_y; ++y)
+            for (uint x = 0; x < d.cells_x; ++x)
+                cells_[std::size_t(y) * d.cells_x + x] = uvec2(x << d.cell_bits, y << d.cell_bits);
+        return cells_.size();
+    }
+
+    RoundResult round(const RoundSpec& spec) override {
+        const Domain dom = plan_.domain;
+        const uint n = uint(cells_.size());
+        CellArgs args{dom, 0, 0, 0, 0, 0, n, spec.round, spec.side, spec.exp_neg_lambda};
+
+        scan_.resize(std::size_t(n) + 1);
+        pool_.parallel_for(n, [&](std::size_t b, std::size_t e, unsigned) {
+            for (std::size_t i = b; i < e; ++i)
+                scan_[i] = dart_count(cell_stream(dom.seed, spec.round, cells_[i]), spec.exp_neg_lambda);
+        });
+        const std::uint64_t total = exclusive_scan(n);
+        if (total >= GRID_TAG) throw Error("a round would throw more than 2^31 darts");
+        darts_.resize(total);
+        pool_.parallel_for(n, [&](std::size_t b, std::size_t e, unsigned) {
+            for (std::size_t i = b; i < e; ++i) throw_cell(args, cells(), scan(), darts(), grid(), uint(i));
+        });
+
+        resolve(uint(total));
+
+        // Commit: grid words become samples or empty again; scan_ flags the accepted darts.
+        scan_.resize(total);
+        pool_.parallel_for(n, [&](std::size_t b, std::size_t e, unsigned) {
+            for (std::size_t i = b; i < e; ++i)
+                if (first_in_base_cell(dom, cells(), uint(i)))
+                    commit_base_cell(grid(), darts(), scan(), base_of_point(dom, cells_[i]));
+        });
+        std::uint64_t accepted = 0;
+        for (std::size_t j = 0; j < total; ++j) {
+            if (!scan_[j]) continue;
+            out_.lattice.emplace_back(darts_[j].x, darts_[j].y);
+            out_.keys.push_back(darts_[j].z);
+            ++accepted;
+        }
+
+        refine(spec);
+        return {total, accepted, cells_.size()};
+    }
+
+    Emitted samples() override { return std::move(out_); }
+
+private:
+    Cells cells() { return {cells_.data()}; }
+    Darts darts() { return {darts_.data()}; }
+    Grid grid() { return {grid_.data()}; }
+    Uints scan() { return {scan_.data()}; }
+
+    // Exclusive prefix sum of scan_[0, n) in place; scan_[n] becomes the total.
+    std::uint64_t exclusive_scan(uint n) {
+        std::uint64_t sum = 0;
+        for (uint i = 0; i < n; ++i) {
+            uint v = scan_[i];
+            scan_[i] = uint(sum);
+            sum += v;
+        }
+        scan_[n] = uint(sum);
+        return sum;
+    }
+
+    void resolve(uint total) {
+        const Domain dom = plan_.domain;
+        std::vector<std::vector<uint>> undecided(pool_.size());
+        pool_.parallel_for(total, [&](std::size_t b, std::size_t e, unsigned w) {
+            for (std::size_t j = b; j < e; ++j) {
+                darts_[j].w = filter_dart(dom, grid(), darts_[j]);
+                if (darts_[j].w == DART_UNDECIDED) undecided[w].push_back(uint(j));
+            }
+        });
+        std::vector<uint> work;
+        for (auto& u : undecided) work.insert(work.end(), u.begin(), u.end());
+
+        if (resolution_ == Resolution::Serial) {
+            std::sort(work.begin(), work.end(), [&](uint a, uint b) {
+                return arrives_before(darts_[a].z, a, darts_[b].z, b);
+            });
+            for (uint d : work)
+                darts_[d].w = covered_by_accepted_dart(dom, grid(), darts(), d) ? DART_REJECTED : DART_ACCEPTED;
+            return;
+        }
+        // Jacobi passes: every step reads the states of the previous pass, so threads never race.
+        std::vector<uint> decision;
+        while (!work.empty()) {
+            decision.resize(work.size());
+            pool_.parallel_for(work.size(), [&](std::size_t b, std::size_t e, unsigned) {
+                for (std::size_t i = b; i < e; ++i) decision[i] = resolve_dart(dom, grid(), darts(), work[i]);
+            });
+            std::size_t kept = 0;
+            for (std::size_t i = 0; i < work.size(); ++i) {
+                darts_[work[i]].w = decision[i];
+                if (decision[i] == DART_UNDECIDED) work[kept++] = work[i];
+            }
+            work.resize(kept);
+        }
+    }
+
+    void refine(const RoundSpec& spec) {
+        const Domain dom = plan_.domain;
+        const uint fanout = spec.refine ? 4u : 1u;
+        const uint side = spec.refine ? spec.side / 2u : spec.side;
+        const std::size_t slots = cells_.size() * fanout;
+        if (slots >= GRID_TAG) throw Error("more than 2^31 active cells");
+        scan_.resize(slots + 1);
+        pool_.parallel_for(cells_.size(), [&](std::size_t b, std::size_t e, unsigned) {
+            for (std::size_t i = b; i < e; ++i)
+                for (uint c = 0; c < fanout; ++c)
+                    scan_[i * fanout + c] = cell_survives(dom, grid(), child_corner(cells_[i], side, c), side) ? 1u : 0u;
+        });
+        const std::uint64_t kept = exclusive_scan(uint(slots));
+        next_.resize(kept);
+        pool_.parallel_for(slots, [&](std::size_t b, std::size_t e, unsigned) {
+            for (std::size_t s = b; s < e; ++s)
+                if (scan_[s + 1] != scan_[s]) next_[scan_[s]] = child_corner(cells_[s / fanout], side, uint(s % fanout));
+        });
+        cells_.swap(next_);
+    }
+
+    Plan plan_;
+    Resolution resolution_;
+    ThreadPool pool_;
+    std::vector<uvec2> grid_;
+    std::vector<uvec2> cells_;
+    std::vector<uvec2> next_;
+    std::vector<uvec4> darts_;
+    std::vector<uint> scan_;
+    Emitted out_;
+};
+
+}  // namespace
+
+std::unique_ptr<Engine> make_host_engine(const Plan& plan, Resolution resolution) {
+    return std::make_unique<HostEngine>(plan, resolution);
+}
+
+}  // namespace vrpd::detail

@@ -1,0 +1,115 @@
+// Lattice and base-grid planning (see plan.h). The lattice is isotropic, so squared distances in
+// lattice units are exact integers; base cells have a diagonal shorter than r (paper section 1).
+#include "plan.h"
+
+#include <cmath>
+#include <unistd.h>
+
+#include <fmt/format.h>
+
+namespace vrpd::detail {
+namespace {
+
+constexpr std::uint32_t kLatticeLimit = 0x7FFFFFFFu;  // coordinates stay below 2^31 (grid tag bit)
+constexpr std::uint32_t kMinCellBits = 10;            // >= 1024 lattice steps per base cell side
+
+bool finite_positive(double v) { return std::isfinite(v) && v > 0.0; }
+
+// A periodic box must be tiled exactly by square base cells: W = nx s and H = ny s.
+bool periodic_tiling(double width, double height, double max_side, std::uint64_t& nx, std::uint64_t& ny) {
+    std::uint64_t first = std::uint64_t(std::ceil(width / max_side));
+    for (std::uint64_t n = first; n < first + 100000; ++n) {
+        double side = width / double(n);
+        double rows = height / side;
+        double whole = std::round(rows);
+        if (whole >= 1.0 && std::abs(rows - whole) <= 1e-9 * rows && height / whole <= max_side) {
+            nx = n;
+            ny = std::uint64_t(whole);
+            return true;
+        }
+    }
+    return false;
+}
+
+}  // namespace
+}  // namespace vrpd::detail
+
+namespace vrpd {
+void validate(const SampleOptions& o) {
+    if (!std::isfinite(o.radius)) throw Error("radius must be a finite number");
+    if (o.radius <= 0.0) throw Error(fmt::format("radius must be > 0 (got {})", o.radius));
+    if (!detail::finite_positive(o.box.width) || !detail::finite_positive(o.box.height))
+        throw Error(fmt::format("extent must be two finite numbers > 0 (got {},{})", o.box.width, o.box.height));
+    double short_side = std::min(o.box.width, o.box.height);
+    if (o.box.boundary == Boundary::Periodic && o.radius >= short_side / 2.0)
+        throw Error(fmt::format("radius {} is too large for a periodic box of {} x {}: it must be < {} (half the shorter side)",
+                                o.radius, o.box.width, o.box.height, short_side / 2.0));
+}
+}  // namespace vrpd
+
+namespace vrpd::detail {
+
+Plan make_plan(const SampleOptions& o) {
+    validate(o);
+    const double r = o.radius;
+    const double max_side = r / std::sqrt(2.0);
+    std::uint64_t nx = 0, ny = 0;
+    double side = max_side;
+    if (o.box.boundary == Boundary::Periodic) {
+        if (!periodic_tiling(o.box.width, o.box.height, max_side, nx, ny))
+            throw Error(fmt::format("periodic box {} x {}: width/height must be a ratio of small integers so that "
+                                    "square cells of side <= r/sqrt(2) tile it", o.box.width, o.box.height));
+        side = o.box.width / double(nx);
+    } else {
+        nx = std::uint64_t(std::ceil(o.box.width / side));
+        ny = std::uint64_t(std::ceil(o.box.height / side));
+    }
+    const std::uint64_t cells_per_row = std::max(nx, ny);
+    if (cells_per_row > (kLatticeLimit >> kMinCellBits))
+        throw Error(fmt::format("the box is {:.3g} radii across: at most {} base cells per side fit the 31-bit lattice",
+                                std::max(o.box.width, o.box.height) / r, kLatticeLimit >> kMinCellBits));
+    std::uint32_t bits = kMinCellBits;
+    while (bits < 30 && (cells_per_row << (bits + 1)) <= kLatticeLimit) ++bits;
+
+    Plan plan{};
+    shared::Domain& d = plan.domain;
+    plan.quantum = side / double(1u << bits);
+    d.cells_x = std::uint32_t(nx);
+    d.cells_y = std::uint32_t(ny);
+    d.cell_bits = bits;
+    d.periodic = o.box.boundary == Boundary::Periodic ? 1u : 0u;
+    d.seed = o.seed;
+    if (d.periodic) {
+        d.lattice_x = std::uint32_t(nx << bits);
+        d.lattice_y = std::uint32_t(ny << bits);
+    } else {
+        // Lattice points x with x * quantum < width.
+        d.lattice_x = std::uint32_t(std::min<double>(std::ceil(o.box.width / plan.quantum), double(nx << bits)));
+        d.lattice_y = std::uint32_t(std::min<double>(std::ceil(o.box.height / plan.quantum), double(ny << bits)));
+    }
+    const long double rq = (long double)r / (long double)plan.quantum;
+    d.radius2 = std::uint64_t(std::ceil(rq * rq));
+    const std::uint64_t cell_side = std::uint64_t(1) << bits;
+    // A sample must cover its whole base cell, so that an occupied base cell needs no darts.
+    if (d.radius2 <= 2 * (cell_side - 1) * (cell_side - 1))
+        throw Error("internal: base cell diagonal is not shorter than the radius");
+    d.reach = 1;
+    while (shared::cell_gap2(d, int(d.reach) + 1, 0) < d.radius2) ++d.reach;
+
+    plan.deepest_level = bits;
+    plan.base_cells = nx * ny;
+    plan.max_samples = plan.base_cells;
+    return plan;
+}
+
+std::uint64_t estimated_bytes(const Plan& plan) {
+    // Per base cell: grid word 8, two active lists 2 x 8 at level 0 (later levels hold fewer),
+    // darts 16 at one dart per cell per round, scan 4 + flags, and up to one sample (8 + 4).
+    return plan.base_cells * (8 + 16 + 16 + 8 + 12) + (std::uint64_t(64) << 20);
+}
+
+std::uint64_t host_memory_bytes() {
+    return std::uint64_t(sysconf(_SC_PHYS_PAGES)) * std::uint64_t(sysconf(_SC_PAGE_SIZE));
+}
+
+}  // namespace vrpd::detail

@@ -1,0 +1,28 @@
+// Turns a user's request (radius, box) into the integer lattice and base grid the kernels run on,
+// and estimates the memory a run needs before anything is allocated.
+#pragma once
+
+#include <cstdint>
+
+#include "vrpd/vrpd.h"
+#include "shared/domain.h"
+
+namespace vrpd::detail {
+
+struct Plan {
+    shared::Domain domain;
+    double quantum;              // lattice spacing in user units
+    std::uint32_t deepest_level; // cells of this level are single lattice points
+    std::uint64_t base_cells;
+    std::uint64_t max_samples;   // at most one per base cell
+};
+
+Plan make_plan(const SampleOptions& options);
+
+// Peak bytes a run is expected to hold (device and host together on a CPU device).
+std::uint64_t estimated_bytes(const Plan& plan);
+
+// Physical memory of this machine in bytes.
+std::uint64_t host_memory_bytes();
+
+}  // namespace vrpd::detail

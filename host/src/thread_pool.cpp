@@ -1,0 +1,69 @@
+// ThreadPool: see thread_pool.h.
+#include "thread_pool.h"
+
+namespace vrpd::detail {
+namespace {
+std::pair<std::size_t, std::size_t> chunk(std::size_t n, unsigned parts, unsigned i) {
+    return {n * i / parts, n * (i + 1) / parts};
+}
+}  // namespace
+
+ThreadPool::ThreadPool(unsigned threads) {
+    if (threads == 0) threads = 1;
+    for (unsigned i = 1; i < threads; ++i) workers_.emplace_back([this, i] { work(i); });
+}
+
+ThreadPool::~ThreadPool() {
+    {
+        std::lock_guard lock(mutex_);
+        stop_ = true;
+    }
+    wake_.notify_all();
+    for (auto& t : workers_) t.join();
+}
+
+void ThreadPool::parallel_for(std::size_t n, const std::function<void(std::size_t, std::size_t, unsigned)>& body) {
+    if (n == 0) return;
+    if (workers_.empty() || n < 2048) {
+        body(0, n, 0);
+        return;
+    }
+    {
+        std::lock_guard lock(mutex_);
+        job_ = &body;
+        job_size_ = n;
+        pending_ = unsigned(workers_.size());
+        ++generation_;
+    }
+    wake_.notify_all();
+    auto [b, e] = chunk(n, size(), 0);
+    body(b, e, 0);
+    std::unique_lock lock(mutex_);
+    done_.wait(lock, [this] { return pending_ == 0; });
+    job_ = nullptr;
+}
+
+void ThreadPool::work(unsigned id) {
+    std::size_t seen = 0;
+    for (;;) {
+        const std::function<void(std::size_t, std::size_t, unsigned)>* job;
+        std::size_t n;
+        {
+            std::unique_lock lock(mutex_);
+            wake_.wait(lock, [&] { return stop_ || generation_ != seen; });
+            if (stop_) return;
+            seen = generation_;
+            job = job_;
+            n = job_size_;
+        }
+        auto [b, e] = chunk(n, size(), id);
+        (*job)(b, e, id);
+        {
+            std::lock_guard lock(mutex_);
+            --pending_;
+        }
+        done_.notify_one();
+    }
+}
+
+}  // namespace vrpd::detail

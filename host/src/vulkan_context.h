@@ -1,0 +1,123 @@
+// Vulkan for vrpd: the loader opened at run time (so hosts without Vulkan still run the CPU
+// backends), device selection, validation-message capture, buffers with device addresses,
+// compute pipelines, and one command buffer with one fence per submit.
+#pragma once
+
+#define VK_NO_PROTOTYPES
+#include <vulkan/vulkan.h>
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "vrpd/vrpd.h"
+
+namespace vrpd::detail {
+
+// The Vulkan entry points vrpd uses, loaded from libvulkan.so.1.
+struct VulkanFunctions {
+#define VRPD_VK_FN(name) PFN_##name name = nullptr;
+#include "vulkan_functions.inc"
+#undef VRPD_VK_FN
+};
+
+class VulkanContext;
+
+// A buffer with its own memory, addressable from shaders. Move-only; frees itself.
+class Buffer {
+public:
+    Buffer() = default;
+    Buffer(VulkanContext& ctx, VkDeviceSize size, bool host_visible);
+    Buffer(Buffer&& o) noexcept { *this = std::move(o); }
+    Buffer& operator=(Buffer&& o) noexcept;
+    ~Buffer();
+
+    VkBuffer handle() const { return buffer_; }
+    VkDeviceSize size() const { return size_; }
+    std::uint64_t address() const { return address_; }
+    void* mapped() const { return mapped_; }  // null unless host-visible
+
+private:
+    void release();
+    VulkanContext* ctx_ = nullptr;
+    VkBuffer buffer_ = VK_NULL_HANDLE;
+    VkDeviceMemory memory_ = VK_NULL_HANDLE;
+    VkDeviceSize size_ = 0;
+    std::uint64_t address_ = 0;
+    void* mapped_ = nullptr;
+};
+
+// A compute pipeline with a push-constant block of push_size bytes and no descriptor sets.
+class Kernel {
+public:
+    Kernel(VulkanContext& ctx, std::span<const std::uint32_t> spirv, std::uint32_t push_size, std::uint32_t workgroup);
+    Kernel(const Kernel&) = delete;
+    Kernel& operator=(const Kernel&) = delete;
+    ~Kernel();
+    VkPipeline pipeline() const { return pipeline_; }
+    VkPipelineLayout layout() const { return layout_; }
+    std::uint32_t push_size() const { return push_size_; }
+
+private:
+    VulkanContext& ctx_;
+    VkPipelineLayout layout_ = VK_NULL_HANDLE;
+    VkPipeline pipeline_ = VK_NULL_HANDLE;
+    std::uint32_t push_size_;
+};
+
+class VulkanContext {
+public:
+    // Opens the loader and the instance; throws Error if there is no loader or no driver.
+    VulkanContext();
+    // The same, then open_device(selector).
+    explicit VulkanContext(const std::string& selector) : VulkanContext() { open_device(selector); }
+    ~VulkanContext();
+    VulkanContext(const VulkanContext&) = delete;
+    VulkanContext& operator=(const VulkanContext&) = delete;
+
+    std::vector<DeviceInfo> devices() const;
+    // Opens the device chosen by `selector` (index or name substring; empty: $VRPD_DEVICE, else the
+    // best usable device: discrete, integrated, virtual, then CPU).
+    void open_device(const std::string& selector);
+
+    const VulkanFunctions& vk() const { return vk_; }
+    VkDevice device() const { return device_; }
+    const std::string& device_name() const { return device_name_; }
+    std::uint32_t memory_type(std::uint32_t allowed, bool host_visible) const;
+    std::uint64_t device_heap_bytes() const;
+
+    // Recording into the one command buffer, and submitting it (waits on a fence).
+    VkCommandBuffer begin();
+    void submit_and_wait();
+    // Makes every shader write before it visible to every shader read and indirect read after it.
+    void barrier();
+    void dispatch(const Kernel& k, const void* push, std::uint32_t groups);
+    void dispatch_indirect(const Kernel& k, const void* push, const Buffer& args, VkDeviceSize offset);
+
+    // Validation messages (VRPD_VALIDATION=1); throws Error with the first if there were any.
+    void check_validation();
+
+private:
+    void* library_ = nullptr;
+    VulkanFunctions vk_;
+    VkInstance instance_ = VK_NULL_HANDLE;
+    VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;
+    VkPhysicalDevice physical_ = VK_NULL_HANDLE;
+    VkPhysicalDeviceMemoryProperties memory_{};
+    VkDevice device_ = VK_NULL_HANDLE;
+    VkQueue queue_ = VK_NULL_HANDLE;
+    std::uint32_t queue_family_ = 0;
+    VkCommandPool pool_ = VK_NULL_HANDLE;
+    VkCommandBuffer cmd_ = VK_NULL_HANDLE;
+    VkFence fence_ = VK_NULL_HANDLE;
+    std::string device_name_;
+    std::vector<std::string> messages_;
+
+    static VKAPI_ATTR VkBool32 VKAPI_CALL on_message(VkDebugUtilsMessageSeverityFlagBitsEXT,
+                                                     VkDebugUtilsMessageTypeFlagsEXT,
+                                                     const VkDebugUtilsMessengerCallbackDataEXT*, void*);
+};
+
+}  // namespace vrpd::detail

@@ -1,0 +1,17 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+#include "common.glsl"
+#include "shared/sampler.h"
+layout(local_size_x_id = 0) in;
+// Per dart: an accepted dart becomes sample sample_base + (its rank among accepted darts).
+layout(push_constant) uniform Push { DartArgs a; };
+
+void main() {
+    uint d = gl_GlobalInvocationID.x;
+    if (d >= a.dart_count) return;
+    uint rank = a.scan.value[d];
+    if (a.scan.value[d + 1u] == rank) return;
+    uvec4 dart = a.darts.dart[d];
+    a.samples.point[a.sample_base + rank] = uvec2(dart.x, dart.y);
+    a.sample_keys.value[a.sample_base + rank] = dart.z;
+}

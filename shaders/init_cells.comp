@@ -1,0 +1,13 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+#include "common.glsl"
+#include "shared/sampler.h"
+layout(local_size_x_id = 0) in;
+// The first active list: every base cell, row by row (ordered by base cell, as throw_cell needs).
+layout(push_constant) uniform Push { CellArgs a; };
+
+void main() {
+    uint i = gl_GlobalInvocationID.x;
+    if (i < a.cell_count)
+        a.cells.cell[i] = uvec2((i % a.domain.cells_x) << a.domain.cell_bits, (i / a.domain.cells_x) << a.domain.cell_bits);
+}

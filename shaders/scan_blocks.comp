@@ -1,0 +1,34 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+#include "common.glsl"
+#include "shared/kernels.h"
+// Exclusive prefix sum, pass 1: each workgroup scans SCAN_BLOCK elements in place (8 per
+// invocation, contiguous for coalesced loads) and writes its block's sum.
+layout(local_size_x = 64) in;
+layout(push_constant) uniform Push { ScanArgs a; };
+shared uint partial[64];
+
+void main() {
+    uint base = gl_WorkGroupID.x * SCAN_BLOCK + gl_LocalInvocationID.x * 8u;
+    uint v[8];
+    uint sum = 0u;
+    for (uint k = 0u; k < 8u; k++) {
+        v[k] = base + k < a.count ? a.data.value[base + k] : 0u;
+        sum += v[k];
+    }
+    partial[gl_LocalInvocationID.x] = sum;
+    barrier();
+    // Hillis-Steele inclusive scan of the 64 invocation sums.
+    for (uint offset = 1u; offset < 64u; offset <<= 1u) {
+        uint add = gl_LocalInvocationID.x >= offset ? partial[gl_LocalInvocationID.x - offset] : 0u;
+        barrier();
+        partial[gl_LocalInvocationID.x] += add;
+        barrier();
+    }
+    uint running = partial[gl_LocalInvocationID.x] - sum;
+    for (uint k = 0u; k < 8u; k++) {
+        if (base + k < a.count) a.data.value[base + k] = running;
+        running += v[k];
+    }
+    if (gl_LocalInvocationID.x == 63u) a.block_sums.value[gl_WorkGroupID.x] = partial[63];
+}

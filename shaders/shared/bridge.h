@@ -1,0 +1,31 @@
+// Language bridge: lets the headers in shaders/shared/ compile as GLSL 4.60 and as C++20.
+// Those headers use only the subset valid in both languages; this file maps GLSL names onto C++
+// (inside namespace vrpd::shared) and gives the few macros that differ.
+#ifndef VRPD_BRIDGE_H
+#define VRPD_BRIDGE_H
+
+#ifdef __cplusplus
+#include <cstdint>
+#include <glm/vec2.hpp>
+#include <glm/vec4.hpp>
+namespace vrpd::shared {
+using uint = std::uint32_t;
+using uvec2 = glm::uvec2;
+using uvec4 = glm::uvec4;
+using std::int64_t;
+using std::uint64_t;
+}  // namespace vrpd::shared
+#define VRPD_BEGIN namespace vrpd::shared {
+#define VRPD_END }
+// A device address (GL_EXT_buffer_reference) is a 64-bit integer on the host.
+#define VRPD_BUFFER(T) std::uint64_t
+#define VRPD_FN inline
+#else
+// GLSL: the extensions are enabled by shaders/common.glsl, included first by every kernel.
+#define VRPD_BEGIN
+#define VRPD_END
+#define VRPD_BUFFER(T) T
+#define VRPD_FN
+#endif
+
+#endif

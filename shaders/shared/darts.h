@@ -1,0 +1,64 @@
+// Dart generation: a counter-based hash RNG keyed by (seed, round, cell, dart), so every device
+// throws the same darts. Each active cell receives a Poisson number of darts per round, each with
+// a uniform lattice position in the cell and a random arrival key. A Poisson process over the
+// active cells, read in arrival order, is a sequence of i.i.d. uniform darts over the active area:
+// the random sequential adsorption of the paper's Eq. 4.
+#ifndef VRPD_DARTS_H
+#define VRPD_DARTS_H
+#include "bridge.h"
+
+VRPD_BEGIN
+
+// lowbias32 (C. Wellons' hash prospector): a 32-bit integer hash with low avalanche bias.
+VRPD_FN uint hash32(uint x) {
+    x ^= x >> 16u;
+    x *= 0x7feb352du;
+    x ^= x >> 15u;
+    x *= 0x846ca68bu;
+    x ^= x >> 16u;
+    return x;
+}
+
+VRPD_FN uint hash_mix(uint h, uint v) { return hash32(h ^ (v * 0x9e3779b9u + 0x7f4a7c15u)); }
+
+// The random stream of one cell in one round. A cell is unique in a round (by its corner), and
+// rounds are numbered globally, so no two streams of a run share a key.
+VRPD_FN uint cell_stream(uint seed, uint round, uvec2 corner) {
+    return hash_mix(hash_mix(hash_mix(hash32(seed), round), corner.x), corner.y);
+}
+
+// Poisson(lambda) by Knuth's product of uniforms, in 32-bit fixed point so that every device
+// counts alike: exp_neg_lambda = floor(exp(-lambda) * 2^32). Expected lambda + 1 hashes.
+VRPD_FN uint dart_count(uint stream, uint exp_neg_lambda) {
+    uint64_t product = uint64_t(0xFFFFFFFFu);
+    uint k = 0u;
+    for (;;) {
+        product = (product * uint64_t(hash_mix(stream, 0xA5A5A5A5u + k))) >> 32;
+        if (product <= uint64_t(exp_neg_lambda)) break;
+        k++;
+    }
+    return k;
+}
+
+// Dart j of a cell: .xy its lattice position (uniform over the cell's side x side points, side a
+// power of two), .z its arrival key. Ties in the key are broken by the dart's index in the round.
+VRPD_FN uvec4 make_dart(uint stream, uint j, uvec2 corner, uint side) {
+    uint mask = side - 1u;
+    uint x = corner.x + (hash_mix(stream, 3u * j) & mask);
+    uint y = corner.y + (hash_mix(stream, 3u * j + 1u) & mask);
+    uint key = hash_mix(stream, 3u * j + 2u);
+    return uvec4(x, y, key, 0u);
+}
+
+// Arrival order: dart (key_a, index_a) arrives before (key_b, index_b).
+VRPD_FN bool arrives_before(uint key_a, uint index_a, uint key_b, uint index_b) {
+    return key_a < key_b || (key_a == key_b && index_a < index_b);
+}
+
+// Dart states (the .w of a dart record).
+const uint DART_UNDECIDED = 0u;
+const uint DART_ACCEPTED = 1u;
+const uint DART_REJECTED = 2u;
+
+VRPD_END
+#endif

@@ -1,0 +1,115 @@
+// The sampling domain on an integer lattice, and the exact predicates on it (paper Eqs. 1-3).
+// Positions are 31-bit lattice coordinates; squared distances are exact 64-bit integers, so the
+// conflict and cover tests give the same answer on every device and on the CPU.
+#ifndef VRPD_DOMAIN_H
+#define VRPD_DOMAIN_H
+#include "bridge.h"
+
+VRPD_BEGIN
+
+// Everything a kernel needs to know about the domain. Crosses the bus inside push constants.
+// Base cells are squares of 2^cell_bits lattice units whose diagonal is shorter than the radius,
+// so a base cell holds at most one sample and a sample covers its whole base cell.
+struct Domain {
+    uint64_t radius2;      // conflict iff squared lattice distance < radius2 (Eq. 1)
+    uint lattice_x;        // lattice points per row: x in [0, lattice_x); < 2^31
+    uint lattice_y;
+    uint cells_x;          // base cells per row
+    uint cells_y;
+    uint cell_bits;        // base cell side = 1 << cell_bits lattice units
+    uint periodic;         // 1: torus of lattice_x * lattice_y, 0: free boundary
+    uint reach;            // base cells within this many rows/columns may hold a conflicting sample
+    uint seed;
+};
+
+// Grid words (one uvec2 per base cell): a sample's lattice position, or one of these tags.
+// Lattice coordinates are < 2^31, so bit 31 of .x marks a tag.
+const uint GRID_TAG = 0x80000000u;
+const uint GRID_EMPTY = 0xFFFFFFFFu;  // .x of an empty cell
+// A cell whose .x is GRID_TAG | first holds this round's darts [first, .y).
+
+VRPD_FN bool grid_is_sample(uvec2 word) { return (word.x & GRID_TAG) == 0u; }
+VRPD_FN bool grid_is_darts(uvec2 word) { return word.x != GRID_EMPTY && (word.x & GRID_TAG) != 0u; }
+
+// Absolute difference of two coordinates along one axis, the shorter way round on a torus.
+VRPD_FN uint axis_gap(uint a, uint b, uint extent, uint periodic) {
+    uint d = a > b ? a - b : b - a;
+    if (periodic != 0u && d > extent - d) d = extent - d;
+    return d;
+}
+
+VRPD_FN uint64_t distance2(Domain dom, uvec2 p, uvec2 q) {
+    uint64_t dx = uint64_t(axis_gap(p.x, q.x, dom.lattice_x, dom.periodic));
+    uint64_t dy = uint64_t(axis_gap(p.y, q.y, dom.lattice_y, dom.periodic));
+    return dx * dx + dy * dy;
+}
+
+// Eq. 1: two samples conflict iff they are closer than r. A point at distance exactly r is
+// uncovered (Eq. 2), so conflict and cover are the same strict test.
+VRPD_FN bool in_disk(Domain dom, uvec2 centre, uvec2 p) { return distance2(dom, centre, p) < dom.radius2; }
+
+// Largest squared coordinate offset from c to the interval [lo, hi] (hi - lo < extent / 2),
+// measured from the image of the interval whose start is nearest to c. On a torus this may
+// overestimate (never underestimate) the true offset, so a cover test built on it is conservative.
+VRPD_FN uint64_t far_offset2(uint c, uint lo, uint hi, uint extent, uint periodic) {
+    int64_t d0 = int64_t(lo) - int64_t(c);
+    if (periodic != 0u) {
+        int64_t n = int64_t(extent);
+        if (d0 >= n / 2) d0 -= n;
+        else if (d0 < -(n / 2)) d0 += n;
+    }
+    int64_t d1 = d0 + int64_t(hi - lo);
+    uint64_t a = uint64_t(d0 * d0);
+    uint64_t b = uint64_t(d1 * d1);
+    return a > b ? a : b;
+}
+
+// True iff every lattice point of the square cell [x0, x0+side) x [y0, y0+side) inside the domain
+// lies in the disk at p. Exact: the disk is convex, so the cell's corners decide.
+VRPD_FN bool cell_in_disk(Domain dom, uvec2 corner, uint side, uvec2 p) {
+    uint hx = corner.x + (side - 1u);
+    uint hy = corner.y + (side - 1u);
+    if (dom.periodic == 0u) {
+        if (hx >= dom.lattice_x) hx = dom.lattice_x - 1u;
+        if (hy >= dom.lattice_y) hy = dom.lattice_y - 1u;
+    }
+    return far_offset2(p.x, corner.x, hx, dom.lattice_x, dom.periodic) +
+               far_offset2(p.y, corner.y, hy, dom.lattice_y, dom.periodic) <
+           dom.radius2;
+}
+
+VRPD_FN bool in_domain(Domain dom, uvec2 p) { return p.x < dom.lattice_x && p.y < dom.lattice_y; }
+
+// Squared gap between a base cell and the one (dx, dy) cells away: no point of the two is nearer.
+VRPD_FN uint64_t cell_gap2(Domain dom, int dx, int dy) {
+    uint side = 1u << dom.cell_bits;
+    uint ax = uint(dx < 0 ? -dx : dx);
+    uint ay = uint(dy < 0 ? -dy : dy);
+    uint64_t gx = ax == 0u ? uint64_t(0) : uint64_t(ax - 1u) * uint64_t(side) + uint64_t(1);
+    uint64_t gy = ay == 0u ? uint64_t(0) : uint64_t(ay - 1u) * uint64_t(side) + uint64_t(1);
+    return gx * gx + gy * gy;
+}
+
+// Index of the base cell (cx + dx, cy + dy), or GRID_EMPTY when it falls off a free boundary or
+// is too far for a disk to reach across the gap.
+VRPD_FN uint neighbour_cell(Domain dom, uvec2 cell, int dx, int dy) {
+    if (cell_gap2(dom, dx, dy) >= dom.radius2) return GRID_EMPTY;
+    int x = int(cell.x) + dx;
+    int y = int(cell.y) + dy;
+    int w = int(dom.cells_x);
+    int h = int(dom.cells_y);
+    if (dom.periodic != 0u) {
+        // GLSL leaves % of negative operands undefined: lift into [0, w) first.
+        x = x < 0 ? x + w * ((w - 1 - x) / w) : x % w;
+        y = y < 0 ? y + h * ((h - 1 - y) / h) : y % h;
+    } else if (x < 0 || y < 0 || x >= w || y >= h) {
+        return GRID_EMPTY;
+    }
+    return uint(y) * dom.cells_x + uint(x);
+}
+
+VRPD_FN uvec2 base_cell_of(Domain dom, uvec2 p) { return uvec2(p.x >> dom.cell_bits, p.y >> dom.cell_bits); }
+VRPD_FN uint base_index(Domain dom, uvec2 cell) { return cell.y * dom.cells_x + cell.x; }
+
+VRPD_END
+#endif

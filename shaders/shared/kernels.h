@@ -1,0 +1,90 @@
+// Push-constant blocks of the sampler's kernels, one definition for GLSL and C++. Buffers are
+// passed by device address (GL_EXT_buffer_reference); the host static_asserts every offset.
+#ifndef VRPD_KERNELS_H
+#define VRPD_KERNELS_H
+#include "bridge.h"
+#include "domain.h"
+
+#ifndef __cplusplus
+layout(buffer_reference, std430, buffer_reference_align = 8) buffer Cells { uvec2 cell[]; };
+layout(buffer_reference, std430, buffer_reference_align = 8) buffer Grid { uvec2 word[]; };
+layout(buffer_reference, std430, buffer_reference_align = 16) buffer Darts { uvec4 dart[]; };
+layout(buffer_reference, std430, buffer_reference_align = 4) buffer Uints { uint value[]; };
+layout(buffer_reference, std430, buffer_reference_align = 8) buffer Points { uvec2 point[]; };
+#else
+namespace vrpd::shared {
+// Host views of the same buffers, so the kernel bodies in sampler.h compile unchanged in C++.
+struct Cells { uvec2* cell; };
+struct Grid { uvec2* word; };
+struct Darts { uvec4* dart; };
+struct Uints { uint* value; };
+struct Points { uvec2* point; };
+}  // namespace vrpd::shared
+#endif
+
+VRPD_BEGIN
+
+const uint WORKGROUP_SIZE = 64u;  // default of specialization constant 0
+const uint SCAN_BLOCK = 512u;     // elements scanned per workgroup (8 per invocation)
+
+// Counters in one small host-visible buffer. Two work lists of undecided darts alternate as
+// input and output of the resolution passes; each has an indirect dispatch command and a count.
+const uint COUNTER_WORK0 = 0u;     // uvec3 dispatch + count of work list 0
+const uint COUNTER_WORK1 = 4u;     // the same for work list 1
+const uint COUNTER_DARTS = 8u;     // scan totals: darts thrown this round,
+const uint COUNTER_ACCEPTED = 9u;  // darts accepted this round,
+const uint COUNTER_ACTIVE = 10u;   // cells active for the next round
+const uint COUNTER_WORDS = 12u;
+
+// Kernels over the active cells: count_darts, throw_darts, commit_cells, refine_cells, scatter_cells.
+struct CellArgs {
+    Domain domain;
+    VRPD_BUFFER(Cells) cells;      // active cells (lattice corners), ordered by base cell
+    VRPD_BUFFER(Cells) cells_out;  // the next round's active cells
+    VRPD_BUFFER(Darts) darts;
+    VRPD_BUFFER(Uints) scan;       // per-cell dart counts, then their exclusive prefix sums
+    VRPD_BUFFER(Grid) grid;
+    uint cell_count;
+    uint round;                    // global round number: keys the RNG
+    uint side;                     // side of the active cells (of the children in refine/scatter)
+    uint param;                    // count_darts: exp(-lambda) in 2^-32 units; commit_cells: darts
+                                   // thrown; refine/scatter: 1 or 4 children
+};
+
+// Kernels over darts: filter_darts, resolve_darts, emit_samples.
+struct DartArgs {
+    Domain domain;
+    VRPD_BUFFER(Darts) darts;
+    VRPD_BUFFER(Grid) grid;
+    VRPD_BUFFER(Uints) work_in;
+    VRPD_BUFFER(Uints) work_out;
+    VRPD_BUFFER(Uints) counters;
+    VRPD_BUFFER(Uints) scan;        // emit_samples: prefix sums of the accepted flags
+    VRPD_BUFFER(Points) samples;    // emit_samples: positions, in emission order
+    VRPD_BUFFER(Uints) sample_keys; // emit_samples: arrival keys, to order each round's samples
+    uint dart_count;
+    uint work_in_slot;             // COUNTER_WORK0 or COUNTER_WORK1
+    uint work_out_slot;
+    uint sample_base;              // samples already emitted in earlier rounds
+};
+
+// Exclusive prefix sum over `count` uints in three passes: scan_blocks, scan_sums, scan_add.
+struct ScanArgs {
+    VRPD_BUFFER(Uints) data;
+    VRPD_BUFFER(Uints) block_sums;
+    VRPD_BUFFER(Uints) counters;   // scan_sums writes the total to counters[total_slot]
+    uint count;
+    uint block_count;
+    uint total_slot;
+    uint pad;
+};
+
+// work_args: turns a work list's count into its indirect dispatch and empties the other list.
+struct WorkArgs {
+    VRPD_BUFFER(Uints) counters;
+    uint slot;
+    uint other_slot;
+};
+
+VRPD_END
+#endif

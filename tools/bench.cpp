@@ -1,0 +1,127 @@
+// `vrpd bench`: best-of-N wall time, points/s, darts per sample and peak memory per (radius,
+// device) on the unit torus. Each case runs in a child process so its peak RSS is its own.
+#include <cstring>
+#include <fstream>
+#include <iostream>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "cli_common.h"
+#include "vrpd/io.h"
+
+namespace vrpd::cli {
+namespace {
+
+struct CaseResult {
+    int ok;
+    char error[240];
+    char device[160];
+    std::uint64_t samples;
+    std::uint64_t darts;
+    std::uint32_t levels;
+    double best_seconds;
+    double peak_bytes;
+};
+
+CaseResult run_case(double radius, Backend backend, const BenchOptions& o) {
+    CaseResult r{};
+    try {
+        SampleOptions opt;
+        opt.radius = radius;
+        opt.seed = o.seed;
+        opt.backend = backend;
+        r.best_seconds = 1e300;
+        for (unsigned i = 0; i < o.repeat; ++i) {
+            Sampling s = sample(opt);
+            r.best_seconds = std::min(r.best_seconds, s.stats.seconds);
+            r.samples = s.size();
+            r.darts = s.stats.darts;
+            r.levels = s.stats.levels;
+            std::snprintf(r.device, sizeof r.device, "%s", s.device.c_str());
+        }
+        rusage usage{};
+        getrusage(RUSAGE_SELF, &usage);
+        r.peak_bytes = double(usage.ru_maxrss) * 1024.0;
+        r.ok = 1;
+    } catch (const std::exception& e) {
+        std::snprintf(r.error, sizeof r.error, "%s", e.what());
+    }
+    return r;
+}
+
+CaseResult run_in_child(double radius, Backend backend, const BenchOptions& o) {
+    int fds[2];
+    if (pipe(fds) != 0) throw Error("bench: pipe failed");
+    pid_t pid = fork();
+    if (pid < 0) throw Error("bench: fork failed");
+    if (pid == 0) {
+        close(fds[0]);
+        CaseResult r = run_case(radius, backend, o);
+        ssize_t ignored = write(fds[1], &r, sizeof r);
+        (void)ignored;
+        _exit(0);
+    }
+    close(fds[1]);
+    CaseResult r{};
+    ssize_t got = read(fds[0], &r, sizeof r);
+    close(fds[0]);
+    int status = 0;
+    waitpid(pid, &status, 0);
+    if (got != ssize_t(sizeof r)) {
+        r.ok = 0;
+        std::snprintf(r.error, sizeof r.error, "the benchmark process died (status %d)", status);
+    }
+    return r;
+}
+
+}  // namespace
+
+int run_bench(const BenchOptions& o) {
+    if (o.repeat == 0) throw Error("--repeat must be >= 1");
+    std::vector<Backend> backends;
+    for (const auto& d : o.devices) backends.push_back(parse_backend(d));
+    for (double r : o.radii) {
+        SampleOptions check;
+        check.radius = r;
+        validate(check);
+    }
+    if (!o.json.empty()) check_writable(o.json);
+
+    nlohmann::json rows = nlohmann::json::array();
+    std::cout << fmt::format("{:>8} {:>7} {:>9} {:>8} {:>9} {:>10} {:>7} {:>9} {:>8}  {}\n", "radius", "device", "samples",
+                             "n*r^2", "best s", "points/s", "darts/n", "peak MiB", "B/sample", "device name");
+    int failures = 0;
+    for (double r : o.radii) {
+        for (Backend b : backends) {
+            CaseResult c = run_in_child(r, b, o);
+            if (!c.ok) {
+                std::cout << fmt::format("{:>8} {:>7}  error: {}\n", r, backend_name(b), c.error);
+                rows.push_back({{"radius", r}, {"device", backend_name(b)}, {"error", c.error}});
+                ++failures;
+                continue;
+            }
+            const double pps = double(c.samples) / c.best_seconds;
+            std::cout << fmt::format("{:>8} {:>7} {:>9} {:>8.5f} {:>9.3f} {:>10.3g} {:>7.2f} {:>9.1f} {:>8.1f}  {}\n", r,
+                                     backend_name(b), c.samples, double(c.samples) * r * r, c.best_seconds, pps,
+                                     double(c.darts) / double(c.samples), c.peak_bytes / (1 << 20),
+                                     c.peak_bytes / double(c.samples), c.device);
+            std::cout.flush();
+            rows.push_back({{"radius", r}, {"device", backend_name(b)}, {"device_name", c.device},
+                            {"samples", c.samples}, {"darts", c.darts}, {"levels", c.levels},
+                            {"best_seconds", c.best_seconds}, {"points_per_second", pps},
+                            {"peak_rss_bytes", c.peak_bytes}, {"repeat", o.repeat}});
+        }
+    }
+    if (!o.json.empty()) {
+        std::ofstream out(o.json);
+        out << nlohmann::json{{"benchmark", "unit torus, seed " + std::to_string(o.seed)}, {"rows", rows}}.dump(2) << "\n";
+        if (!out) throw Error("cannot write " + o.json);
+    }
+    return failures ? 1 : 0;
+}
+
+}  // namespace vrpd::cli
