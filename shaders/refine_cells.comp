@@ -3,16 +3,16 @@
 #include "common.glsl"
 #include "shared/sampler.h"
 layout(local_size_x_id = 0) in;
-// Per (active cell, child): 1 if the child (or the cell itself, with param = 1) stays active.
+// Per active cell: flags its param (4 children, or 1: itself) slots 1 if they stay active.
+// Invocation cell_count writes the trailing 0 that makes the scan end in the total.
 layout(push_constant) uniform Push { CellArgs a; };
 
 void main() {
-    uint i = gl_GlobalInvocationID.x;
-    uint slots = a.cell_count * a.param;
-    if (i < slots) {
-        uvec2 corner = child_corner(a.cells.cell[i / a.param], a.side, i % a.param);
-        a.scan.value[i] = cell_survives(a.domain, a.grid, corner, a.side) ? 1u : 0u;
-    } else if (i == slots) {
-        a.scan.value[i] = 0u;
+    uint e = gl_GlobalInvocationID.x;
+    if (e < a.cell_count) {
+        uint mask = surviving_children(a.domain, a.grid, a.cells.cell[e], a.side, a.param);
+        for (uint c = 0u; c < a.param; c++) a.scan.value[e * a.param + c] = (mask >> c) & 1u;
+    } else if (e == a.cell_count) {
+        a.scan.value[e * a.param] = 0u;
     }
 }

@@ -37,7 +37,7 @@ public:
     RoundResult round(const RoundSpec& spec) override {
         const Domain dom = plan_.domain;
         const uint n = uint(cells_.size());
-        CellArgs args{dom, 0, 0, 0, 0, 0, n, spec.round, spec.side, spec.exp_neg_lambda};
+        CellArgs args{dom, 0, 0, 0, 0, 0, 0, 0, n, spec.round, spec.side, spec.exp_neg_lambda};
 
         scan_.resize(std::size_t(n) + 1);
         pool_.parallel_for(n, [&](std::size_t b, std::size_t e, unsigned) {
@@ -47,11 +47,18 @@ public:
         const std::uint64_t total = exclusive_scan(n);
         if (total >= GRID_TAG) throw Error("a round would throw more than 2^31 darts");
         darts_.resize(total);
-        pool_.parallel_for(n, [&](std::size_t b, std::size_t e, unsigned) {
-            for (std::size_t i = b; i < e; ++i) throw_cell(args, cells(), scan(), darts(), grid(), uint(i));
+        // Throw, rejecting darts covered by earlier rounds; collect the undecided per thread.
+        std::vector<std::vector<uint>> undecided(pool_.size());
+        pool_.parallel_for(n, [&](std::size_t b, std::size_t e, unsigned w) {
+            for (std::size_t i = b; i < e; ++i) {
+                if (throw_cell(args, cells(), scan(), darts(), grid(), uint(i)) == 0) continue;
+                for (uint j = scan_[i]; j < scan_[i + 1]; ++j)
+                    if (darts_[j].w == DART_UNDECIDED) undecided[w].push_back(j);
+            }
         });
-
-        resolve(uint(total));
+        std::vector<uint> work;
+        for (auto& u : undecided) work.insert(work.end(), u.begin(), u.end());
+        resolve(std::move(work));
 
         // Commit: grid words become samples or empty again; scan_ flags the accepted darts.
         scan_.resize(total);
@@ -92,18 +99,9 @@ private:
         return sum;
     }
 
-    void resolve(uint total) {
+    // Decides the undecided darts in `work` in arrival order.
+    void resolve(std::vector<uint> work) {
         const Domain dom = plan_.domain;
-        std::vector<std::vector<uint>> undecided(pool_.size());
-        pool_.parallel_for(total, [&](std::size_t b, std::size_t e, unsigned w) {
-            for (std::size_t j = b; j < e; ++j) {
-                darts_[j].w = filter_dart(dom, grid(), darts_[j]);
-                if (darts_[j].w == DART_UNDECIDED) undecided[w].push_back(uint(j));
-            }
-        });
-        std::vector<uint> work;
-        for (auto& u : undecided) work.insert(work.end(), u.begin(), u.end());
-
         if (resolution_ == Resolution::Serial) {
             std::sort(work.begin(), work.end(), [&](uint a, uint b) {
                 return arrives_before(darts_[a].z, a, darts_[b].z, b);
@@ -136,9 +134,10 @@ private:
         if (slots >= GRID_TAG) throw Error("more than 2^31 active cells");
         scan_.resize(slots + 1);
         pool_.parallel_for(cells_.size(), [&](std::size_t b, std::size_t e, unsigned) {
-            for (std::size_t i = b; i < e; ++i)
-                for (uint c = 0; c < fanout; ++c)
-                    scan_[i * fanout + c] = cell_survives(dom, grid(), child_corner(cells_[i], side, c), side) ? 1u : 0u;
+            for (std::size_t i = b; i < e; ++i) {
+                const uint mask = surviving_children(dom, grid(), cells_[i], side, fanout);
+                for (uint c = 0; c < fanout; ++c) scan_[i * fanout + c] = (mask >> c) & 1u;
+            }
         });
         const std::uint64_t kept = exclusive_scan(uint(slots));
         next_.resize(kept);

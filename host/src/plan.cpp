@@ -18,7 +18,9 @@ bool finite_positive(double v) { return std::isfinite(v) && v > 0.0; }
 // A periodic box must be tiled exactly by square base cells: W = nx s and H = ny s.
 bool periodic_tiling(double width, double height, double max_side, std::uint64_t& nx, std::uint64_t& ny) {
     std::uint64_t first = std::uint64_t(std::ceil(width / max_side));
-    for (std::uint64_t n = first; n < first + 100000; ++n) {
+    // Cells no smaller than r/3 keep a disk's reach within MAX_REACH cells.
+    const std::uint64_t last = std::uint64_t(std::floor(width / (max_side * std::sqrt(2.0) / 3.0)));
+    for (std::uint64_t n = first; n <= last; ++n) {
         double side = width / double(n);
         double rows = height / side;
         double whole = std::round(rows);
@@ -95,6 +97,8 @@ Plan make_plan(const SampleOptions& o) {
         throw Error("internal: base cell diagonal is not shorter than the radius");
     d.reach = 1;
     while (shared::cell_gap2(d, int(d.reach) + 1, 0) < d.radius2) ++d.reach;
+    if (d.reach > shared::MAX_REACH || (d.periodic && (d.reach > nx || d.reach > ny)))
+        throw Error("internal: a disk reaches further than the neighbourhood the kernels scan");
 
     plan.deepest_level = bits;
     plan.base_cells = nx * ny;

@@ -13,7 +13,6 @@
 #include "commit_cells.h"
 #include "count_darts.h"
 #include "emit_samples.h"
-#include "filter_darts.h"
 #include "init_cells.h"
 #include "refine_cells.h"
 #include "resolve_darts.h"
@@ -31,7 +30,7 @@ using namespace shared;
 
 // Push-constant layouts must match std430 as glslang lays them out.
 static_assert(sizeof(Domain) == 40 && offsetof(Domain, lattice_x) == 8 && offsetof(Domain, seed) == 36);
-static_assert(sizeof(CellArgs) == 96 && offsetof(CellArgs, cells) == 40 && offsetof(CellArgs, cell_count) == 80);
+static_assert(sizeof(CellArgs) == 112 && offsetof(CellArgs, cells) == 40 && offsetof(CellArgs, cell_count) == 96);
 static_assert(sizeof(DartArgs) == 120 && offsetof(DartArgs, darts) == 40 && offsetof(DartArgs, dart_count) == 104);
 static_assert(sizeof(ScanArgs) == 40 && offsetof(ScanArgs, count) == 24);
 static_assert(sizeof(WorkArgs) == 16 && offsetof(WorkArgs, slot) == 8);
@@ -87,19 +86,18 @@ public:
         const std::uint32_t darts = counter(COUNTER_DARTS);
         if (darts >= GRID_TAG) throw Error("a round would throw more than 2^31 darts");
 
-        // Submit 2..: throw, filter against earlier samples, resolve in arrival order.
+        // Submit 2..: throw (rejecting darts covered by earlier samples), resolve in arrival order.
         ensure_scan(std::uint64_t(darts) + 1, true);
         ensure(darts_, std::uint64_t(darts) * sizeof(uvec4));
         ensure(work_[0], std::uint64_t(darts) * 4);
         ensure(work_[1], std::uint64_t(darts) * 4);
         VkCommandBuffer cmd = ctx_.begin();
+        ctx_.vk().vkCmdFillBuffer(cmd, counters_.handle(), (COUNTER_WORK0 + 3) * 4, 4, 0);
+        ctx_.barrier();  // the empty work list before throw_darts appends to it
         a = cell_args(n, spec.round, spec.side, darts);
         ctx_.dispatch(throw_darts_, &a, groups(n, WORKGROUP_SIZE));
-        ctx_.vk().vkCmdFillBuffer(cmd, counters_.handle(), (COUNTER_WORK0 + 3) * 4, 4, 0);
-        ctx_.barrier();  // darts, grid dart ranges and the empty work list before filtering
-        DartArgs d = dart_args(darts, COUNTER_WORK1, COUNTER_WORK0, 0);
-        ctx_.dispatch(filter_darts_, &d, groups(darts, WORKGROUP_SIZE));
-        ctx_.barrier();  // dart states and work list before resolution
+        ctx_.barrier();  // darts, grid dart ranges and work list before resolution
+        DartArgs d;
         std::uint32_t in = 0;
         for (;;) {
             for (std::uint32_t p = 0; p < kResolvePassesPerSubmit; ++p, in ^= 1) {
@@ -132,7 +130,7 @@ public:
         ctx_.barrier();  // emission has read the flags' ranks before refine overwrites them
         const std::uint32_t child_side = spec.refine ? spec.side / 2 : spec.side;
         a = cell_args(n, spec.round, child_side, fanout);
-        ctx_.dispatch(refine_cells_, &a, groups(slots + 1, WORKGROUP_SIZE));
+        ctx_.dispatch(refine_cells_, &a, groups(std::uint64_t(n) + 1, WORKGROUP_SIZE));
         ctx_.barrier();  // survival flags before their scan
         scan(scan_, slots + 1, COUNTER_ACTIVE);
         ctx_.dispatch(scatter_cells_, &a, groups(slots, WORKGROUP_SIZE));
@@ -167,7 +165,7 @@ public:
 private:
     CellArgs cell_args(std::uint32_t n, std::uint32_t round, std::uint32_t side, std::uint32_t param) const {
         return {plan_.domain, cells_[0].address(), cells_[1].address(), darts_.address(), scan_.address(),
-                grid_.address(), n, round, side, param};
+                grid_.address(), work_[0].address(), counters_.address(), n, round, side, param};
     }
 
     DartArgs dart_args(std::uint32_t darts, std::uint32_t in_slot, std::uint32_t out_slot, std::uint32_t base) const {
@@ -217,7 +215,6 @@ private:
     Kernel init_cells_{ctx_, words(spirv_init_cells), sizeof(CellArgs), WORKGROUP_SIZE};
     Kernel count_darts_{ctx_, words(spirv_count_darts), sizeof(CellArgs), WORKGROUP_SIZE};
     Kernel throw_darts_{ctx_, words(spirv_throw_darts), sizeof(CellArgs), WORKGROUP_SIZE};
-    Kernel filter_darts_{ctx_, words(spirv_filter_darts), sizeof(DartArgs), WORKGROUP_SIZE};
     Kernel work_args_{ctx_, words(spirv_work_args), sizeof(WorkArgs), 1};
     Kernel resolve_darts_{ctx_, words(spirv_resolve_darts), sizeof(DartArgs), WORKGROUP_SIZE};
     Kernel commit_cells_{ctx_, words(spirv_commit_cells), sizeof(CellArgs), WORKGROUP_SIZE};

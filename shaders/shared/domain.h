@@ -18,9 +18,12 @@ struct Domain {
     uint cells_y;
     uint cell_bits;        // base cell side = 1 << cell_bits lattice units
     uint periodic;         // 1: torus of lattice_x * lattice_y, 0: free boundary
-    uint reach;            // base cells within this many rows/columns may hold a conflicting sample
+    uint reach;            // base cells within this many rows/columns may hold a conflicting sample (<= MAX_REACH)
     uint seed;
 };
+
+const uint MAX_REACH = 3u;
+const uint MAX_NEAR = 49u;  // (2 MAX_REACH + 1)^2 base cells around a point
 
 // Grid words (one uvec2 per base cell): a sample's lattice position, or one of these tags.
 // Lattice coordinates are < 2^31, so bit 31 of .x marks a tag.
@@ -91,7 +94,8 @@ VRPD_FN uint64_t cell_gap2(Domain dom, int dx, int dy) {
 }
 
 // Index of the base cell (cx + dx, cy + dy), or GRID_EMPTY when it falls off a free boundary or
-// is too far for a disk to reach across the gap.
+// is too far for a disk to reach across the gap. make_plan guarantees reach <= cells per side, so
+// one wrap step suffices on a torus.
 VRPD_FN uint neighbour_cell(Domain dom, uvec2 cell, int dx, int dy) {
     if (cell_gap2(dom, dx, dy) >= dom.radius2) return GRID_EMPTY;
     int x = int(cell.x) + dx;
@@ -99,9 +103,8 @@ VRPD_FN uint neighbour_cell(Domain dom, uvec2 cell, int dx, int dy) {
     int w = int(dom.cells_x);
     int h = int(dom.cells_y);
     if (dom.periodic != 0u) {
-        // GLSL leaves % of negative operands undefined: lift into [0, w) first.
-        x = x < 0 ? x + w * ((w - 1 - x) / w) : x % w;
-        y = y < 0 ? y + h * ((h - 1 - y) / h) : y % h;
+        x += x < 0 ? w : (x >= w ? -w : 0);
+        y += y < 0 ? h : (y >= h ? -h : 0);
     } else if (x < 0 || y < 0 || x >= w || y >= h) {
         return GRID_EMPTY;
     }

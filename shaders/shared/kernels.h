@@ -36,7 +36,8 @@ const uint COUNTER_ACCEPTED = 9u;  // darts accepted this round,
 const uint COUNTER_ACTIVE = 10u;   // cells active for the next round
 const uint COUNTER_WORDS = 12u;
 
-// Kernels over the active cells: count_darts, throw_darts, commit_cells, refine_cells, scatter_cells.
+// Kernels over the active cells: init_cells, count_darts, throw_darts, commit_cells, refine_cells,
+// scatter_cells.
 struct CellArgs {
     Domain domain;
     VRPD_BUFFER(Cells) cells;      // active cells (lattice corners), ordered by base cell
@@ -44,6 +45,8 @@ struct CellArgs {
     VRPD_BUFFER(Darts) darts;
     VRPD_BUFFER(Uints) scan;       // per-cell dart counts, then their exclusive prefix sums
     VRPD_BUFFER(Grid) grid;
+    VRPD_BUFFER(Uints) work;       // throw_darts: appends the undecided darts (work list 0)
+    VRPD_BUFFER(Uints) counters;
     uint cell_count;
     uint round;                    // global round number: keys the RNG
     uint side;                     // side of the active cells (of the children in refine/scatter)
@@ -51,7 +54,7 @@ struct CellArgs {
                                    // thrown; refine/scatter: 1 or 4 children
 };
 
-// Kernels over darts: filter_darts, resolve_darts, emit_samples.
+// Kernels over darts: resolve_darts, emit_samples.
 struct DartArgs {
     Domain domain;
     VRPD_BUFFER(Darts) darts;

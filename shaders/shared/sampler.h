@@ -20,34 +20,48 @@ VRPD_FN bool last_in_base_cell(Domain dom, Cells cells, uint e, uint count) {
     return e + 1u == count || base_of_point(dom, cells.cell[e + 1u]) != base_of_point(dom, cells.cell[e]);
 }
 
-// Writes the darts of active cell e at scan[e] .. scan[e+1] (the exclusive prefix sums of the
-// counts) and records the dart range of its base cell in the grid.
-VRPD_FN void throw_cell(CellArgs a, Cells cells, Uints scan, Darts darts, Grid grid, uint e) {
-    uvec2 corner = cells.cell[e];
-    uint first = scan.value[e];
-    uint end = scan.value[e + 1u];
-    uint stream = cell_stream(a.domain.seed, a.round, corner);
-    for (uint j = first; j < end; j++) darts.dart[j] = make_dart(stream, j - first, corner, a.side);
-    uint b = base_of_point(a.domain, corner);
-    if (first_in_base_cell(a.domain, cells, e)) grid.word[b].x = GRID_TAG | first;
-    if (last_in_base_cell(a.domain, cells, e, a.cell_count)) grid.word[b].y = end;
-}
-
-// A dart off the domain, or inside the disk of a sample of an earlier round, is rejected at once.
-VRPD_FN uint filter_dart(Domain dom, Grid grid, uvec4 dart) {
-    uvec2 p = uvec2(dart.x, dart.y);
-    if (!in_domain(dom, p)) return DART_REJECTED;
-    uvec2 cell = base_cell_of(dom, p);
+// The samples whose disks can reach base cell `cell`: gathered once per active cell, then tested
+// against each of its darts or children.
+VRPD_FN uint gather_samples(Domain dom, Grid grid, uvec2 cell, VRPD_OUT_ARRAY(uvec2, near, MAX_NEAR)) {
+    uint count = 0u;
     int reach = int(dom.reach);
     for (int dy = -reach; dy <= reach; dy++) {
         for (int dx = -reach; dx <= reach; dx++) {
             uint nb = neighbour_cell(dom, cell, dx, dy);
             if (nb == GRID_EMPTY) continue;
             uvec2 w = grid.word[nb];
-            if (grid_is_sample(w) && in_disk(dom, w, p)) return DART_REJECTED;
+            if (grid_is_sample(w)) near[count++] = w;
         }
     }
-    return DART_UNDECIDED;
+    return count;
+}
+
+// Writes the darts of active cell e at scan[e] .. scan[e+1] (the exclusive prefix sums of the
+// counts), each already rejected if it lies off the domain or in the disk of a sample of an
+// earlier round, and records the dart range of its base cell in the grid. Returns how many
+// darts are still undecided.
+VRPD_FN uint throw_cell(CellArgs a, Cells cells, Uints scan, Darts darts, Grid grid, uint e) {
+    uvec2 corner = cells.cell[e];
+    uint first = scan.value[e];
+    uint end = scan.value[e + 1u];
+    uint b = base_of_point(a.domain, corner);
+    if (first_in_base_cell(a.domain, cells, e)) grid.word[b].x = GRID_TAG | first;
+    if (last_in_base_cell(a.domain, cells, e, a.cell_count)) grid.word[b].y = end;
+    if (first == end) return 0u;
+    uvec2 near[MAX_NEAR];
+    uint near_count = gather_samples(a.domain, grid, base_cell_of(a.domain, corner), near);
+    uint stream = cell_stream(a.domain.seed, a.round, corner);
+    uint undecided = 0u;
+    for (uint j = first; j < end; j++) {
+        uvec4 dart = make_dart(stream, j - first, corner, a.side);
+        uvec2 p = uvec2(dart.x, dart.y);
+        bool rejected = !in_domain(a.domain, p);
+        for (uint k = 0u; k < near_count && !rejected; k++) rejected = in_disk(a.domain, near[k], p);
+        dart.w = rejected ? DART_REJECTED : DART_UNDECIDED;
+        undecided += rejected ? 0u : 1u;
+        darts.dart[j] = dart;
+    }
+    return undecided;
 }
 
 // One step of the exact parallel resolution of a round: dart d is accepted once every earlier
@@ -120,23 +134,23 @@ VRPD_FN uvec2 child_corner(uvec2 corner, uint side, uint c) {
     return uvec2(corner.x + (c & 1u) * side, corner.y + (c >> 1u) * side);
 }
 
-// A cell stays active unless it lies off the domain, its base cell holds a sample, or one
-// sample's disk covers it wholly (exact corner test). Cells covered only by a union of disks
+// Which of the `fanout` children (4, or 1: the cell itself) of an active cell stay active, as a
+// bit mask. A child is dropped if it lies off the domain, its base cell holds a sample, or one
+// sample's disk covers it wholly (exact corner test). Children covered only by a union of disks
 // stay, and are split until they are single lattice points, where the test is exact.
-VRPD_FN bool cell_survives(Domain dom, Grid grid, uvec2 corner, uint side) {
-    if (!in_domain(dom, corner)) return false;
+VRPD_FN uint surviving_children(Domain dom, Grid grid, uvec2 corner, uint side, uint fanout) {
     uvec2 cell = base_cell_of(dom, corner);
-    if (grid_is_sample(grid.word[base_index(dom, cell)])) return false;
-    int reach = int(dom.reach);
-    for (int dy = -reach; dy <= reach; dy++) {
-        for (int dx = -reach; dx <= reach; dx++) {
-            uint nb = neighbour_cell(dom, cell, dx, dy);
-            if (nb == GRID_EMPTY) continue;
-            uvec2 w = grid.word[nb];
-            if (grid_is_sample(w) && cell_in_disk(dom, corner, side, w)) return false;
-        }
+    if (grid_is_sample(grid.word[base_index(dom, cell)])) return 0u;
+    uvec2 near[MAX_NEAR];
+    uint near_count = gather_samples(dom, grid, cell, near);
+    uint mask = 0u;
+    for (uint c = 0u; c < fanout; c++) {
+        uvec2 child = child_corner(corner, side, c);
+        bool dropped = !in_domain(dom, child);
+        for (uint k = 0u; k < near_count && !dropped; k++) dropped = cell_in_disk(dom, child, side, near[k]);
+        mask |= dropped ? 0u : (1u << c);
     }
-    return true;
+    return mask;
 }
 
 VRPD_END
