@@ -1,12 +1,18 @@
 // The vrpd command line: sample, check (with the geometry target), devices, bench.
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <iostream>
+#include <unistd.h>
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
 #include "cli_common.h"
+#ifdef VRPD_HAVE_GEOMETRY
+#include <nlohmann/json.hpp>
+#include "vrpd/verify.h"
+#endif
 #include "vrpd/io.h"
 #include "vrpd/vrpd.h"
 
@@ -43,6 +49,57 @@ void parse_extent(const std::string& text, Box& box) {
     box.height = h;
 }
 
+#ifdef VRPD_HAVE_GEOMETRY
+struct CheckOptions {
+    std::string file;
+    double radius = 0, rf = 0, rc = 0;
+    std::string extent = "1,1", boundary = "periodic", json;
+};
+
+// `vrpd check`: 0 pass, 1 conflicts or not maximal, 2 bad input.
+int run_check(const CheckOptions& o) {
+    Box box;
+    box.boundary = parse_boundary(o.boundary);
+    parse_extent(o.extent, box);
+    Radii radii{o.radius, o.radius};
+    if (o.radius > 0 && (o.rf > 0 || o.rc > 0)) throw Error("give either --radius or --rf and --rc");
+    if (o.radius <= 0) radii = {o.rf, o.rc > 0 ? o.rc : o.rf};
+    if (!o.json.empty()) check_writable(o.json);
+    const bool tty = isatty(2);
+    if (tty) std::cerr << "vrpd check: reading " << o.file << "\r" << std::flush;
+    const std::vector<glm::dvec2> points = read_points(o.file);
+    if (tty) std::cerr << "vrpd check: triangulating " << points.size() << " points\r" << std::flush;
+    const Report r = verify(points, radii, box);
+    if (tty) std::cerr << std::string(60, ' ') << "\r";
+    std::cout << fmt::format("{} points, n*Rf^2/area {:.5f}\n", r.points, r.density);
+    std::cout << fmt::format("minimum distance {:.9g} (Rf {}): {} conflicting pairs\n", r.min_distance, radii.inhibition, r.conflicts);
+    std::cout << fmt::format("largest empty circle radius {:.9g} at ({:.9g}, {:.9g}); Rc {}: {}\n", r.largest_empty_radius,
+                             r.largest_empty_centre.x, r.largest_empty_centre.y, radii.coverage,
+                             r.maximal ? "maximal" : "NOT maximal");
+    std::cout << fmt::format("Delaunay{}: {} triangles, angles {:.3f}..{:.3f} deg, edges {:.4f}..{:.4f} Rf\n",
+                             box.boundary == Boundary::Free ? " (circumcentre in the box)" : "", r.triangles,
+                             r.min_angle_degrees, r.max_angle_degrees, r.min_edge / radii.inhibition, r.max_edge / radii.inhibition);
+    std::cout << (r.passed() ? "PASS" : "FAIL") << "\n";
+    if (!o.json.empty()) {
+        nlohmann::json j{{"points", r.points}, {"density", r.density}, {"rf", radii.inhibition}, {"rc", radii.coverage},
+                         {"min_distance", r.min_distance}, {"conflicts", r.conflicts},
+                         {"largest_empty_radius", r.largest_empty_radius},
+                         {"largest_empty_centre", {r.largest_empty_centre.x, r.largest_empty_centre.y}},
+                         {"maximal", r.maximal}, {"triangles", r.triangles},
+                         {"triangles_counted", box.boundary == Boundary::Free ? "circumcentre in the box" : "all, once each"},
+                         {"min_angle_degrees", r.min_angle_degrees}, {"max_angle_degrees", r.max_angle_degrees},
+                         {"angle_histogram", {{"bin_degrees", r.angles.bin_width}, {"counts", r.angles.counts}}},
+                         {"min_edge", r.min_edge}, {"max_edge", r.max_edge},
+                         {"edge_histogram", {{"bin_rf", r.edges.bin_width}, {"counts", r.edges.counts}}},
+                         {"passed", r.passed()}};
+        std::ofstream out(o.json);
+        out << j.dump(2) << "\n";
+        if (!out) throw Error("cannot write " + o.json);
+    }
+    return r.passed() ? 0 : 1;
+}
+#endif
+
 }  // namespace vrpd::cli
 
 int main(int argc, char** argv) {
@@ -62,6 +119,18 @@ int main(int argc, char** argv) {
     sample_cmd->add_option("-o,--output", output, "FILE.csv or FILE.bin (default: CSV to stdout)");
 
     auto* devices_cmd = app.add_subcommand("devices", "list Vulkan devices");
+
+#ifdef VRPD_HAVE_GEOMETRY
+    cli::CheckOptions check;
+    auto* check_cmd = app.add_subcommand("check", "verify a point file: conflicts, maximality, Delaunay quality");
+    check_cmd->add_option("file", check.file, "point file (.csv or .bin)")->required();
+    check_cmd->add_option("--radius,-r", check.radius, "Rf = Rc = R");
+    check_cmd->add_option("--rf", check.rf, "inhibition radius Rf");
+    check_cmd->add_option("--rc", check.rc, "coverage radius Rc (default Rf)");
+    check_cmd->add_option("--extent", check.extent, "box W,H (default 1,1)");
+    check_cmd->add_option("--boundary", check.boundary, "periodic (default) or free");
+    check_cmd->add_option("--json", check.json, "also write the report as JSON to FILE");
+#endif
 
     cli::BenchOptions bench;
     auto* bench_cmd = app.add_subcommand("bench", "time sampling per radius and device");
@@ -99,6 +168,9 @@ int main(int argc, char** argv) {
             return 0;
         }
         if (*bench_cmd) return cli::run_bench(bench);
+#ifdef VRPD_HAVE_GEOMETRY
+        if (*check_cmd) return cli::run_check(check);
+#endif
     } catch (const Error& e) {
         std::cerr << "vrpd: error: " << e.what() << "\n";
         return 2;

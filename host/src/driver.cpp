@@ -41,9 +41,10 @@ std::unique_ptr<Engine> make_engine(const SampleOptions& o, const Plan& plan) {
 
 }  // namespace
 
-Sampling sample(const SampleOptions& options) {
+Sampling sample(const SampleOptions& options) { return detail::sample_plan(options, detail::make_plan(options)); }
+
+Sampling detail::sample_plan(const SampleOptions& options, const Plan& plan) {
     const auto t0 = std::chrono::steady_clock::now();
-    const Plan plan = detail::make_plan(options);
     const std::uint64_t need = detail::estimated_bytes(plan);
     const std::uint64_t have = detail::host_memory_bytes();
     if (need > have / 10 * 8)

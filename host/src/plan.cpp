@@ -51,7 +51,7 @@ void validate(const SampleOptions& o) {
 
 namespace vrpd::detail {
 
-Plan make_plan(const SampleOptions& o) {
+Plan make_plan(const SampleOptions& o, std::uint32_t max_cell_bits) {
     validate(o);
     const double r = o.radius;
     const double max_side = r / std::sqrt(2.0);
@@ -70,8 +70,8 @@ Plan make_plan(const SampleOptions& o) {
     if (cells_per_row > (kLatticeLimit >> kMinCellBits))
         throw Error(fmt::format("the box is {:.3g} radii across: at most {} base cells per side fit the 31-bit lattice",
                                 std::max(o.box.width, o.box.height) / r, kLatticeLimit >> kMinCellBits));
-    std::uint32_t bits = kMinCellBits;
-    while (bits < 30 && (cells_per_row << (bits + 1)) <= kLatticeLimit) ++bits;
+    std::uint32_t bits = std::min(kMinCellBits, max_cell_bits);
+    while (bits < std::min<std::uint32_t>(30, max_cell_bits) && (cells_per_row << (bits + 1)) <= kLatticeLimit) ++bits;
 
     Plan plan{};
     shared::Domain& d = plan.domain;

@@ -17,7 +17,12 @@ struct Plan {
     std::uint64_t max_samples;   // at most one per base cell
 };
 
-Plan make_plan(const SampleOptions& options);
+// max_cell_bits caps the lattice's resolution (tests use it to make runs reach the deepest
+// level, where cells are single lattice points).
+Plan make_plan(const SampleOptions& options, std::uint32_t max_cell_bits = 30);
+
+// Runs the schedule for a plan made from `options`.
+Sampling sample_plan(const SampleOptions& options, const Plan& plan);
 
 // Peak bytes a run is expected to hold (device and host together on a CPU device).
 std::uint64_t estimated_bytes(const Plan& plan);

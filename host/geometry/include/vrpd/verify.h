@@ -1,0 +1,48 @@
+// Exact verification of a sampling, independent of how it was made: conflicts (paper Eq. 1/5),
+// maximality by the largest empty circle (Eqs. 3/8), and Delaunay quality (Propositions 1-2).
+// Part of the optional vrpd_geometry target, built on CGAL (GPL): the sampling core never needs it.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <glm/vec2.hpp>
+
+#include "vrpd/vrpd.h"
+
+namespace vrpd {
+
+struct Radii {
+    double inhibition;  // Rf: samples closer than this conflict
+    double coverage;    // Rc: maximal iff every point of the box is within Rc of a sample
+};
+
+struct Histogram {
+    double bin_width;
+    std::vector<std::uint64_t> counts;  // bin i holds values in [i w, (i+1) w)
+};
+
+struct Report {
+    std::size_t points = 0;
+    double density = 0;                 // n Rf^2 / area
+    double min_distance = 0;            // over all pairs (periodic: shortest way round)
+    std::uint64_t conflicts = 0;        // pairs closer than Rf
+    double largest_empty_radius = 0;    // radius of the largest empty circle centred in the box
+    glm::dvec2 largest_empty_centre{0, 0};
+    bool maximal = false;               // largest_empty_radius < Rc
+    // Delaunay triangles counted: periodic, each triangle once; free boundary, only triangles
+    // whose circumcentre lies in the box (the hull's slivers are outside the paper's theory).
+    std::uint64_t triangles = 0;
+    double min_angle_degrees = 0;
+    double max_angle_degrees = 0;
+    Histogram angles{1.0, {}};          // degrees
+    double min_edge = 0, max_edge = 0;  // over those triangles' edges
+    Histogram edges{0.05, {}};          // edge length / Rf, once per triangle an edge bounds
+    bool passed() const { return conflicts == 0 && maximal; }
+};
+
+// Throws Error (with the index of the offending point) for NaN or inf, points outside the box,
+// duplicate points, fewer than 3 points, or radii that are not 0 < Rf <= Rc.
+Report verify(const std::vector<glm::dvec2>& points, Radii radii, const Box& box);
+
+}  // namespace vrpd

@@ -1,0 +1,239 @@
+// verify(): conflicts by a bucket grid, maximality by the largest empty circle of the Delaunay
+// triangulation (CGAL, exact predicates), quality from the same triangles. A periodic box is
+// handled by adding the images of points near its sides; triangles are then taken once each,
+// as the image whose circumcentre lies in the box.
+#include "vrpd/verify.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <set>
+
+#include <CGAL/Delaunay_triangulation_2.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Triangulation_vertex_base_with_info_2.h>
+#include <fmt/format.h>
+
+namespace vrpd {
+namespace {
+
+using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Vb = CGAL::Triangulation_vertex_base_with_info_2<std::uint32_t, K>;
+using Tds = CGAL::Triangulation_data_structure_2<Vb>;
+using Delaunay = CGAL::Delaunay_triangulation_2<K, Tds>;
+using P2 = K::Point_2;
+
+void validate_input(const std::vector<glm::dvec2>& pts, Radii radii, const Box& box) {
+    if (!(std::isfinite(radii.inhibition) && radii.inhibition > 0 && std::isfinite(radii.coverage) &&
+          radii.coverage >= radii.inhibition))
+        throw Error(fmt::format("radii must satisfy 0 < Rf <= Rc (got Rf = {}, Rc = {})", radii.inhibition, radii.coverage));
+    if (!(std::isfinite(box.width) && box.width > 0 && std::isfinite(box.height) && box.height > 0))
+        throw Error("extent must be two finite numbers > 0");
+    if (pts.size() < 3) throw Error(fmt::format("need at least 3 points to triangulate (got {})", pts.size()));
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+        const glm::dvec2 p = pts[i];
+        if (!std::isfinite(p.x) || !std::isfinite(p.y)) throw Error(fmt::format("point {} is not finite", i + 1));
+        if (p.x < 0 || p.y < 0 || p.x >= box.width || p.y >= box.height)
+            throw Error(fmt::format("point {} ({}, {}) is outside the box [0,{}) x [0,{})", i + 1, p.x, p.y, box.width, box.height));
+    }
+    std::vector<std::uint32_t> order(pts.size());
+    for (std::uint32_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::sort(order.begin(), order.end(), [&](auto a, auto b) { return std::tie(pts[a].x, pts[a].y) < std::tie(pts[b].x, pts[b].y); });
+    for (std::size_t i = 1; i < order.size(); ++i)
+        if (pts[order[i]] == pts[order[i - 1]])
+            throw Error(fmt::format("points {} and {} are the same point ({}, {})", std::min(order[i], order[i - 1]) + 1,
+                                    std::max(order[i], order[i - 1]) + 1, pts[order[i]].x, pts[order[i]].y));
+}
+
+double axis_gap(double a, double b, double extent, bool periodic) {
+    double d = std::abs(a - b);
+    return periodic ? std::min(d, extent - d) : d;
+}
+
+// Pairs closer than Rf, by buckets of side >= Rf (exact: every such pair is in adjacent buckets).
+std::uint64_t count_conflicts(const std::vector<glm::dvec2>& pts, double rf, const Box& box) {
+    const bool periodic = box.boundary == Boundary::Periodic;
+    const std::int64_t nx = std::max<std::int64_t>(1, std::min<std::int64_t>(std::int64_t(box.width / rf), 1 << 14));
+    const std::int64_t ny = std::max<std::int64_t>(1, std::min<std::int64_t>(std::int64_t(box.height / rf), 1 << 14));
+    std::vector<std::vector<std::uint32_t>> bucket(std::size_t(nx * ny));
+    auto cell_of = [&](glm::dvec2 p) {
+        return std::pair{std::min(nx - 1, std::int64_t(p.x / box.width * double(nx))),
+                         std::min(ny - 1, std::int64_t(p.y / box.height * double(ny)))};
+    };
+    for (std::uint32_t i = 0; i < pts.size(); ++i) {
+        auto [cx, cy] = cell_of(pts[i]);
+        bucket[std::size_t(cy * nx + cx)].push_back(i);
+    }
+    std::uint64_t conflicts = 0;
+    const double rf2 = rf * rf;
+    for (std::uint32_t i = 0; i < pts.size(); ++i) {
+        auto [cx, cy] = cell_of(pts[i]);
+        std::set<std::int64_t> seen;  // small tori: neighbour offsets may wrap onto one bucket
+        for (std::int64_t dy = -1; dy <= 1; ++dy) {
+            for (std::int64_t dx = -1; dx <= 1; ++dx) {
+                std::int64_t x = cx + dx, y = cy + dy;
+                if (periodic) {
+                    x = (x + nx) % nx;
+                    y = (y + ny) % ny;
+                } else if (x < 0 || y < 0 || x >= nx || y >= ny) {
+                    continue;
+                }
+                if (!seen.insert(y * nx + x).second) continue;
+                for (std::uint32_t j : bucket[std::size_t(y * nx + x)]) {
+                    if (j <= i) continue;
+                    const double gx = axis_gap(pts[i].x, pts[j].x, box.width, periodic);
+                    const double gy = axis_gap(pts[i].y, pts[j].y, box.height, periodic);
+                    if (gx * gx + gy * gy < rf2) ++conflicts;
+                }
+            }
+        }
+    }
+    return conflicts;
+}
+
+bool inside(const P2& c, const Box& box) { return c.x() >= 0 && c.y() >= 0 && c.x() < box.width && c.y() < box.height; }
+
+// The points and, on a torus, their images within `margin` of the box.
+Delaunay triangulate(const std::vector<glm::dvec2>& pts, const Box& box, double margin) {
+    std::vector<std::pair<P2, std::uint32_t>> all;
+    all.reserve(pts.size() + pts.size() / 8);
+    for (std::uint32_t i = 0; i < pts.size(); ++i) {
+        for (int sy = -1; sy <= 1; ++sy) {
+            for (int sx = -1; sx <= 1; ++sx) {
+                if ((sx || sy) && box.boundary != Boundary::Periodic) continue;
+                const double x = pts[i].x + sx * box.width, y = pts[i].y + sy * box.height;
+                if (x < -margin || y < -margin || x > box.width + margin || y > box.height + margin) continue;
+                all.emplace_back(P2(x, y), i);
+            }
+        }
+    }
+    return Delaunay(all.begin(), all.end());
+}
+
+double angle_at(const P2& a, const P2& b, const P2& c) {
+    const double ux = b.x() - a.x(), uy = b.y() - a.y(), vx = c.x() - a.x(), vy = c.y() - a.y();
+    return std::atan2(std::abs(ux * vy - uy * vx), ux * vx + uy * vy) * 180.0 / std::numbers::pi;
+}
+
+void add(Histogram& h, double v) {
+    std::size_t bin = std::size_t(std::max(0.0, v) / h.bin_width);
+    if (bin >= h.counts.size()) h.counts.resize(bin + 1, 0);
+    ++h.counts[bin];
+}
+
+// The largest circle centred on the box's sides or corners that is empty (free boundary): on a
+// Voronoi edge crossing a side, or at a corner.
+void boundary_circles(const Delaunay& dt, const Box& box, Report& r) {
+    auto consider = [&](const P2& c, const P2& site) {
+        const double rad = std::sqrt(CGAL::squared_distance(c, site));
+        if (rad > r.largest_empty_radius) {
+            r.largest_empty_radius = rad;
+            r.largest_empty_centre = {c.x(), c.y()};
+        }
+    };
+    for (double x : {0.0, box.width})
+        for (double y : {0.0, box.height}) {
+            const P2 corner(std::min(x, std::nextafter(box.width, 0.0)), std::min(y, std::nextafter(box.height, 0.0)));
+            consider(corner, dt.nearest_vertex(corner)->point());
+        }
+    for (auto e = dt.finite_edges_begin(); e != dt.finite_edges_end(); ++e) {
+        const P2& site = e->first->vertex(Delaunay::cw(e->second))->point();
+        CGAL::Object dual = dt.dual(*e);
+        P2 origin;
+        K::Vector_2 dir;
+        double t_lo = -INFINITY, t_hi = INFINITY;
+        if (const K::Segment_2* s = CGAL::object_cast<K::Segment_2>(&dual)) {
+            origin = s->source();
+            dir = s->to_vector();
+            t_lo = 0;
+            t_hi = 1;
+        } else if (const K::Ray_2* ray = CGAL::object_cast<K::Ray_2>(&dual)) {
+            origin = ray->source();
+            dir = ray->to_vector();
+            t_lo = 0;
+        } else if (const K::Line_2* line = CGAL::object_cast<K::Line_2>(&dual)) {
+            origin = line->point();
+            dir = line->to_vector();
+        } else {
+            continue;
+        }
+        for (int axis = 0; axis < 2; ++axis) {
+            const double o = axis == 0 ? origin.x() : origin.y();
+            const double d = axis == 0 ? dir.x() : dir.y();
+            if (d == 0) continue;
+            for (double side : {0.0, axis == 0 ? box.width : box.height}) {
+                const double t = (side - o) / d;
+                if (t < t_lo || t > t_hi) continue;
+                const double other = axis == 0 ? origin.y() + t * dir.y() : origin.x() + t * dir.x();
+                const double other_max = axis == 0 ? box.height : box.width;
+                if (other < 0 || other > other_max) continue;
+                consider(axis == 0 ? P2(side, other) : P2(other, side), site);
+            }
+        }
+    }
+}
+
+}  // namespace
+
+Report verify(const std::vector<glm::dvec2>& pts, Radii radii, const Box& box) {
+    validate_input(pts, radii, box);
+    const bool periodic = box.boundary == Boundary::Periodic;
+    Report r;
+    r.points = pts.size();
+    r.density = double(pts.size()) * radii.inhibition * radii.inhibition / (box.width * box.height);
+    r.conflicts = count_conflicts(pts, radii.inhibition, box);
+
+    // A margin of 3 Rc holds every empty circle of radius < 1.5 Rc whose centre is in the box;
+    // if a larger one shows up (a far from maximal set), triangulate again with all 8 images.
+    double margin = periodic ? std::min(3.0 * radii.coverage, std::max(box.width, box.height)) : 0.0;
+    Delaunay dt = triangulate(pts, box, margin);
+    for (;;) {
+        r.largest_empty_radius = 0;
+        r.triangles = 0;
+        for (auto f = dt.finite_faces_begin(); f != dt.finite_faces_end(); ++f) {
+            const P2 c = dt.circumcenter(f);
+            if (!inside(c, box)) continue;
+            const double rad = std::sqrt(CGAL::squared_distance(c, f->vertex(0)->point()));
+            if (rad > r.largest_empty_radius) {
+                r.largest_empty_radius = rad;
+                r.largest_empty_centre = {c.x(), c.y()};
+            }
+        }
+        if (!periodic || r.largest_empty_radius * 2 < margin || margin >= std::max(box.width, box.height)) break;
+        margin = std::max(box.width, box.height);
+        dt = triangulate(pts, box, margin);
+    }
+    if (!periodic) boundary_circles(dt, box, r);
+    r.maximal = r.largest_empty_radius < radii.coverage;
+
+    r.min_distance = INFINITY;
+    for (auto e = dt.finite_edges_begin(); e != dt.finite_edges_end(); ++e) {
+        const auto a = e->first->vertex(Delaunay::cw(e->second)), b = e->first->vertex(Delaunay::ccw(e->second));
+        if (a->info() == b->info()) continue;
+        r.min_distance = std::min(r.min_distance, std::sqrt(CGAL::squared_distance(a->point(), b->point())));
+    }
+    r.min_angle_degrees = 180;
+    r.min_edge = INFINITY;
+    for (auto f = dt.finite_faces_begin(); f != dt.finite_faces_end(); ++f) {
+        if (!inside(dt.circumcenter(f), box)) continue;
+        ++r.triangles;
+        for (int i = 0; i < 3; ++i) {
+            const P2& a = f->vertex(i)->point();
+            const P2& b = f->vertex((i + 1) % 3)->point();
+            const P2& c = f->vertex((i + 2) % 3)->point();
+            const double angle = angle_at(a, b, c);
+            r.min_angle_degrees = std::min(r.min_angle_degrees, angle);
+            r.max_angle_degrees = std::max(r.max_angle_degrees, angle);
+            add(r.angles, angle);
+            // An interior edge bounds two triangles and is counted once for each.
+            const double len = std::sqrt(CGAL::squared_distance(a, b));
+            r.min_edge = std::min(r.min_edge, len);
+            r.max_edge = std::max(r.max_edge, len);
+            add(r.edges, len / radii.inhibition);
+        }
+    }
+    if (r.triangles == 0) throw Error("no Delaunay triangle has its circumcentre in the box (collinear points?)");
+    return r;
+}
+
+}  // namespace vrpd

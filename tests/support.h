@@ -1,0 +1,46 @@
+// Helpers shared by the tests: exact lattice checks that do not trust the sampler's grid.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "plan.h"
+#include "vrpd/vrpd.h"
+
+namespace vrpd::test {
+
+inline SampleOptions options(double radius, std::uint32_t seed, Backend backend, Box box = {}) {
+    SampleOptions o;
+    o.radius = radius;
+    o.seed = seed;
+    o.backend = backend;
+    o.box = box;
+    return o;
+}
+
+// Squared lattice distance, the shorter way round on a torus (independent of shared/domain.h).
+inline std::uint64_t lattice_distance2(const detail::Plan& plan, glm::uvec2 a, glm::uvec2 b) {
+    auto gap = [&](std::uint32_t p, std::uint32_t q, std::uint32_t extent) {
+        std::uint64_t d = p > q ? p - q : q - p;
+        if (plan.domain.periodic && d > extent - d) d = extent - d;
+        return d * d;
+    };
+    return gap(a.x, b.x, plan.domain.lattice_x) + gap(a.y, b.y, plan.domain.lattice_y);
+}
+
+// Pairs of samples closer than r, by brute force over all pairs.
+inline std::uint64_t brute_force_conflicts(const detail::Plan& plan, const Sampling& s) {
+    std::uint64_t conflicts = 0;
+    for (std::size_t i = 0; i < s.size(); ++i)
+        for (std::size_t j = i + 1; j < s.size(); ++j)
+            if (lattice_distance2(plan, s.lattice[i], s.lattice[j]) < plan.domain.radius2) ++conflicts;
+    return conflicts;
+}
+
+inline std::vector<glm::dvec2> points_of(const Sampling& s) {
+    std::vector<glm::dvec2> p(s.size());
+    for (std::size_t i = 0; i < s.size(); ++i) p[i] = s.point(i);
+    return p;
+}
+
+}  // namespace vrpd::test

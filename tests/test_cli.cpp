@@ -1,0 +1,105 @@
+// The vrpd command line: bad input gives one clear line and a non-zero exit, never a file;
+// a good run writes a CSV that parses, identical across devices; check's exit codes.
+#include <catch2/catch.hpp>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <sys/wait.h>
+
+#include "vrpd/io.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Run {
+    int code;
+    std::string err;
+};
+
+fs::path scratch() {
+    static const fs::path dir = [] {
+        fs::path d = fs::temp_directory_path() / ("vrpd_cli_test_" + std::to_string(::getpid()));
+        fs::create_directories(d);
+        return d;
+    }();
+    return dir;
+}
+
+Run cli(const std::string& args) {
+    const fs::path err = scratch() / "stderr.txt";
+    const std::string cmd = std::string(VRPD_CLI) + " " + args + " > /dev/null 2> " + err.string();
+    const int status = std::system(cmd.c_str());
+    std::ifstream in(err);
+    std::stringstream text;
+    text << in.rdbuf();
+    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, text.str()};
+}
+
+std::string slurp(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+}  // namespace
+
+TEST_CASE("bad input: one line on stderr, non-zero exit, no output file", "[cli]") {
+    const fs::path out = scratch() / "never.csv";
+    const char* bad[] = {
+        "sample --radius 0",
+        "sample --radius -0.1",
+        "sample --radius nan",
+        "sample --radius 0.6",
+        "sample --radius 0.01 --extent 0,1",
+        "sample --radius 0.01 --extent 1",
+        "sample --radius 0.01 --boundary sphere",
+        "sample --radius 0.01 --device tpu",
+        "sample --radius 0.01 --extent 1,1.41421356 --boundary periodic",
+        "sample --radius 1e-9 --boundary free",
+    };
+    for (const char* args : bad) {
+        const Run r = cli(std::string(args) + " -o " + out.string());
+        INFO(args << " -> " << r.err);
+        CHECK(r.code != 0);
+        CHECK(r.err.find("error") != std::string::npos);
+        CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+        CHECK_FALSE(fs::exists(out));
+    }
+    const Run unwritable = cli("sample --radius 0.05 -o /nonexistent/dir/p.csv");
+    CHECK(unwritable.code != 0);
+    CHECK(unwritable.err.find("cannot write") != std::string::npos);
+}
+
+TEST_CASE("a good run's CSV parses, and devices give byte-identical files", "[cli][gpu]") {
+    const fs::path cpu = scratch() / "cpu.csv", gpu = scratch() / "gpu.csv", bin = scratch() / "gpu.bin";
+    REQUIRE(cli("sample --radius 0.02 --seed 7 --device cpu -o " + cpu.string()).code == 0);
+    REQUIRE(cli("sample --radius 0.02 --seed 7 --device gpu -o " + gpu.string()).code == 0);
+    REQUIRE(cli("sample --radius 0.02 --seed 7 --device gpu -o " + bin.string()).code == 0);
+    CHECK(slurp(cpu) == slurp(gpu));
+    const auto from_csv = vrpd::read_points(cpu.string());
+    const auto from_bin = vrpd::read_points(bin.string());
+    CHECK(from_csv.size() > 1000);
+    CHECK(from_csv == from_bin);  // the CSV's decimals round-trip the doubles exactly
+    CHECK(slurp(cpu).rfind("x,y\n", 0) == 0);
+}
+
+TEST_CASE("check: 0 for a maximal set, 1 when a sample is missing, 2 for bad input", "[cli]") {
+    const fs::path good = scratch() / "good.csv", holed = scratch() / "holed.csv", junk = scratch() / "junk.csv";
+    REQUIRE(cli("sample --radius 0.05 --seed 2 --device cpu -o " + good.string()).code == 0);
+    CHECK(cli("check " + good.string() + " --radius 0.05").code == 0);
+    std::string text = slurp(good);
+    text.erase(text.find('\n') + 1, text.find('\n', text.find('\n') + 1) - text.find('\n'));  // drop sample 1
+    std::ofstream(holed) << text;
+    CHECK(cli("check " + holed.string() + " --radius 0.05").code == 1);
+    std::ofstream(junk) << "x,y\n0.1,0.2\n0.3,abc\n0.5,0.5\n";
+    const Run r = cli("check " + junk.string() + " --radius 0.05");
+    CHECK(r.code == 2);
+    CHECK(r.err.find(":3:") != std::string::npos);  // names the line
+    CHECK(cli("check " + (scratch() / "missing.csv").string() + " --radius 0.05").code == 2);
+    CHECK(cli("check " + good.string() + " --rf 0.05 --rc 0.01").code == 2);
+}

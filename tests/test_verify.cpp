@@ -1,0 +1,133 @@
+// The exact checker (issue: vrpd check and the geometry target) on hand-made sets with known
+// answers, and on the sampler's output: maximality by the largest empty circle, Prop. 1-2.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+
+#include "support.h"
+#include "vrpd/verify.h"
+
+using namespace vrpd;
+using vrpd::test::options;
+
+namespace {
+// A k x k square lattice of spacing 1/k on the unit torus, offset so that no circumcentre falls
+// on the box's sides (where rounding would decide which image of a triangle is counted).
+std::vector<glm::dvec2> square_lattice(int k) {
+    std::vector<glm::dvec2> p;
+    for (int y = 0; y < k; ++y)
+        for (int x = 0; x < k; ++x) p.push_back({(x + 0.25) / k, (y + 0.25) / k});
+    return p;
+}
+}  // namespace
+
+TEST_CASE("square lattice: known empty circle and angles", "[verify]") {
+    const int k = 10;
+    const double a = 1.0 / k;
+    // Neighbours are exactly a apart, which rounding may put a hair below a: Rf just under a.
+    const Report r = verify(square_lattice(k), {0.999 * a, a}, Box{});
+    CHECK(r.conflicts == 0);
+    CHECK(r.min_distance == Approx(a));
+    CHECK(r.largest_empty_radius == Approx(a / std::sqrt(2.0)));
+    CHECK(r.maximal);
+    CHECK(r.triangles == 2 * k * k);
+    CHECK(r.min_angle_degrees == Approx(45));
+    CHECK(r.max_angle_degrees == Approx(90));
+}
+
+TEST_CASE("hexagonal lattice: every angle is 60 degrees", "[verify]") {
+    const int cols = 8, rows = 10;  // rows even, so the torus closes
+    const double a = 1.0;
+    const Box box{cols * a, rows * a * std::sqrt(3.0) / 2, Boundary::Periodic};
+    std::vector<glm::dvec2> p;
+    for (int y = 0; y < rows; ++y)
+        for (int x = 0; x < cols; ++x) p.push_back({(x + 0.5 * (y % 2) + 0.25) * a, (y + 0.5) * a * std::sqrt(3.0) / 2});
+    const Report r = verify(p, {a, a}, box);
+    CHECK(r.min_angle_degrees == Approx(60).epsilon(1e-9));
+    CHECK(r.max_angle_degrees == Approx(60).epsilon(1e-9));
+    CHECK(r.largest_empty_radius == Approx(a / std::sqrt(3.0)));
+    CHECK(r.maximal);
+}
+
+TEST_CASE("a planted gap is found, with its centre", "[verify]") {
+    const int k = 10;
+    std::vector<glm::dvec2> p = square_lattice(k);
+    const glm::dvec2 removed = p[34];
+    p.erase(p.begin() + 34);
+    const Report r = verify(p, {0.9 / k, 0.9 / k}, Box{});
+    CHECK_FALSE(r.maximal);
+    CHECK(r.largest_empty_radius == Approx(1.0 / k));
+    CHECK(r.largest_empty_centre.x == Approx(removed.x));
+    CHECK(r.largest_empty_centre.y == Approx(removed.y));
+}
+
+TEST_CASE("a planted conflict is counted", "[verify]") {
+    std::vector<glm::dvec2> p = square_lattice(10);
+    p.push_back({p[5].x + 0.0007, p[5].y});  // 0.0007 from p[5], 0.0993 (> Rf) from the rest
+    const Report r = verify(p, {0.099, 0.1}, Box{});
+    CHECK(r.conflicts == 1);
+    CHECK(r.min_distance == Approx(0.0007));
+    CHECK_FALSE(r.passed());
+}
+
+TEST_CASE("free boundary: empty circles centred on the sides and corners count", "[verify]") {
+    // Three points near one corner of a 1 x 1 box: the far corner is the largest empty centre.
+    const std::vector<glm::dvec2> p{{0.1, 0.1}, {0.2, 0.1}, {0.1, 0.2}};
+    const Report r = verify(p, {0.05, 0.05}, Box{1, 1, Boundary::Free});
+    CHECK(r.largest_empty_radius == Approx(std::hypot(0.8, 0.9)).epsilon(1e-6));
+    CHECK_FALSE(r.maximal);
+}
+
+TEST_CASE("bad point sets are refused with the offending point", "[verify]") {
+    const Box box{};
+    CHECK_THROWS_WITH(verify({{0.1, 0.1}, {0.2, 0.2}}, {0.1, 0.1}, box), Catch::Contains("at least 3"));
+    CHECK_THROWS_WITH(verify({{0.1, 0.1}, {0.2, 0.2}, {0.1, 0.1}}, {0.1, 0.1}, box), Catch::Contains("same point"));
+    CHECK_THROWS_WITH(verify({{0.1, 0.1}, {0.2, 0.2}, {1.5, 0.1}}, {0.1, 0.1}, box), Catch::Contains("point 3"));
+    CHECK_THROWS_WITH(verify({{0.1, 0.1}, {0.2, NAN}, {0.3, 0.1}}, {0.1, 0.1}, box), Catch::Contains("not finite"));
+    CHECK_THROWS_WITH(verify(square_lattice(4), {0.2, 0.1}, box), Catch::Contains("Rf <= Rc"));
+}
+
+// Maximality of the sampler's output, judged by the largest empty circle. Samples lie on a
+// lattice of spacing q, and coverage is exact on it, so the continuous largest empty circle may
+// exceed r by at most q / sqrt(2) (q is about 1e-6 r here).
+TEST_CASE("sampler output is conflict-free and maximal by the largest empty circle", "[verify][sampling]") {
+    const struct {
+        double radius;
+        Box box;
+        Backend backend;
+    } cases[] = {
+        {0.01, {1, 1, Boundary::Periodic}, Backend::Gpu},
+        {0.004, {1, 1, Boundary::Periodic}, Backend::Cpu},
+        {0.02, {1.5, 0.7, Boundary::Free}, Backend::Gpu},
+        {5.0, {320, 180, Boundary::Free}, Backend::Cpu},
+        {5.0, {320, 180, Boundary::Periodic}, Backend::Cpu},
+    };
+    for (const auto& c : cases) {
+        for (std::uint32_t seed : {1u, 2u}) {
+            const Sampling s = sample(options(c.radius, seed, c.backend, c.box));
+            const Report r = verify(vrpd::test::points_of(s), {c.radius, c.radius}, c.box);
+            INFO("r " << c.radius << " box " << c.box.width << "x" << c.box.height << " seed " << seed << ": LEC "
+                      << r.largest_empty_radius << ", min angle " << r.min_angle_degrees);
+            CHECK(r.conflicts == 0);
+            CHECK(r.largest_empty_radius < c.radius + s.quantum / std::sqrt(2.0));
+            // Proposition 2 with Rf = Rc: every Delaunay angle > 30 degrees; Prop. 1: edges in [r, 2r].
+            CHECK(r.min_angle_degrees > 30.0);
+            CHECK(r.min_edge >= c.radius * (1 - 1e-9));
+            CHECK(r.max_edge <= 2 * c.radius + s.quantum);
+        }
+    }
+}
+
+TEST_CASE("removing any one sample from a maximal set makes it fail", "[verify][sampling]") {
+    const Sampling s = sample(options(0.1, 9, Backend::Cpu));
+    const std::vector<glm::dvec2> all = vrpd::test::points_of(s);
+    REQUIRE(verify(all, {0.1, 0.1}, Box{}).passed());
+    for (std::size_t i = 0; i < all.size(); ++i) {
+        std::vector<glm::dvec2> fewer = all;
+        fewer.erase(fewer.begin() + std::ptrdiff_t(i));
+        const Report r = verify(fewer, {0.1, 0.1}, Box{});
+        INFO("without sample " << i);
+        CHECK_FALSE(r.maximal);
+        CHECK(r.largest_empty_radius >= 0.1);
+    }
+}
