@@ -113,6 +113,13 @@ std::uint64_t estimated_bytes(const Plan& plan) {
     return plan.base_cells * 96 + (std::uint64_t(64) << 20);
 }
 
+std::uint64_t estimated_device_bytes(const Plan& plan) {
+    // Per base cell: grid word 8, active lists 8 + 16 (the children after level 0's refinement,
+    // about half the cells survive), scan 8, darts 8 and work list 4 at lambda = 0.5, samples
+    // and keys 12 per sample (0.35 samples per base cell).
+    return plan.base_cells * 56 + (std::uint64_t(16) << 20);
+}
+
 std::uint64_t host_memory_bytes() {
     return std::uint64_t(sysconf(_SC_PHYS_PAGES)) * std::uint64_t(sysconf(_SC_PAGE_SIZE));
 }

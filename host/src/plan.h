@@ -27,6 +27,9 @@ Sampling sample_plan(const SampleOptions& options, const Plan& plan);
 // Peak bytes a run is expected to hold (device and host together on a CPU device).
 std::uint64_t estimated_bytes(const Plan& plan);
 
+// Peak bytes of device memory the Vulkan engine is expected to hold.
+std::uint64_t estimated_device_bytes(const Plan& plan);
+
 // Physical memory of this machine in bytes.
 std::uint64_t host_memory_bytes();
 

@@ -45,9 +45,9 @@ template <std::size_t N> std::span<const std::uint32_t> words(const std::uint32_
 class VulkanEngine final : public Engine {
 public:
     VulkanEngine(const Plan& plan, const std::string& selector) : plan_(plan), ctx_(selector) {
-        if (estimated_bytes(plan) > ctx_.device_heap_bytes())
+        if (estimated_device_bytes(plan) > ctx_.device_heap_bytes())
             throw Error(fmt::format("the run needs about {:.1f} GiB but {} has {:.1f} GiB of device memory",
-                                    double(estimated_bytes(plan)) / (1 << 30), ctx_.device_name(),
+                                    double(estimated_device_bytes(plan)) / (1 << 30), ctx_.device_name(),
                                     double(ctx_.device_heap_bytes()) / (1 << 30)));
         counters_ = Buffer(ctx_, COUNTER_WORDS * 4, true);
         grid_ = Buffer(ctx_, plan.base_cells * sizeof(uvec2), false);

@@ -1,1 +1,0 @@
-/work/main/build-prof/spirv/refine_cells.h: /work/main/shaders/refine_cells.comp /work/main/shaders/common.glsl /work/main/shaders/shared/bridge.h /work/main/shaders/shared/darts.h /work/main/shaders/shared/domain.h /work/main/shaders/shared/kernels.h /work/main/shaders/shared/sampler.h

@@ -1,1 +1,0 @@
-/work/main/build-prof/spirv/resolve_darts.h: /work/main/shaders/resolve_darts.comp /work/main/shaders/common.glsl /work/main/shaders/shared/bridge.h /work/main/shaders/shared/darts.h /work/main/shaders/shared/domain.h /work/main/shaders/shared/kernels.h /work/main/shaders/shared/sampler.h

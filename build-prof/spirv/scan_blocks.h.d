@@ -1,1 +1,0 @@
-/work/main/build-prof/spirv/scan_blocks.h: /work/main/shaders/scan_blocks.comp /work/main/shaders/common.glsl /work/main/shaders/shared/bridge.h /work/main/shaders/shared/domain.h /work/main/shaders/shared/kernels.h
