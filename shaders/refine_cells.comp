@@ -3,15 +3,15 @@
 #include "common.glsl"
 #include "shared/sampler.h"
 layout(local_size_x_id = 0) in;
-// Per active cell: flags its param (4 children, or 1: itself) slots 1 if they stay active.
-// Invocation cell_count writes the trailing 0 that makes the scan end in the total.
+// Per base cell (run by its first active cell): flags the param (4 children, or 1: the cell
+// itself) slots of each of its active cells 1 if they stay active. Invocation cell_count writes
+// the trailing 0 that makes the scan end in the total.
 layout(push_constant) uniform Push { CellArgs a; };
 
 void main() {
     uint e = gl_GlobalInvocationID.x;
     if (e < a.cell_count) {
-        uint mask = surviving_children(a.domain, a.grid, a.cells.cell[e], a.side, a.param);
-        for (uint c = 0u; c < a.param; c++) a.scan.value[e * a.param + c] = (mask >> c) & 1u;
+        if (first_in_base_cell(a.domain, a.cells, e)) refine_base_cell(a, a.cells, a.scan, a.grid, e);
     } else if (e == a.cell_count) {
         a.scan.value[e * a.param] = 0u;
     }

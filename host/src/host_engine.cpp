@@ -51,8 +51,10 @@ public:
         std::vector<std::vector<uint>> undecided(pool_.size());
         pool_.parallel_for(n, [&](std::size_t b, std::size_t e, unsigned w) {
             for (std::size_t i = b; i < e; ++i) {
-                if (throw_cell(args, cells(), scan(), darts(), grid(), uint(i)) == 0) continue;
-                for (uint j = scan_[i]; j < scan_[i + 1]; ++j)
+                if (!first_in_base_cell(dom, cells(), uint(i))) continue;
+                if (throw_base_cell(args, cells(), scan(), darts(), grid(), uint(i)) == 0) continue;
+                const uvec2 range = grid_[base_of_point(dom, cells_[i])];
+                for (uint j = range.x & ~GRID_TAG; j < range.y; ++j)
                     if (darts_[j].w == DART_UNDECIDED) undecided[w].push_back(j);
             }
         });
@@ -133,11 +135,10 @@ private:
         const std::size_t slots = cells_.size() * fanout;
         if (slots >= GRID_TAG) throw Error("more than 2^31 active cells");
         scan_.resize(slots + 1);
+        const CellArgs args{dom, 0, 0, 0, 0, 0, 0, 0, uint(cells_.size()), spec.round, side, fanout};
         pool_.parallel_for(cells_.size(), [&](std::size_t b, std::size_t e, unsigned) {
-            for (std::size_t i = b; i < e; ++i) {
-                const uint mask = surviving_children(dom, grid(), cells_[i], side, fanout);
-                for (uint c = 0; c < fanout; ++c) scan_[i * fanout + c] = (mask >> c) & 1u;
-            }
+            for (std::size_t i = b; i < e; ++i)
+                if (first_in_base_cell(dom, cells(), uint(i))) refine_base_cell(args, cells(), scan(), grid(), uint(i));
         });
         const std::uint64_t kept = exclusive_scan(uint(slots));
         next_.resize(kept);

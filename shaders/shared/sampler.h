@@ -16,9 +16,6 @@ VRPD_FN uint base_of_point(Domain dom, uvec2 p) { return base_index(dom, base_ce
 VRPD_FN bool first_in_base_cell(Domain dom, Cells cells, uint e) {
     return e == 0u || base_of_point(dom, cells.cell[e - 1u]) != base_of_point(dom, cells.cell[e]);
 }
-VRPD_FN bool last_in_base_cell(Domain dom, Cells cells, uint e, uint count) {
-    return e + 1u == count || base_of_point(dom, cells.cell[e + 1u]) != base_of_point(dom, cells.cell[e]);
-}
 
 // The samples whose disks can reach base cell `cell`: gathered once per active cell, then tested
 // against each of its darts or children.
@@ -36,30 +33,43 @@ VRPD_FN uint gather_samples(Domain dom, Grid grid, uvec2 cell, VRPD_OUT_ARRAY(uv
     return count;
 }
 
-// Writes the darts of active cell e at scan[e] .. scan[e+1] (the exclusive prefix sums of the
-// counts), each already rejected if it lies off the domain or in the disk of a sample of an
-// earlier round, and records the dart range of its base cell in the grid. Returns how many
-// darts are still undecided.
-VRPD_FN uint throw_cell(CellArgs a, Cells cells, Uints scan, Darts darts, Grid grid, uint e) {
-    uvec2 corner = cells.cell[e];
+// The active cells after e that share its base cell: [e, group_end).
+VRPD_FN uint group_end(Domain dom, Cells cells, uint e, uint count) {
+    uint b = base_of_point(dom, cells.cell[e]);
+    uint end = e + 1u;
+    while (end < count && base_of_point(dom, cells.cell[end]) == b) end++;
+    return end;
+}
+
+// For the first active cell e of a base cell: writes the darts of all active cells of that base
+// cell (cell i's at scan[i] .. scan[i+1], the exclusive prefix sums of the counts), each already
+// rejected if it lies off the domain or in the disk of a sample of an earlier round, and records
+// the base cell's dart range in the grid. The nearby samples are gathered once per base cell.
+// Returns how many darts are still undecided.
+VRPD_FN uint throw_base_cell(CellArgs a, Cells cells, Uints scan, Darts darts, Grid grid, uint e) {
+    uint end_cell = group_end(a.domain, cells, e, a.cell_count);
     uint first = scan.value[e];
-    uint end = scan.value[e + 1u];
-    uint b = base_of_point(a.domain, corner);
-    if (first_in_base_cell(a.domain, cells, e)) grid.word[b].x = GRID_TAG | first;
-    if (last_in_base_cell(a.domain, cells, e, a.cell_count)) grid.word[b].y = end;
+    uint end = scan.value[end_cell];
+    uvec2 base = base_cell_of(a.domain, cells.cell[e]);
+    grid.word[base_index(a.domain, base)] = uvec2(GRID_TAG | first, end);
     if (first == end) return 0u;
     uvec2 near[MAX_NEAR];
-    uint near_count = gather_samples(a.domain, grid, base_cell_of(a.domain, corner), near);
-    uint stream = cell_stream(a.domain.seed, a.round, corner);
+    uint near_count = gather_samples(a.domain, grid, base, near);
     uint undecided = 0u;
-    for (uint j = first; j < end; j++) {
-        uvec4 dart = make_dart(stream, j - first, corner, a.side);
-        uvec2 p = uvec2(dart.x, dart.y);
-        bool rejected = !in_domain(a.domain, p);
-        for (uint k = 0u; k < near_count && !rejected; k++) rejected = in_disk(a.domain, near[k], p);
-        dart.w = rejected ? DART_REJECTED : DART_UNDECIDED;
-        undecided += rejected ? 0u : 1u;
-        darts.dart[j] = dart;
+    for (uint i = e; i < end_cell; i++) {
+        uvec2 corner = cells.cell[i];
+        uint stream = cell_stream(a.domain.seed, a.round, corner);
+        uint cell_first = scan.value[i];
+        uint cell_end = scan.value[i + 1u];
+        for (uint j = cell_first; j < cell_end; j++) {
+            uvec4 dart = make_dart(stream, j - cell_first, corner, a.side);
+            uvec2 p = uvec2(dart.x, dart.y);
+            bool rejected = !in_domain(a.domain, p);
+            for (uint k = 0u; k < near_count && !rejected; k++) rejected = in_disk(a.domain, near[k], p);
+            dart.w = rejected ? DART_REJECTED : DART_UNDECIDED;
+            undecided += rejected ? 0u : 1u;
+            darts.dart[j] = dart;
+        }
     }
     return undecided;
 }
@@ -135,22 +145,52 @@ VRPD_FN uvec2 child_corner(uvec2 corner, uint side, uint c) {
 }
 
 // Which of the `fanout` children (4, or 1: the cell itself) of an active cell stay active, as a
-// bit mask. A child is dropped if it lies off the domain, its base cell holds a sample, or one
-// sample's disk covers it wholly (exact corner test). Children covered only by a union of disks
-// stay, and are split until they are single lattice points, where the test is exact.
-VRPD_FN uint surviving_children(Domain dom, Grid grid, uvec2 corner, uint side, uint fanout) {
-    uvec2 cell = base_cell_of(dom, corner);
-    if (grid_is_sample(grid.word[base_index(dom, cell)])) return 0u;
-    uvec2 near[MAX_NEAR];
-    uint near_count = gather_samples(dom, grid, cell, near);
-    uint mask = 0u;
-    for (uint c = 0u; c < fanout; c++) {
-        uvec2 child = child_corner(corner, side, c);
-        bool dropped = !in_domain(dom, child);
-        for (uint k = 0u; k < near_count && !dropped; k++) dropped = cell_in_disk(dom, child, side, near[k]);
-        mask |= dropped ? 0u : (1u << c);
+// bit mask, given the samples near its base cell. A child is dropped if it lies off the domain or
+// one sample's disk covers it wholly (exact corner test, see cell_in_disk). Children covered only
+// by a union of disks stay, and are split until they are single lattice points, where the test
+// is exact. The children's x and y intervals are shared in pairs: 2 + 2 far offsets per sample.
+VRPD_FN uint surviving_children(Domain dom, uvec2 corner, uint side, uint fanout,
+                                uvec2 near[MAX_NEAR], uint near_count) {
+    uint halves = fanout == 4u ? 2u : 1u;
+    uint alive = 0u;
+    uint lo_x[2], hi_x[2], lo_y[2], hi_y[2];
+    for (uint h = 0u; h < 2u; h++) {
+        lo_x[h] = corner.x + h * side;
+        lo_y[h] = corner.y + h * side;
+        hi_x[h] = lo_x[h] + (side - 1u);
+        hi_y[h] = lo_y[h] + (side - 1u);
+        if (dom.periodic == 0u) {
+            hi_x[h] = hi_x[h] < dom.lattice_x ? hi_x[h] : dom.lattice_x - 1u;
+            hi_y[h] = hi_y[h] < dom.lattice_y ? hi_y[h] : dom.lattice_y - 1u;
+        }
     }
-    return mask;
+    for (uint c = 0u; c < fanout; c++)
+        if (in_domain(dom, uvec2(lo_x[c & 1u], lo_y[c >> 1u]))) alive |= 1u << c;
+    for (uint k = 0u; k < near_count && alive != 0u; k++) {
+        uvec2 p = near[k];
+        uint64_t fx[2], fy[2];
+        for (uint h = 0u; h < halves; h++) {
+            fx[h] = far_offset2(p.x, lo_x[h], hi_x[h], dom.lattice_x, dom.periodic);
+            fy[h] = far_offset2(p.y, lo_y[h], hi_y[h], dom.lattice_y, dom.periodic);
+        }
+        for (uint c = 0u; c < fanout; c++)
+            if (fx[c & 1u] + fy[c >> 1u] < dom.radius2) alive &= ~(1u << c);
+    }
+    return alive;
+}
+
+// For the first active cell e of a base cell: flags[i * fanout + c] = 1 for the children c of
+// every active cell i of that base cell that stay active (none if the base cell holds a sample).
+VRPD_FN void refine_base_cell(CellArgs a, Cells cells, Uints flags, Grid grid, uint e) {
+    uint end_cell = group_end(a.domain, cells, e, a.cell_count);
+    uvec2 base = base_cell_of(a.domain, cells.cell[e]);
+    bool occupied = grid_is_sample(grid.word[base_index(a.domain, base)]);
+    uvec2 near[MAX_NEAR];
+    uint near_count = occupied ? 0u : gather_samples(a.domain, grid, base, near);
+    for (uint i = e; i < end_cell; i++) {
+        uint mask = occupied ? 0u : surviving_children(a.domain, cells.cell[i], a.side, a.param, near, near_count);
+        for (uint c = 0u; c < a.param; c++) flags.value[i * a.param + c] = (mask >> c) & 1u;
+    }
 }
 
 VRPD_END
