@@ -20,14 +20,12 @@ using std::uint64_t;
 // A device address (GL_EXT_buffer_reference) is a 64-bit integer on the host.
 #define VRPD_BUFFER(T) std::uint64_t
 #define VRPD_FN inline
-#define VRPD_OUT_ARRAY(T, name, n) T (&name)[n]
 #else
 // GLSL: the extensions are enabled by shaders/common.glsl, included first by every kernel.
 #define VRPD_BEGIN
 #define VRPD_END
 #define VRPD_BUFFER(T) T
 #define VRPD_FN
-#define VRPD_OUT_ARRAY(T, name, n) out T name[n]
 #endif
 
 #endif

@@ -23,7 +23,6 @@ struct Domain {
 };
 
 const uint MAX_REACH = 3u;
-const uint MAX_NEAR = 49u;  // (2 MAX_REACH + 1)^2 base cells around a point
 
 // Grid words (one uvec2 per base cell): a sample's lattice position, or one of these tags.
 // Lattice coordinates are < 2^31, so bit 31 of .x marks a tag.
@@ -51,7 +50,9 @@ VRPD_FN uint64_t distance2(Domain dom, uvec2 p, uvec2 q) {
 // uncovered (Eq. 2), so conflict and cover are the same strict test.
 VRPD_FN bool in_disk(Domain dom, uvec2 centre, uvec2 p) { return distance2(dom, centre, p) < dom.radius2; }
 
-// Largest squared coordinate offset from c to the interval [lo, hi] (hi - lo < extent / 2),
+// Largest squared coordinate offset from c to the interval [lo, hi] (lo <= hi, hi - lo < extent / 2),
+// the x or y half of the exact test "a cell lies wholly in a disk": the disk is convex, so the
+// cell's corners decide, and the farthest corner pairs the farthest x with the farthest y.
 // measured from the image of the interval whose start is nearest to c. On a torus this may
 // overestimate (never underestimate) the true offset, so a cover test built on it is conservative.
 VRPD_FN uint64_t far_offset2(uint c, uint lo, uint hi, uint extent, uint periodic) {
@@ -62,23 +63,12 @@ VRPD_FN uint64_t far_offset2(uint c, uint lo, uint hi, uint extent, uint periodi
         else if (d0 < -(n / 2)) d0 += n;
     }
     int64_t d1 = d0 + int64_t(hi - lo);
-    uint64_t a = uint64_t(d0 * d0);
-    uint64_t b = uint64_t(d1 * d1);
-    return a > b ? a : b;
-}
-
-// True iff every lattice point of the square cell [x0, x0+side) x [y0, y0+side) inside the domain
-// lies in the disk at p. Exact: the disk is convex, so the cell's corners decide.
-VRPD_FN bool cell_in_disk(Domain dom, uvec2 corner, uint side, uvec2 p) {
-    uint hx = corner.x + (side - 1u);
-    uint hy = corner.y + (side - 1u);
-    if (dom.periodic == 0u) {
-        if (hx >= dom.lattice_x) hx = dom.lattice_x - 1u;
-        if (hy >= dom.lattice_y) hy = dom.lattice_y - 1u;
-    }
-    return far_offset2(p.x, corner.x, hx, dom.lattice_x, dom.periodic) +
-               far_offset2(p.y, corner.y, hy, dom.lattice_y, dom.periodic) <
-           dom.radius2;
+    // |d0|, |d1| < 2^31 + 2^30: square them as 32-bit magnitudes (one widening multiply each,
+    // where a signed 64-bit square is emulated on many GPUs and on SIMD CPUs).
+    uint a = uint(d0 < int64_t(0) ? -d0 : d0);
+    uint b = uint(d1 < int64_t(0) ? -d1 : d1);
+    uint m = a > b ? a : b;
+    return uint64_t(m) * uint64_t(m);
 }
 
 VRPD_FN bool in_domain(Domain dom, uvec2 p) { return p.x < dom.lattice_x && p.y < dom.lattice_y; }

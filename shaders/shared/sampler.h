@@ -17,22 +17,6 @@ VRPD_FN bool first_in_base_cell(Domain dom, Cells cells, uint e) {
     return e == 0u || base_of_point(dom, cells.cell[e - 1u]) != base_of_point(dom, cells.cell[e]);
 }
 
-// The samples whose disks can reach base cell `cell`: gathered once per active cell, then tested
-// against each of its darts or children.
-VRPD_FN uint gather_samples(Domain dom, Grid grid, uvec2 cell, VRPD_OUT_ARRAY(uvec2, near, MAX_NEAR)) {
-    uint count = 0u;
-    int reach = int(dom.reach);
-    for (int dy = -reach; dy <= reach; dy++) {
-        for (int dx = -reach; dx <= reach; dx++) {
-            uint nb = neighbour_cell(dom, cell, dx, dy);
-            if (nb == GRID_EMPTY) continue;
-            uvec2 w = grid.word[nb];
-            if (grid_is_sample(w)) near[count++] = w;
-        }
-    }
-    return count;
-}
-
 // The active cells after e that share its base cell: [e, group_end).
 VRPD_FN uint group_end(Domain dom, Cells cells, uint e, uint count) {
     uint b = base_of_point(dom, cells.cell[e]);
@@ -42,9 +26,10 @@ VRPD_FN uint group_end(Domain dom, Cells cells, uint e, uint count) {
 }
 
 // For the first active cell e of a base cell: writes the darts of all active cells of that base
-// cell (cell i's at scan[i] .. scan[i+1], the exclusive prefix sums of the counts), each already
-// rejected if it lies off the domain or in the disk of a sample of an earlier round, and records
-// the base cell's dart range in the grid. The nearby samples are gathered once per base cell.
+// cell (cell i's at scan[i] .. scan[i+1], the exclusive prefix sums of the counts), each rejected
+// if it lies off the domain or in the disk of a sample of an earlier round, and records the base
+// cell's dart range in the grid. Each nearby sample is read once for all the base cell's darts;
+// states are updated in the dart buffer, not in a local array (which GPUs spill per lane).
 // Returns how many darts are still undecided.
 VRPD_FN uint throw_base_cell(CellArgs a, Cells cells, Uints scan, Darts darts, Grid grid, uint e) {
     uint end_cell = group_end(a.domain, cells, e, a.cell_count);
@@ -53,22 +38,33 @@ VRPD_FN uint throw_base_cell(CellArgs a, Cells cells, Uints scan, Darts darts, G
     uvec2 base = base_cell_of(a.domain, cells.cell[e]);
     grid.word[base_index(a.domain, base)] = uvec2(GRID_TAG | first, end);
     if (first == end) return 0u;
-    uvec2 near[MAX_NEAR];
-    uint near_count = gather_samples(a.domain, grid, base, near);
     uint undecided = 0u;
     for (uint i = e; i < end_cell; i++) {
         uvec2 corner = cells.cell[i];
         uint stream = cell_stream(a.domain.seed, a.round, corner);
         uint cell_first = scan.value[i];
-        uint cell_end = scan.value[i + 1u];
-        for (uint j = cell_first; j < cell_end; j++) {
+        for (uint j = cell_first; j < scan.value[i + 1u]; j++) {
             uvec4 dart = make_dart(stream, j - cell_first, corner, a.side);
-            uvec2 p = uvec2(dart.x, dart.y);
-            bool rejected = !in_domain(a.domain, p);
-            for (uint k = 0u; k < near_count && !rejected; k++) rejected = in_disk(a.domain, near[k], p);
-            dart.w = rejected ? DART_REJECTED : DART_UNDECIDED;
-            undecided += rejected ? 0u : 1u;
+            bool inside = in_domain(a.domain, uvec2(dart.x, dart.y));
+            dart.w = inside ? DART_UNDECIDED : DART_REJECTED;
+            undecided += inside ? 1u : 0u;
             darts.dart[j] = dart;
+        }
+    }
+    int reach = int(a.domain.reach);
+    for (int dy = -reach; dy <= reach && undecided != 0u; dy++) {
+        for (int dx = -reach; dx <= reach && undecided != 0u; dx++) {
+            uint nb = neighbour_cell(a.domain, base, dx, dy);
+            if (nb == GRID_EMPTY) continue;
+            uvec2 p = grid.word[nb];
+            if (!grid_is_sample(p)) continue;
+            for (uint j = first; j < end; j++) {
+                uvec4 dart = darts.dart[j];
+                if (dart.w == DART_UNDECIDED && in_disk(a.domain, p, uvec2(dart.x, dart.y))) {
+                    darts.dart[j].w = DART_REJECTED;
+                    undecided--;
+                }
+            }
         }
     }
     return undecided;
@@ -144,52 +140,61 @@ VRPD_FN uvec2 child_corner(uvec2 corner, uint side, uint c) {
     return uvec2(corner.x + (c & 1u) * side, corner.y + (c >> 1u) * side);
 }
 
-// Which of the `fanout` children (4, or 1: the cell itself) of an active cell stay active, as a
-// bit mask, given the samples near its base cell. A child is dropped if it lies off the domain or
-// one sample's disk covers it wholly (exact corner test, see cell_in_disk). Children covered only
-// by a union of disks stay, and are split until they are single lattice points, where the test
-// is exact. The children's x and y intervals are shared in pairs: 2 + 2 far offsets per sample.
-VRPD_FN uint surviving_children(Domain dom, uvec2 corner, uint side, uint fanout,
-                                uvec2 near[MAX_NEAR], uint near_count) {
-    uint halves = fanout == 4u ? 2u : 1u;
-    uint alive = 0u;
-    uint lo_x[2], hi_x[2], lo_y[2], hi_y[2];
-    for (uint h = 0u; h < 2u; h++) {
-        lo_x[h] = corner.x + h * side;
-        lo_y[h] = corner.y + h * side;
-        hi_x[h] = lo_x[h] + (side - 1u);
-        hi_y[h] = lo_y[h] + (side - 1u);
-        if (dom.periodic == 0u) {
-            hi_x[h] = hi_x[h] < dom.lattice_x ? hi_x[h] : dom.lattice_x - 1u;
-            hi_y[h] = hi_y[h] < dom.lattice_y ? hi_y[h] : dom.lattice_y - 1u;
-        }
-    }
-    for (uint c = 0u; c < fanout; c++)
-        if (in_domain(dom, uvec2(lo_x[c & 1u], lo_y[c >> 1u]))) alive |= 1u << c;
-    for (uint k = 0u; k < near_count && alive != 0u; k++) {
-        uvec2 p = near[k];
-        uint64_t fx[2], fy[2];
-        for (uint h = 0u; h < halves; h++) {
-            fx[h] = far_offset2(p.x, lo_x[h], hi_x[h], dom.lattice_x, dom.periodic);
-            fy[h] = far_offset2(p.y, lo_y[h], hi_y[h], dom.lattice_y, dom.periodic);
-        }
-        for (uint c = 0u; c < fanout; c++)
-            if (fx[c & 1u] + fy[c >> 1u] < dom.radius2) alive &= ~(1u << c);
-    }
-    return alive;
-}
+// Clamps the last lattice coordinate of an interval to a free boundary's last lattice point.
+VRPD_FN uint clip_hi(uint hi, uint extent, uint periodic) { return periodic != 0u || hi < extent ? hi : extent - 1u; }
 
 // For the first active cell e of a base cell: flags[i * fanout + c] = 1 for the children c of
-// every active cell i of that base cell that stay active (none if the base cell holds a sample).
+// every active cell i of that base cell that stay active (fanout 4, or 1: the cell itself). A
+// child is dropped if its base cell holds a sample, it lies off the domain, or one sample's disk
+// covers it wholly (exact corner test, see far_offset2). Children covered only by a union of
+// disks stay, and are split until they are single lattice points, where the test is exact.
+// Each nearby sample is read once for the whole base cell; a child's x and y intervals are
+// shared in pairs, so a sample costs 2 + 2 far offsets per active cell, not 4 corner tests.
 VRPD_FN void refine_base_cell(CellArgs a, Cells cells, Uints flags, Grid grid, uint e) {
-    uint end_cell = group_end(a.domain, cells, e, a.cell_count);
-    uvec2 base = base_cell_of(a.domain, cells.cell[e]);
-    bool occupied = grid_is_sample(grid.word[base_index(a.domain, base)]);
-    uvec2 near[MAX_NEAR];
-    uint near_count = occupied ? 0u : gather_samples(a.domain, grid, base, near);
+    Domain dom = a.domain;
+    uint end_cell = group_end(dom, cells, e, a.cell_count);
+    uvec2 base = base_cell_of(dom, cells.cell[e]);
+    bool occupied = grid_is_sample(grid.word[base_index(dom, base)]);
+    uint side = a.side;
+    uint alive = 0u;
     for (uint i = e; i < end_cell; i++) {
-        uint mask = occupied ? 0u : surviving_children(a.domain, cells.cell[i], a.side, a.param, near, near_count);
-        for (uint c = 0u; c < a.param; c++) flags.value[i * a.param + c] = (mask >> c) & 1u;
+        uvec2 corner = cells.cell[i];
+        for (uint c = 0u; c < a.param; c++) {
+            bool keep = !occupied && in_domain(dom, child_corner(corner, side, c));
+            flags.value[i * a.param + c] = keep ? 1u : 0u;
+            alive += keep ? 1u : 0u;
+        }
+    }
+    int reach = int(dom.reach);
+    for (int dy = -reach; dy <= reach && alive != 0u; dy++) {
+        for (int dx = -reach; dx <= reach && alive != 0u; dx++) {
+            uint nb = neighbour_cell(dom, base, dx, dy);
+            if (nb == GRID_EMPTY) continue;
+            uvec2 p = grid.word[nb];
+            if (!grid_is_sample(p)) continue;
+            for (uint i = e; i < end_cell; i++) {
+                uvec2 corner = cells.cell[i];
+                uint x1 = corner.x + side;
+                uint y1 = corner.y + side;
+                uint64_t fx0 = far_offset2(p.x, corner.x, clip_hi(x1 - 1u, dom.lattice_x, dom.periodic), dom.lattice_x, dom.periodic);
+                uint64_t fy0 = far_offset2(p.y, corner.y, clip_hi(y1 - 1u, dom.lattice_y, dom.periodic), dom.lattice_y, dom.periodic);
+                // Second children off a free boundary are flagged 0 already; `far` keeps them so.
+                uint64_t far = uint64_t(1) << 62;
+                uint64_t fx1 = far, fy1 = far;
+                if (a.param == 4u && (dom.periodic != 0u || x1 < dom.lattice_x))
+                    fx1 = far_offset2(p.x, x1, clip_hi(x1 + side - 1u, dom.lattice_x, dom.periodic), dom.lattice_x, dom.periodic);
+                if (a.param == 4u && (dom.periodic != 0u || y1 < dom.lattice_y))
+                    fy1 = far_offset2(p.y, y1, clip_hi(y1 + side - 1u, dom.lattice_y, dom.periodic), dom.lattice_y, dom.periodic);
+                for (uint c = 0u; c < a.param; c++) {
+                    uint slot = i * a.param + c;
+                    uint64_t far2 = ((c & 1u) == 0u ? fx0 : fx1) + ((c >> 1u) == 0u ? fy0 : fy1);
+                    if (flags.value[slot] != 0u && far2 < dom.radius2) {
+                        flags.value[slot] = 0u;
+                        alive--;
+                    }
+                }
+            }
+        }
     }
 }
 
