@@ -9,6 +9,8 @@
 #include <string>
 #include <sys/wait.h>
 
+#include <nlohmann/json.hpp>
+
 #include "vrpd/io.h"
 
 namespace fs = std::filesystem;
@@ -102,4 +104,22 @@ TEST_CASE("check: 0 for a maximal set, 1 when a sample is missing, 2 for bad inp
     CHECK(r.err.find(":3:") != std::string::npos);  // names the line
     CHECK(cli("check " + (scratch() / "missing.csv").string() + " --radius 0.05").code == 2);
     CHECK(cli("check " + good.string() + " --rf 0.05 --rc 0.01").code == 2);
+}
+
+TEST_CASE("bench and check write JSON that says what they measured", "[cli]") {
+    const fs::path bench = scratch() / "bench.json", report = scratch() / "report.json", pts = scratch() / "b.csv";
+    REQUIRE(cli("bench --radii 0.05 --devices cpu serial --repeat 1 --json " + bench.string()).code == 0);
+    const auto b = nlohmann::json::parse(slurp(bench));
+    REQUIRE(b["rows"].size() == 2);
+    CHECK(b["rows"][0]["samples"] == b["rows"][1]["samples"]);  // the same sampling on both devices
+    CHECK(b["rows"][0]["points_per_second"].get<double>() > 0);
+    CHECK(cli("bench --radii 0.7").code != 0);  // too large for the unit torus
+
+    REQUIRE(cli("sample --radius 0.05 --seed 4 --device cpu -o " + pts.string()).code == 0);
+    REQUIRE(cli("check " + pts.string() + " --radius 0.05 --json " + report.string()).code == 0);
+    const auto r = nlohmann::json::parse(slurp(report));
+    CHECK(r["passed"] == true);
+    CHECK(r["conflicts"] == 0);
+    CHECK(r["largest_empty_radius"].get<double>() < 0.05);
+    CHECK(r["min_angle_degrees"].get<double>() > 30.0);
 }

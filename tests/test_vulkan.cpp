@@ -1,0 +1,30 @@
+// The Vulkan layer itself: the validation capture that every other test relies on must be able
+// to fail, and device selection must refuse what it cannot use.
+#include <catch2/catch.hpp>
+
+#include <cstdlib>
+
+#include "vulkan_context.h"
+
+using namespace vrpd;
+
+TEST_CASE("a validation message becomes an error", "[gpu][vulkan]") {
+    REQUIRE(std::getenv("VRPD_VALIDATION") != nullptr);  // ctest sets it for every test
+    detail::VulkanContext ctx("");
+    VkBufferCreateInfo bad{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
+    bad.size = 0;  // VUID-VkBufferCreateInfo-size-00912: size must be greater than 0
+    bad.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+    VkBuffer buffer = VK_NULL_HANDLE;
+    ctx.vk().vkCreateBuffer(ctx.device(), &bad, nullptr, &buffer);
+    if (buffer) ctx.vk().vkDestroyBuffer(ctx.device(), buffer, nullptr);
+    CHECK_THROWS_WITH(ctx.check_validation(), Catch::Contains("00912"));
+    CHECK_NOTHROW(ctx.check_validation());  // reported once
+}
+
+TEST_CASE("device selection refuses an unknown device", "[gpu][vulkan]") {
+    CHECK_THROWS_WITH(detail::VulkanContext("no-such-device-name"), Catch::Contains("no Vulkan device matches"));
+    CHECK_THROWS_WITH(detail::VulkanContext("99"), Catch::Contains("no Vulkan device matches"));
+    const auto devices = list_devices();
+    REQUIRE_FALSE(devices.empty());
+    CHECK(detail::VulkanContext("0").device_name().find(devices[0].name) == 0);
+}
