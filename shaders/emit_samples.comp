@@ -3,7 +3,8 @@
 #include "common.glsl"
 #include "shared/sampler.h"
 layout(local_size_x_id = 0) in;
-// Per dart: an accepted dart becomes sample sample_base + (its rank among accepted darts).
+// Per dart: an accepted dart becomes sample sample_base + (its rank among accepted darts), in
+// spatial order; its key goes to the round's key list, for sort_* to put the round in arrival order.
 layout(push_constant) uniform Push { DartArgs a; };
 
 void main() {
@@ -13,5 +14,5 @@ void main() {
     if (a.scan.value[d + 1u] == rank) return;
     uvec4 dart = a.darts.dart[d];
     a.samples.point[a.sample_base + rank] = uvec2(dart.x, dart.y);
-    a.sample_keys.value[a.sample_base + rank] = dart.z;
+    a.sample_keys.value[rank] = dart.z;
 }

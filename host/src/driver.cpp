@@ -1,10 +1,8 @@
 // The sampling schedule (paper section 1; flat quadtree of Ebeida et al. 2012): rounds of darts
 // per level, refinement of the cells still active, until no cell is active, i.e. the sampling is
-// maximal. Each round's samples are put in arrival order, giving the sequence x_1..x_n.
-#include <algorithm>
+// maximal. The engines keep each round's samples in arrival order: the sequence x_1..x_n.
 #include <chrono>
 #include <cmath>
-#include <numeric>
 
 #include <fmt/format.h>
 
@@ -56,7 +54,6 @@ Sampling detail::sample_plan(const SampleOptions& options, const Plan& plan) {
 
     std::unique_ptr<Engine> engine = make_engine(options, plan);
     Sampling result;
-    std::vector<std::uint64_t> per_round;
     std::uint64_t active = engine->start();
     std::uint32_t level = 0, round = 0;
     while (active > 0) {
@@ -66,25 +63,13 @@ Sampling detail::sample_plan(const SampleOptions& options, const Plan& plan) {
             if (round >= kMaxRounds) throw Error(fmt::format("internal: not maximal after {} rounds", round));
             const bool refine = r + 1 == s.rounds && level < plan.deepest_level;
             const detail::RoundResult rr = engine->round({round++, side, exp_neg(s.lambda), refine});
-            per_round.push_back(rr.accepted);
             result.stats.darts += rr.darts;
             active = rr.active;
             if (refine) ++level;
         }
     }
 
-    detail::Emitted out = engine->samples();
-    // Each round's samples come in spatial order; their arrival order is (key, spatial index).
-    result.lattice.resize(out.lattice.size());
-    std::vector<std::uint32_t> order;
-    std::size_t begin = 0;
-    for (std::uint64_t count : per_round) {
-        order.resize(count);
-        std::iota(order.begin(), order.end(), std::uint32_t(begin));
-        std::stable_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return out.keys[a] < out.keys[b]; });
-        for (std::size_t i = 0; i < count; ++i) result.lattice[begin + i] = out.lattice[order[i]];
-        begin += count;
-    }
+    result.lattice = engine->samples();
     result.quantum = plan.quantum;
     result.radius = options.radius;
     result.box = options.box;

@@ -24,13 +24,6 @@ struct RoundResult {
     std::uint64_t active;          // active cells for the next round
 };
 
-// The samples of a run in emission order: within a round in spatial order, with arrival keys
-// so that the driver can put each round in arrival order.
-struct Emitted {
-    std::vector<glm::uvec2> lattice;
-    std::vector<std::uint32_t> keys;
-};
-
 class Engine {
 public:
     virtual ~Engine() = default;
@@ -38,9 +31,11 @@ public:
     // The first active list: every base cell (side 2^cell_bits). Returns the active count.
     virtual std::uint64_t start() = 0;
     // One round: throw darts into the active cells, resolve them in arrival order, commit the
-    // accepted, and keep (or refine) the cells still active.
+    // accepted and append them to the samples in arrival order, and keep (or refine) the cells
+    // still active.
     virtual RoundResult round(const RoundSpec& spec) = 0;
-    virtual Emitted samples() = 0;
+    // All samples so far, in acceptance order (rounds in order, each in arrival order).
+    virtual std::vector<glm::uvec2> samples() = 0;
 };
 
 enum class Resolution { Parallel, Serial };

@@ -69,19 +69,20 @@ public:
                 if (first_in_base_cell(dom, cells(), uint(i)))
                     commit_base_cell(grid(), darts(), scan(), base_of_point(dom, cells_[i]));
         });
-        std::uint64_t accepted = 0;
-        for (std::size_t j = 0; j < total; ++j) {
-            if (!scan_[j]) continue;
-            out_.lattice.emplace_back(darts_[j].x, darts_[j].y);
-            out_.keys.push_back(darts_[j].z);
-            ++accepted;
-        }
+        // The round's samples in arrival order: (key, dart index), dart index being spatial order.
+        std::vector<uint> accepted_darts;
+        for (uint j = 0; j < total; ++j)
+            if (scan_[j]) accepted_darts.push_back(j);
+        std::stable_sort(accepted_darts.begin(), accepted_darts.end(),
+                         [&](uint a, uint b) { return darts_[a].z < darts_[b].z; });
+        for (uint j : accepted_darts) out_.emplace_back(darts_[j].x, darts_[j].y);
+        const std::uint64_t accepted = accepted_darts.size();
 
         refine(spec);
         return {total, accepted, cells_.size()};
     }
 
-    Emitted samples() override { return std::move(out_); }
+    std::vector<uvec2> samples() override { return std::move(out_); }
 
 private:
     Cells cells() { return {cells_.data()}; }
@@ -157,7 +158,7 @@ private:
     std::vector<uvec2> next_;
     std::vector<uvec4> darts_;
     std::vector<uint> scan_;
-    Emitted out_;
+    std::vector<uvec2> out_;  // samples in acceptance order
 };
 
 }  // namespace

@@ -20,6 +20,8 @@
 #include "scan_blocks.h"
 #include "scan_sums.h"
 #include "scatter_cells.h"
+#include "sort_histogram.h"
+#include "sort_scatter.h"
 #include "throw_darts.h"
 #include "work_args.h"
 
@@ -34,6 +36,7 @@ static_assert(sizeof(CellArgs) == 112 && offsetof(CellArgs, cells) == 40 && offs
 static_assert(sizeof(DartArgs) == 120 && offsetof(DartArgs, darts) == 40 && offsetof(DartArgs, dart_count) == 104);
 static_assert(sizeof(ScanArgs) == 40 && offsetof(ScanArgs, count) == 24);
 static_assert(sizeof(WorkArgs) == 16 && offsetof(WorkArgs, slot) == 8);
+static_assert(sizeof(SortArgs) == 56 && offsetof(SortArgs, count) == 40);
 static_assert(sizeof(DartArgs) <= 128, "push constants: 128 bytes is the guaranteed minimum");
 
 constexpr std::uint32_t kResolvePassesPerSubmit = 4;
@@ -119,7 +122,7 @@ public:
 
         // Last submit: commit, emit the accepted darts as samples, keep or refine the cells.
         ensure(samples_, (emitted_ + darts) * sizeof(uvec2), true);
-        ensure(keys_, (emitted_ + darts) * 4, true);
+        ensure(keys_, std::uint64_t(darts) * 4);
         ensure(cells_[1], slots * sizeof(uvec2));
         ctx_.begin();
         ctx_.dispatch(commit_cells_, &a, groups(n, WORKGROUP_SIZE));
@@ -137,28 +140,23 @@ public:
         ctx_.barrier();  // the next active list before the next round and the host
         ctx_.submit_and_wait();
         const std::uint32_t accepted = counter(COUNTER_ACCEPTED);
+        sort_round(accepted);
         emitted_ += accepted;
         active_ = counter(COUNTER_ACTIVE);
         std::swap(cells_[0], cells_[1]);
         return {darts, accepted, active_};
     }
 
-    Emitted samples() override {
-        Emitted out;
-        out.lattice.resize(emitted_);
-        out.keys.resize(emitted_);
+    std::vector<uvec2> samples() override {
+        std::vector<uvec2> out(emitted_);
         if (emitted_ == 0) return out;
-        Buffer staging(ctx_, emitted_ * (sizeof(uvec2) + 4), true);
+        Buffer staging(ctx_, emitted_ * sizeof(uvec2), true);
         VkCommandBuffer cmd = ctx_.begin();
-        VkBufferCopy points{0, 0, emitted_ * sizeof(uvec2)};
-        VkBufferCopy keys{0, emitted_ * sizeof(uvec2), emitted_ * 4};
-        ctx_.vk().vkCmdCopyBuffer(cmd, samples_.handle(), staging.handle(), 1, &points);
-        ctx_.vk().vkCmdCopyBuffer(cmd, keys_.handle(), staging.handle(), 1, &keys);
-        ctx_.barrier();  // copies before the host reads the staging buffer
+        VkBufferCopy all{0, 0, emitted_ * sizeof(uvec2)};
+        ctx_.vk().vkCmdCopyBuffer(cmd, samples_.handle(), staging.handle(), 1, &all);
+        ctx_.barrier();  // the copy before the host reads the staging buffer
         ctx_.submit_and_wait();
-        const auto* bytes = static_cast<const unsigned char*>(staging.mapped());
-        std::memcpy(out.lattice.data(), bytes, emitted_ * sizeof(uvec2));
-        std::memcpy(out.keys.data(), bytes + emitted_ * sizeof(uvec2), emitted_ * 4);
+        std::memcpy(out.data(), staging.mapped(), emitted_ * sizeof(uvec2));
         return out;
     }
 
@@ -187,6 +185,33 @@ private:
         ctx_.barrier();  // block offsets before they are added
         ctx_.dispatch(scan_add_, &s, groups(count, WORKGROUP_SIZE));
         ctx_.barrier();  // the prefix sums before their readers
+    }
+
+    // Puts this round's `count` samples (at emitted_, emitted in spatial order) in arrival order:
+    // a stable radix sort by key on the device, 4 passes of 8 bits, ping-ponging with sort_tmp_.
+    void sort_round(std::uint32_t count) {
+        if (count < 2) return;
+        const std::uint32_t tiles = groups(count, SCAN_BLOCK);
+        const std::uint64_t bins = std::uint64_t(SORT_BUCKETS) * tiles;
+        ensure(sort_points_, std::uint64_t(count) * sizeof(uvec2));
+        ensure(sort_keys_, std::uint64_t(count) * 4);
+        ensure(histogram_, (bins + 1) * 4);
+        ensure(block_sums_, std::uint64_t(groups(bins + 1, SCAN_BLOCK)) * 4);
+        const std::uint64_t points = samples_.address() + emitted_ * sizeof(uvec2);
+        SortArgs s{points, keys_.address(), sort_points_.address(), sort_keys_.address(), histogram_.address(),
+                   count, 0, tiles, 0};
+        ctx_.begin();
+        for (std::uint32_t pass = 0; pass < 4; ++pass) {
+            s.shift = 8 * pass;
+            ctx_.dispatch(sort_histogram_, &s, tiles);
+            ctx_.barrier();  // digit counts before their scan
+            scan(histogram_, bins, COUNTER_SORT);
+            ctx_.dispatch(sort_scatter_, &s, tiles);
+            ctx_.barrier();  // this pass's output before the next pass reads it
+            std::swap(s.src_points, s.dst_points);
+            std::swap(s.src_keys, s.dst_keys);
+        }
+        ctx_.submit_and_wait();
     }
 
     // The scan buffer (kept when it holds prefix sums still to be read) and its block sums.
@@ -224,7 +249,9 @@ private:
     Kernel scan_blocks_{ctx_, words(spirv_scan_blocks), sizeof(ScanArgs), 64};
     Kernel scan_sums_{ctx_, words(spirv_scan_sums), sizeof(ScanArgs), 64};
     Kernel scan_add_{ctx_, words(spirv_scan_add), sizeof(ScanArgs), 64};
-    Buffer counters_, grid_, darts_, scan_, block_sums_, samples_, keys_;
+    Kernel sort_histogram_{ctx_, words(spirv_sort_histogram), sizeof(SortArgs), 64};
+    Kernel sort_scatter_{ctx_, words(spirv_sort_scatter), sizeof(SortArgs), 1};
+    Buffer counters_, grid_, darts_, scan_, block_sums_, samples_, keys_, sort_points_, sort_keys_, histogram_;
     std::array<Buffer, 2> cells_, work_;
     std::uint64_t emitted_ = 0;
     std::uint32_t active_ = 0;

@@ -33,7 +33,8 @@ const uint COUNTER_WORK0 = 0u;     // uvec3 dispatch + count of work list 0
 const uint COUNTER_WORK1 = 4u;     // the same for work list 1
 const uint COUNTER_DARTS = 8u;     // scan totals: darts thrown this round,
 const uint COUNTER_ACCEPTED = 9u;  // darts accepted this round,
-const uint COUNTER_ACTIVE = 10u;   // cells active for the next round
+const uint COUNTER_ACTIVE = 10u;   // cells active for the next round,
+const uint COUNTER_SORT = 11u;     // the sort's histogram
 const uint COUNTER_WORDS = 12u;
 
 // Kernels over the active cells: init_cells, count_darts, throw_darts, commit_cells, refine_cells,
@@ -64,7 +65,7 @@ struct DartArgs {
     VRPD_BUFFER(Uints) counters;
     VRPD_BUFFER(Uints) scan;        // emit_samples: prefix sums of the accepted flags
     VRPD_BUFFER(Points) samples;    // emit_samples: positions, in emission order
-    VRPD_BUFFER(Uints) sample_keys; // emit_samples: arrival keys, to order each round's samples
+    VRPD_BUFFER(Uints) sample_keys; // emit_samples: this round's arrival keys, to order its samples
     uint dart_count;
     uint work_in_slot;             // COUNTER_WORK0 or COUNTER_WORK1
     uint work_out_slot;
@@ -79,6 +80,22 @@ struct ScanArgs {
     uint count;
     uint block_count;
     uint total_slot;
+    uint pad;
+};
+
+// Stable LSD radix sort of one round's samples by arrival key, 8 bits a pass:
+// sort_histogram (digit counts per tile of SCAN_BLOCK), a scan of the digit-major histogram,
+// sort_scatter (each tile's elements to their ranks, in tile order, so the sort is stable).
+const uint SORT_BUCKETS = 256u;
+struct SortArgs {
+    VRPD_BUFFER(Points) src_points;
+    VRPD_BUFFER(Uints) src_keys;
+    VRPD_BUFFER(Points) dst_points;
+    VRPD_BUFFER(Uints) dst_keys;
+    VRPD_BUFFER(Uints) histogram;  // SORT_BUCKETS x tile_count, digit-major
+    uint count;
+    uint shift;                     // 0, 8, 16, 24
+    uint tile_count;
     uint pad;
 };
 
