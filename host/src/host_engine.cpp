@@ -37,7 +37,7 @@ public:
     RoundResult round(const RoundSpec& spec) override {
         const Domain dom = plan_.domain;
         const uint n = uint(cells_.size());
-        CellArgs args{dom, 0, 0, 0, 0, 0, 0, 0, n, spec.round, spec.side, spec.exp_neg_lambda};
+        CellArgs args{dom, 0, 0, 0, 0, 0, 0, 0, 0, n, spec.round, spec.side, spec.exp_neg_lambda};
 
         scan_.resize(std::size_t(n) + 1);
         pool_.parallel_for(n, [&](std::size_t b, std::size_t e, unsigned) {
@@ -133,19 +133,20 @@ private:
         const Domain dom = plan_.domain;
         const uint fanout = spec.refine ? 4u : 1u;
         const uint side = spec.refine ? spec.side / 2u : spec.side;
-        const std::size_t slots = cells_.size() * fanout;
-        if (slots >= GRID_TAG) throw Error("more than 2^31 active cells");
-        scan_.resize(slots + 1);
-        const CellArgs args{dom, 0, 0, 0, 0, 0, 0, 0, uint(cells_.size()), spec.round, side, fanout};
-        pool_.parallel_for(cells_.size(), [&](std::size_t b, std::size_t e, unsigned) {
+        const uint n = uint(cells_.size());
+        if (std::size_t(n) * fanout >= GRID_TAG) throw Error("more than 2^31 active cells");
+        scan_.resize(std::size_t(n) + 1);
+        masks_.resize(n);
+        const CellArgs args{dom, 0, 0, 0, 0, 0, 0, 0, 0, n, spec.round, side, fanout};
+        pool_.parallel_for(n, [&](std::size_t b, std::size_t e, unsigned) {
             for (std::size_t i = b; i < e; ++i)
-                if (first_in_base_cell(dom, cells(), uint(i))) refine_base_cell(args, cells(), scan(), grid(), uint(i));
+                if (first_in_base_cell(dom, cells(), uint(i)))
+                    refine_base_cell(args, cells(), scan(), Uints{masks_.data()}, grid(), uint(i));
         });
-        const std::uint64_t kept = exclusive_scan(uint(slots));
-        next_.resize(kept);
-        pool_.parallel_for(slots, [&](std::size_t b, std::size_t e, unsigned) {
-            for (std::size_t s = b; s < e; ++s)
-                if (scan_[s + 1] != scan_[s]) next_[scan_[s]] = child_corner(cells_[s / fanout], side, uint(s % fanout));
+        next_.resize(exclusive_scan(n));
+        pool_.parallel_for(n, [&](std::size_t b, std::size_t e, unsigned) {
+            for (std::size_t i = b; i < e; ++i)
+                scatter_children(args, cells(), scan(), Uints{masks_.data()}, Cells{next_.data()}, uint(i));
         });
         cells_.swap(next_);
     }
@@ -158,6 +159,7 @@ private:
     std::vector<uvec2> next_;
     std::vector<uvec4> darts_;
     std::vector<uint> scan_;
+    std::vector<uint> masks_;
     std::vector<uvec2> out_;  // samples in acceptance order
 };
 

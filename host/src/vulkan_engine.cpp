@@ -32,7 +32,7 @@ using namespace shared;
 
 // Push-constant layouts must match std430 as glslang lays them out.
 static_assert(sizeof(Domain) == 40 && offsetof(Domain, lattice_x) == 8 && offsetof(Domain, seed) == 36);
-static_assert(sizeof(CellArgs) == 112 && offsetof(CellArgs, cells) == 40 && offsetof(CellArgs, cell_count) == 96);
+static_assert(sizeof(CellArgs) == 120 && offsetof(CellArgs, cells) == 40 && offsetof(CellArgs, cell_count) == 104);
 static_assert(sizeof(DartArgs) == 120 && offsetof(DartArgs, darts) == 40 && offsetof(DartArgs, dart_count) == 104);
 static_assert(sizeof(ScanArgs) == 40 && offsetof(ScanArgs, count) == 24);
 static_assert(sizeof(WorkArgs) == 16 && offsetof(WorkArgs, slot) == 8);
@@ -77,7 +77,8 @@ public:
         const std::uint32_t fanout = spec.refine ? 4 : 1;
         const std::uint64_t slots = std::uint64_t(n) * fanout;
         if (slots >= GRID_TAG) throw Error("more than 2^31 active cells");
-        ensure_scan(slots + 1, false);
+        ensure_scan(std::uint64_t(n) + 1, false);
+        ensure(masks_, std::uint64_t(n) * 4);
 
         // Submit 1: dart counts and their prefix sums.
         ctx_.begin();
@@ -135,8 +136,8 @@ public:
         a = cell_args(n, spec.round, child_side, fanout);
         ctx_.dispatch(refine_cells_, &a, groups(std::uint64_t(n) + 1, WORKGROUP_SIZE));
         ctx_.barrier();  // survival flags before their scan
-        scan(scan_, slots + 1, COUNTER_ACTIVE);
-        ctx_.dispatch(scatter_cells_, &a, groups(slots, WORKGROUP_SIZE));
+        scan(scan_, std::uint64_t(n) + 1, COUNTER_ACTIVE);
+        ctx_.dispatch(scatter_cells_, &a, groups(n, WORKGROUP_SIZE));
         ctx_.barrier();  // the next active list before the next round and the host
         ctx_.submit_and_wait();
         const std::uint32_t accepted = counter(COUNTER_ACCEPTED);
@@ -163,7 +164,7 @@ public:
 private:
     CellArgs cell_args(std::uint32_t n, std::uint32_t round, std::uint32_t side, std::uint32_t param) const {
         return {plan_.domain, cells_[0].address(), cells_[1].address(), darts_.address(), scan_.address(),
-                grid_.address(), work_[0].address(), counters_.address(), n, round, side, param};
+                grid_.address(), work_[0].address(), counters_.address(), masks_.address(), n, round, side, param};
     }
 
     DartArgs dart_args(std::uint32_t darts, std::uint32_t in_slot, std::uint32_t out_slot, std::uint32_t base) const {
@@ -251,7 +252,7 @@ private:
     Kernel scan_add_{ctx_, words(spirv_scan_add), sizeof(ScanArgs), 64};
     Kernel sort_histogram_{ctx_, words(spirv_sort_histogram), sizeof(SortArgs), 64};
     Kernel sort_scatter_{ctx_, words(spirv_sort_scatter), sizeof(SortArgs), 1};
-    Buffer counters_, grid_, darts_, scan_, block_sums_, samples_, keys_, sort_points_, sort_keys_, histogram_;
+    Buffer counters_, grid_, darts_, scan_, block_sums_, masks_, samples_, keys_, sort_points_, sort_keys_, histogram_;
     std::array<Buffer, 2> cells_, work_;
     std::uint64_t emitted_ = 0;
     std::uint32_t active_ = 0;

@@ -44,10 +44,11 @@ struct CellArgs {
     VRPD_BUFFER(Cells) cells;      // active cells (lattice corners), ordered by base cell
     VRPD_BUFFER(Cells) cells_out;  // the next round's active cells
     VRPD_BUFFER(Darts) darts;
-    VRPD_BUFFER(Uints) scan;       // per-cell dart counts, then their exclusive prefix sums
+    VRPD_BUFFER(Uints) scan;       // per-cell dart (or surviving child) counts, then their prefix sums
     VRPD_BUFFER(Grid) grid;
     VRPD_BUFFER(Uints) work;       // throw_darts: appends the undecided darts (work list 0)
     VRPD_BUFFER(Uints) counters;
+    VRPD_BUFFER(Uints) masks;      // refine/scatter: which children of each cell stay active
     uint cell_count;
     uint round;                    // global round number: keys the RNG
     uint side;                     // side of the active cells (of the children in refine/scatter)

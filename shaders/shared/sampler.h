@@ -140,17 +140,20 @@ VRPD_FN uvec2 child_corner(uvec2 corner, uint side, uint c) {
     return uvec2(corner.x + (c & 1u) * side, corner.y + (c >> 1u) * side);
 }
 
+VRPD_FN uint bit_count4(uint m) { return (m & 1u) + ((m >> 1u) & 1u) + ((m >> 2u) & 1u) + ((m >> 3u) & 1u); }
+
 // Clamps the last lattice coordinate of an interval to a free boundary's last lattice point.
 VRPD_FN uint clip_hi(uint hi, uint extent, uint periodic) { return periodic != 0u || hi < extent ? hi : extent - 1u; }
 
-// For the first active cell e of a base cell: flags[i * fanout + c] = 1 for the children c of
-// every active cell i of that base cell that stay active (fanout 4, or 1: the cell itself). A
+// For the first active cell e of a base cell: masks[i] has bit c set for the children c of every
+// active cell i of that base cell that stay active (fanout 4, or 1: the cell itself), and
+// counts[i] their number, for the scan that places them in the next active list. A
 // child is dropped if its base cell holds a sample, it lies off the domain, or one sample's disk
 // covers it wholly (exact corner test, see far_offset2). Children covered only by a union of
 // disks stay, and are split until they are single lattice points, where the test is exact.
 // Each nearby sample is read once for the whole base cell; a child's x and y intervals are
 // shared in pairs, so a sample costs 2 + 2 far offsets per active cell, not 4 corner tests.
-VRPD_FN void refine_base_cell(CellArgs a, Cells cells, Uints flags, Grid grid, uint e) {
+VRPD_FN void refine_base_cell(CellArgs a, Cells cells, Uints counts, Uints masks, Grid grid, uint e) {
     Domain dom = a.domain;
     uint end_cell = group_end(dom, cells, e, a.cell_count);
     uvec2 base = base_cell_of(dom, cells.cell[e]);
@@ -159,11 +162,13 @@ VRPD_FN void refine_base_cell(CellArgs a, Cells cells, Uints flags, Grid grid, u
     uint alive = 0u;
     for (uint i = e; i < end_cell; i++) {
         uvec2 corner = cells.cell[i];
+        uint mask = 0u;
         for (uint c = 0u; c < a.param; c++) {
             bool keep = !occupied && in_domain(dom, child_corner(corner, side, c));
-            flags.value[i * a.param + c] = keep ? 1u : 0u;
+            mask |= keep ? 1u << c : 0u;
             alive += keep ? 1u : 0u;
         }
+        masks.value[i] = mask;
     }
     int reach = int(dom.reach);
     for (int dy = -reach; dy <= reach && alive != 0u; dy++) {
@@ -173,6 +178,8 @@ VRPD_FN void refine_base_cell(CellArgs a, Cells cells, Uints flags, Grid grid, u
             uvec2 p = grid.word[nb];
             if (!grid_is_sample(p)) continue;
             for (uint i = e; i < end_cell; i++) {
+                uint mask = masks.value[i];
+                if (mask == 0u) continue;
                 uvec2 corner = cells.cell[i];
                 uint x1 = corner.x + side;
                 uint y1 = corner.y + side;
@@ -186,16 +193,25 @@ VRPD_FN void refine_base_cell(CellArgs a, Cells cells, Uints flags, Grid grid, u
                 if (a.param == 4u && (dom.periodic != 0u || y1 < dom.lattice_y))
                     fy1 = far_offset2(p.y, y1, clip_hi(y1 + side - 1u, dom.lattice_y, dom.periodic), dom.lattice_y, dom.periodic);
                 for (uint c = 0u; c < a.param; c++) {
-                    uint slot = i * a.param + c;
                     uint64_t far2 = ((c & 1u) == 0u ? fx0 : fx1) + ((c >> 1u) == 0u ? fy0 : fy1);
-                    if (flags.value[slot] != 0u && far2 < dom.radius2) {
-                        flags.value[slot] = 0u;
+                    if ((mask & (1u << c)) != 0u && far2 < dom.radius2) {
+                        mask &= ~(1u << c);
                         alive--;
                     }
                 }
+                masks.value[i] = mask;
             }
         }
     }
+    for (uint i = e; i < end_cell; i++) counts.value[i] = bit_count4(masks.value[i]);
+}
+
+// Writes the surviving children of active cell i to the next active list, from its rank on.
+VRPD_FN void scatter_children(CellArgs a, Cells cells, Uints ranks, Uints masks, Cells cells_out, uint i) {
+    uint mask = masks.value[i];
+    uint rank = ranks.value[i];
+    for (uint c = 0u; c < a.param; c++)
+        if ((mask & (1u << c)) != 0u) cells_out.cell[rank++] = child_corner(cells.cell[i], a.side, c);
 }
 
 VRPD_END
