@@ -45,8 +45,12 @@ public:
                 scan_[i] = dart_count(cell_stream(dom.seed, spec.round, cells_[i]), spec.exp_neg_lambda);
         });
         const std::uint64_t total = exclusive_scan(n);
-        if (total >= GRID_TAG) throw Error("a round would throw more than 2^31 darts");
+        if (total >= MAX_ROUND_DARTS) throw Error("a round would throw more than 2^30 darts");
         darts_.resize(total);
+        pool_.parallel_for(n, [&](std::size_t b, std::size_t e, unsigned) {
+            for (std::size_t i = b; i < e; ++i)
+                if (first_in_base_cell(dom, cells(), uint(i))) mark_dart_range(args, cells(), scan(), grid(), uint(i));
+        });
         // Throw, rejecting darts covered by earlier rounds; collect the undecided per thread.
         std::vector<std::vector<uint>> undecided(pool_.size());
         pool_.parallel_for(n, [&](std::size_t b, std::size_t e, unsigned w) {

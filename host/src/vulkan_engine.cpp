@@ -10,10 +10,12 @@
 #include "shared/kernels.h"
 #include "vulkan_context.h"
 
+#include "apply_decisions.h"
 #include "commit_cells.h"
 #include "count_darts.h"
 #include "emit_samples.h"
 #include "init_cells.h"
+#include "mark_ranges.h"
 #include "refine_cells.h"
 #include "resolve_darts.h"
 #include "scan_add.h"
@@ -88,7 +90,7 @@ public:
         scan(scan_, std::uint64_t(n) + 1, COUNTER_DARTS);
         ctx_.submit_and_wait();
         const std::uint32_t darts = counter(COUNTER_DARTS);
-        if (darts >= GRID_TAG) throw Error("a round would throw more than 2^31 darts");
+        if (darts >= MAX_ROUND_DARTS) throw Error("a round would throw more than 2^30 darts");
 
         // Submit 2..: throw (rejecting darts covered by earlier samples), resolve in arrival order.
         ensure_scan(std::uint64_t(darts) + 1, true);
@@ -97,8 +99,9 @@ public:
         ensure(work_[1], std::uint64_t(darts) * 4);
         VkCommandBuffer cmd = ctx_.begin();
         ctx_.vk().vkCmdFillBuffer(cmd, counters_.handle(), (COUNTER_WORK0 + 3) * 4, 4, 0);
-        ctx_.barrier();  // the empty work list before throw_darts appends to it
         a = cell_args(n, spec.round, spec.side, darts);
+        ctx_.dispatch(mark_ranges_, &a, groups(n, WORKGROUP_SIZE));
+        ctx_.barrier();  // dart ranges and the empty work list before throw_darts reads and appends
         ctx_.dispatch(throw_darts_, &a, groups(n, WORKGROUP_SIZE));
         ctx_.barrier();  // darts, grid dart ranges and work list before resolution
         DartArgs d;
@@ -114,6 +117,8 @@ public:
                 d.work_in = work_[in].address();
                 d.work_out = work_[in ^ 1].address();
                 ctx_.dispatch_indirect(resolve_darts_, &d, counters_, in_slot * 4);
+                ctx_.barrier();  // decisions before they are applied
+                ctx_.dispatch_indirect(apply_decisions_, &d, counters_, in_slot * 4);
                 ctx_.barrier();  // states and the next work list before the next pass
             }
             ctx_.submit_and_wait();
@@ -240,6 +245,8 @@ private:
     VulkanContext ctx_;
     Kernel init_cells_{ctx_, words(spirv_init_cells), sizeof(CellArgs), WORKGROUP_SIZE};
     Kernel count_darts_{ctx_, words(spirv_count_darts), sizeof(CellArgs), WORKGROUP_SIZE};
+    Kernel mark_ranges_{ctx_, words(spirv_mark_ranges), sizeof(CellArgs), WORKGROUP_SIZE};
+    Kernel apply_decisions_{ctx_, words(spirv_apply_decisions), sizeof(DartArgs), WORKGROUP_SIZE};
     Kernel throw_darts_{ctx_, words(spirv_throw_darts), sizeof(CellArgs), WORKGROUP_SIZE};
     Kernel work_args_{ctx_, words(spirv_work_args), sizeof(WorkArgs), 1};
     Kernel resolve_darts_{ctx_, words(spirv_resolve_darts), sizeof(DartArgs), WORKGROUP_SIZE};

@@ -37,8 +37,8 @@ const uint COUNTER_ACTIVE = 10u;   // cells active for the next round,
 const uint COUNTER_SORT = 11u;     // the sort's histogram
 const uint COUNTER_WORDS = 12u;
 
-// Kernels over the active cells: init_cells, count_darts, throw_darts, commit_cells, refine_cells,
-// scatter_cells.
+// Kernels over the active cells: init_cells, count_darts, mark_ranges, throw_darts, commit_cells,
+// refine_cells, scatter_cells.
 struct CellArgs {
     Domain domain;
     VRPD_BUFFER(Cells) cells;      // active cells (lattice corners), ordered by base cell
@@ -56,7 +56,10 @@ struct CellArgs {
                                    // thrown; refine/scatter: 1 or 4 children
 };
 
-// Kernels over darts: resolve_darts, emit_samples.
+// Kernels over darts: resolve_darts, apply_decisions, emit_samples. A resolution pass keeps each
+// decision in its work-list slot: dart index | state << DECISION_SHIFT (rounds hold < 2^30 darts).
+const uint DECISION_SHIFT = 30u;
+const uint MAX_ROUND_DARTS = 0x40000000u;
 struct DartArgs {
     Domain domain;
     VRPD_BUFFER(Darts) darts;

@@ -1,5 +1,6 @@
-// The bodies of the sampler's kernels (one active cell or one dart each), shared by the Vulkan
-// shaders and the CPU backends. Flat-quadtree maximal Poisson-disk sampling (Ebeida et al. 2012)
+// The bodies of the sampler's kernels (one base cell, active cell or dart each), shared by the
+// Vulkan shaders and the CPU backends. No kernel reads what another invocation of the same pass
+// writes: the passes are race-free on every device, and their results do not depend on timing. Flat-quadtree maximal Poisson-disk sampling (Ebeida et al. 2012)
 // driven as exact random sequential adsorption: paper section 1, Eqs. 1-4.
 #ifndef VRPD_SAMPLER_H
 #define VRPD_SAMPLER_H
@@ -25,10 +26,17 @@ VRPD_FN uint group_end(Domain dom, Cells cells, uint e, uint count) {
     return end;
 }
 
+// For the first active cell e of a base cell: the grid word of the base cell becomes the range of
+// this round's darts in it (the exclusive prefix sums of the counts). A pass of its own, so that
+// throwing, which reads the neighbours' words, never races with this write.
+VRPD_FN void mark_dart_range(CellArgs a, Cells cells, Uints scan, Grid grid, uint e) {
+    uint end_cell = group_end(a.domain, cells, e, a.cell_count);
+    grid.word[base_of_point(a.domain, cells.cell[e])] = uvec2(GRID_TAG | scan.value[e], scan.value[end_cell]);
+}
+
 // For the first active cell e of a base cell: writes the darts of all active cells of that base
-// cell (cell i's at scan[i] .. scan[i+1], the exclusive prefix sums of the counts), each rejected
-// if it lies off the domain or in the disk of a sample of an earlier round, and records the base
-// cell's dart range in the grid. Each nearby sample is read once for all the base cell's darts;
+// cell (cell i's at scan[i] .. scan[i+1]), each rejected if it lies off the domain or in the disk
+// of a sample of an earlier round. Each nearby sample is read once for all the base cell's darts;
 // states are updated in the dart buffer, not in a local array (which GPUs spill per lane).
 // Returns how many darts are still undecided.
 VRPD_FN uint throw_base_cell(CellArgs a, Cells cells, Uints scan, Darts darts, Grid grid, uint e) {
@@ -36,7 +44,6 @@ VRPD_FN uint throw_base_cell(CellArgs a, Cells cells, Uints scan, Darts darts, G
     uint first = scan.value[e];
     uint end = scan.value[end_cell];
     uvec2 base = base_cell_of(a.domain, cells.cell[e]);
-    grid.word[base_index(a.domain, base)] = uvec2(GRID_TAG | first, end);
     if (first == end) return 0u;
     uint undecided = 0u;
     for (uint i = e; i < end_cell; i++) {
@@ -72,8 +79,9 @@ VRPD_FN uint throw_base_cell(CellArgs a, Cells cells, Uints scan, Darts darts, G
 
 // One step of the exact parallel resolution of a round: dart d is accepted once every earlier
 // conflicting dart (in arrival order) is rejected, and rejected as soon as one is accepted.
-// Decisions are only taken when they are final, so the outcome is the sequential process's
-// whatever the order and timing of the steps; only the number of passes varies.
+// Decisions are only taken when they are final, so the outcome is the sequential process's.
+// A pass reads the states left by the previous pass and applies its decisions after it
+// (Jacobi): no invocation reads a state another one is writing.
 VRPD_FN uint resolve_dart(Domain dom, Grid grid, Darts darts, uint d) {
     uvec4 me = darts.dart[d];
     uvec2 p = uvec2(me.x, me.y);
