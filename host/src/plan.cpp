@@ -99,6 +99,10 @@ Plan make_plan(const SampleOptions& o, std::uint32_t max_cell_bits) {
     while (shared::cell_gap2(d, int(d.reach) + 1, 0) < d.radius2) ++d.reach;
     if (d.reach > shared::MAX_REACH || (d.periodic && (d.reach > nx || d.reach > ny)))
         throw Error("internal: a disk reaches further than the neighbourhood the kernels scan");
+    d.reachable = 0;
+    for (int dy = -int(d.reach); dy <= int(d.reach); ++dy)
+        for (int dx = -int(d.reach); dx <= int(d.reach); ++dx)
+            if (shared::cell_gap2(d, dx, dy) < d.radius2) d.reachable |= std::uint64_t(1) << shared::reach_bit(dx, dy);
 
     plan.deepest_level = bits;
     plan.base_cells = nx * ny;

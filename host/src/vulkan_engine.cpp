@@ -33,13 +33,13 @@ namespace {
 using namespace shared;
 
 // Push-constant layouts must match std430 as glslang lays them out.
-static_assert(sizeof(Domain) == 40 && offsetof(Domain, lattice_x) == 8 && offsetof(Domain, seed) == 36);
-static_assert(sizeof(CellArgs) == 120 && offsetof(CellArgs, cells) == 40 && offsetof(CellArgs, cell_count) == 104);
-static_assert(sizeof(DartArgs) == 120 && offsetof(DartArgs, darts) == 40 && offsetof(DartArgs, dart_count) == 104);
+static_assert(sizeof(Domain) == 48 && offsetof(Domain, lattice_x) == 16 && offsetof(Domain, seed) == 44);
+static_assert(sizeof(CellArgs) == 128 && offsetof(CellArgs, cells) == 48 && offsetof(CellArgs, cell_count) == 112);
+static_assert(sizeof(DartArgs) == 128 && offsetof(DartArgs, darts) == 48 && offsetof(DartArgs, dart_count) == 112);
 static_assert(sizeof(ScanArgs) == 40 && offsetof(ScanArgs, count) == 24);
 static_assert(sizeof(WorkArgs) == 16 && offsetof(WorkArgs, slot) == 8);
 static_assert(sizeof(SortArgs) == 56 && offsetof(SortArgs, count) == 40);
-static_assert(sizeof(DartArgs) <= 128, "push constants: 128 bytes is the guaranteed minimum");
+static_assert(sizeof(CellArgs) <= 128 && sizeof(DartArgs) <= 128, "push constants: 128 bytes is the guaranteed minimum");
 
 constexpr std::uint32_t kResolvePassesPerSubmit = 4;
 

@@ -12,6 +12,7 @@ VRPD_BEGIN
 // so a base cell holds at most one sample and a sample covers its whole base cell.
 struct Domain {
     uint64_t radius2;      // conflict iff squared lattice distance < radius2 (Eq. 1)
+    uint64_t reachable;    // bit (dy + 3) * 7 + (dx + 3): a disk can reach across to the cell (dx, dy) away
     uint lattice_x;        // lattice points per row: x in [0, lattice_x); < 2^31
     uint lattice_y;
     uint cells_x;          // base cells per row
@@ -83,11 +84,15 @@ VRPD_FN uint64_t cell_gap2(Domain dom, int dx, int dy) {
     return gx * gx + gy * gy;
 }
 
+VRPD_FN uint reach_bit(int dx, int dy) { return uint((dy + 3) * 7 + (dx + 3)); }
+
 // Index of the base cell (cx + dx, cy + dy), or GRID_EMPTY when it falls off a free boundary or
 // is too far for a disk to reach across the gap. make_plan guarantees reach <= cells per side, so
-// one wrap step suffices on a torus.
+// one wrap step suffices on a torus. Cells at least `reach` from every side take the short path.
 VRPD_FN uint neighbour_cell(Domain dom, uvec2 cell, int dx, int dy) {
-    if (cell_gap2(dom, dx, dy) >= dom.radius2) return GRID_EMPTY;
+    if (((dom.reachable >> reach_bit(dx, dy)) & uint64_t(1)) == uint64_t(0)) return GRID_EMPTY;
+    if (cell.x >= dom.reach && cell.x + dom.reach < dom.cells_x && cell.y >= dom.reach && cell.y + dom.reach < dom.cells_y)
+        return uint(int(cell.y * dom.cells_x + cell.x) + dy * int(dom.cells_x) + dx);
     int x = int(cell.x) + dx;
     int y = int(cell.y) + dy;
     int w = int(dom.cells_x);
@@ -99,6 +104,18 @@ VRPD_FN uint neighbour_cell(Domain dom, uvec2 cell, int dx, int dy) {
         return GRID_EMPTY;
     }
     return uint(y) * dom.cells_x + uint(x);
+}
+
+// The domain as seen from base cell `cell`: on a torus, a cell whose neighbourhood does not
+// wrap, on a torus at least 2 (reach + 1) cells wide, sees every relevant offset shorter than half
+// the torus, so straight distances equal torus distances there and the wrap can be skipped.
+// Every predicate gives the same answer with either domain; this one is cheaper.
+VRPD_FN Domain local_domain(Domain dom, uvec2 cell) {
+    uint r = dom.reach;
+    if (dom.periodic != 0u && cell.x >= r && cell.x + r < dom.cells_x && cell.y >= r && cell.y + r < dom.cells_y &&
+        dom.cells_x >= 2u * r + 2u && dom.cells_y >= 2u * r + 2u)
+        dom.periodic = 0u;
+    return dom;
 }
 
 VRPD_FN uvec2 base_cell_of(Domain dom, uvec2 p) { return uvec2(p.x >> dom.cell_bits, p.y >> dom.cell_bits); }

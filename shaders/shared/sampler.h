@@ -45,6 +45,7 @@ VRPD_FN uint throw_base_cell(CellArgs a, Cells cells, Uints scan, Darts darts, G
     uint end = scan.value[end_cell];
     uvec2 base = base_cell_of(a.domain, cells.cell[e]);
     if (first == end) return 0u;
+    Domain dom = local_domain(a.domain, base);
     uint undecided = 0u;
     for (uint i = e; i < end_cell; i++) {
         uvec2 corner = cells.cell[i];
@@ -58,16 +59,16 @@ VRPD_FN uint throw_base_cell(CellArgs a, Cells cells, Uints scan, Darts darts, G
             darts.dart[j] = dart;
         }
     }
-    int reach = int(a.domain.reach);
+    int reach = int(dom.reach);
     for (int dy = -reach; dy <= reach && undecided != 0u; dy++) {
         for (int dx = -reach; dx <= reach && undecided != 0u; dx++) {
-            uint nb = neighbour_cell(a.domain, base, dx, dy);
+            uint nb = neighbour_cell(dom, base, dx, dy);
             if (nb == GRID_EMPTY) continue;
             uvec2 p = grid.word[nb];
             if (!grid_is_sample(p)) continue;
             for (uint j = first; j < end; j++) {
                 uvec4 dart = darts.dart[j];
-                if (dart.w == DART_UNDECIDED && in_disk(a.domain, p, uvec2(dart.x, dart.y))) {
+                if (dart.w == DART_UNDECIDED && in_disk(dom, p, uvec2(dart.x, dart.y))) {
                     darts.dart[j].w = DART_REJECTED;
                     undecided--;
                 }
@@ -82,10 +83,11 @@ VRPD_FN uint throw_base_cell(CellArgs a, Cells cells, Uints scan, Darts darts, G
 // Decisions are only taken when they are final, so the outcome is the sequential process's.
 // A pass reads the states left by the previous pass and applies its decisions after it
 // (Jacobi): no invocation reads a state another one is writing.
-VRPD_FN uint resolve_dart(Domain dom, Grid grid, Darts darts, uint d) {
+VRPD_FN uint resolve_dart(Domain global, Grid grid, Darts darts, uint d) {
     uvec4 me = darts.dart[d];
     uvec2 p = uvec2(me.x, me.y);
-    uvec2 cell = base_cell_of(dom, p);
+    uvec2 cell = base_cell_of(global, p);
+    Domain dom = local_domain(global, cell);
     bool waiting = false;
     int reach = int(dom.reach);
     for (int dy = -reach; dy <= reach; dy++) {
@@ -108,10 +110,11 @@ VRPD_FN uint resolve_dart(Domain dom, Grid grid, Darts darts, uint d) {
 }
 
 // The textbook test, for the serial backend: does an already accepted dart of this round cover d?
-VRPD_FN bool covered_by_accepted_dart(Domain dom, Grid grid, Darts darts, uint d) {
+VRPD_FN bool covered_by_accepted_dart(Domain global, Grid grid, Darts darts, uint d) {
     uvec4 me = darts.dart[d];
     uvec2 p = uvec2(me.x, me.y);
-    uvec2 cell = base_cell_of(dom, p);
+    uvec2 cell = base_cell_of(global, p);
+    Domain dom = local_domain(global, cell);
     int reach = int(dom.reach);
     for (int dy = -reach; dy <= reach; dy++) {
         for (int dx = -reach; dx <= reach; dx++) {
@@ -162,9 +165,9 @@ VRPD_FN uint clip_hi(uint hi, uint extent, uint periodic) { return periodic != 0
 // Each nearby sample is read once for the whole base cell; a child's x and y intervals are
 // shared in pairs, so a sample costs 2 + 2 far offsets per active cell, not 4 corner tests.
 VRPD_FN void refine_base_cell(CellArgs a, Cells cells, Uints counts, Uints masks, Grid grid, uint e) {
-    Domain dom = a.domain;
-    uint end_cell = group_end(dom, cells, e, a.cell_count);
-    uvec2 base = base_cell_of(dom, cells.cell[e]);
+    uint end_cell = group_end(a.domain, cells, e, a.cell_count);
+    uvec2 base = base_cell_of(a.domain, cells.cell[e]);
+    Domain dom = local_domain(a.domain, base);
     bool occupied = grid_is_sample(grid.word[base_index(dom, base)]);
     uint side = a.side;
     uint alive = 0u;
