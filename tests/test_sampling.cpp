@@ -91,6 +91,19 @@ TEST_CASE("the same seed gives the same points; another seed does not", "[sampli
     CHECK(a.lattice != c.lattice);
 }
 
+TEST_CASE("the cpu backend's points do not depend on its thread count", "[sampling]") {
+    SampleOptions o = options(0.004, 6, Backend::Cpu);
+    o.threads = 1;
+    const Sampling one = sample(o);
+    o.threads = 2;
+    const Sampling two = sample(o);
+    o.threads = 3;
+    const Sampling three = sample(o);
+    REQUIRE(one.size() > 40000);
+    CHECK(two.lattice == one.lattice);
+    CHECK(three.lattice == one.lattice);
+}
+
 TEST_CASE("gpu, cpu and serial give identical samples in identical order", "[sampling][gpu]") {
     for (const Case& c : kCases) {
         for (std::uint32_t seed : {3u, 4u}) {

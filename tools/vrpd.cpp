@@ -117,6 +117,8 @@ int main(int argc, char** argv) {
     sample_cmd->add_option("--seed", opt.seed, "random seed (default 0)");
     sample_cmd->add_option("--device", device, "gpu (default; $VRPD_DEVICE picks the Vulkan device), cpu or serial");
     sample_cmd->add_option("-o,--output", output, "FILE.csv or FILE.bin (default: CSV to stdout)");
+    sample_cmd->add_option("--threads", opt.threads, "host threads for --device cpu (default: one per core)")
+        ->check(CLI::Range(1u, 1024u));
 
     auto* devices_cmd = app.add_subcommand("devices", "list Vulkan devices");
 

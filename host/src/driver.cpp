@@ -34,8 +34,8 @@ std::uint32_t exp_neg(double lambda) { return std::uint32_t(std::floor(std::exp(
 std::unique_ptr<Engine> make_engine(const SampleOptions& o, const Plan& plan) {
     switch (o.backend) {
     case Backend::Gpu: return detail::make_vulkan_engine(plan, o.device);
-    case Backend::Cpu: return detail::make_host_engine(plan, detail::Resolution::Parallel);
-    case Backend::Serial: return detail::make_host_engine(plan, detail::Resolution::Serial);
+    case Backend::Cpu: return detail::make_host_engine(plan, detail::Resolution::Parallel, o.threads);
+    case Backend::Serial: return detail::make_host_engine(plan, detail::Resolution::Serial, o.threads);
     }
     throw Error("unknown backend");
 }

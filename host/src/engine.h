@@ -39,7 +39,7 @@ public:
 };
 
 enum class Resolution { Parallel, Serial };
-std::unique_ptr<Engine> make_host_engine(const Plan& plan, Resolution resolution);
+std::unique_ptr<Engine> make_host_engine(const Plan& plan, Resolution resolution, unsigned threads);
 std::unique_ptr<Engine> make_vulkan_engine(const Plan& plan, const std::string& device);
 
 }  // namespace vrpd::detail

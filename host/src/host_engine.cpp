@@ -17,7 +17,8 @@ using namespace shared;
 
 class HostEngine final : public Engine {
 public:
-    HostEngine(const Plan& plan, Resolution resolution) : plan_(plan), resolution_(resolution) {}
+    HostEngine(const Plan& plan, Resolution resolution, unsigned threads)
+        : plan_(plan), resolution_(resolution), pool_(threads ? threads : std::thread::hardware_concurrency()) {}
 
     std::string device_name() const override {
         return resolution_ == Resolution::Serial ? "serial (host, one dart at a time)"
@@ -169,8 +170,8 @@ private:
 
 }  // namespace
 
-std::unique_ptr<Engine> make_host_engine(const Plan& plan, Resolution resolution) {
-    return std::make_unique<HostEngine>(plan, resolution);
+std::unique_ptr<Engine> make_host_engine(const Plan& plan, Resolution resolution, unsigned threads) {
+    return std::make_unique<HostEngine>(plan, resolution, threads);
 }
 
 }  // namespace vrpd::detail

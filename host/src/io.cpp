@@ -102,7 +102,10 @@ std::vector<glm::dvec2> read_csv(const std::string& path, const std::string& tex
 std::filesystem::path partial_path(const std::string& path) {
     const std::filesystem::path target(path);
     if (std::filesystem::is_directory(target)) throw Error(path + ": is a directory");
-    return target.parent_path() / ("." + target.filename().string() + ".partial");
+    std::string name = ".";
+    name += target.filename().string();
+    name += ".partial";
+    return target.parent_path() / name;
 }
 
 }  // namespace

@@ -35,6 +35,7 @@ struct SampleOptions {
     std::uint32_t seed = 0;
     Backend backend = Backend::Gpu;
     std::string device;          // Vulkan device by index or name substring; empty: $VRPD_DEVICE, else the best
+    unsigned threads = 0;        // host threads of the cpu backend; 0: one per core. Never changes the points.
 };
 
 struct SamplingStats {
