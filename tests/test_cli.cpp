@@ -63,6 +63,10 @@ TEST_CASE("bad input: one line on stderr, non-zero exit, no output file", "[cli]
         "sample --radius 0.01 --device tpu",
         "sample --radius 0.01 --extent 1,1.41421356 --boundary periodic",
         "sample --radius 1e-9 --boundary free",
+        "sample --radius 0.01 --seed -1",
+        "sample --radius 0.01 --bogus",
+        "sample",
+        "sample --radius 0.01 --threads 0",
     };
     for (const char* args : bad) {
         const Run r = cli(std::string(args) + " -o " + out.string());

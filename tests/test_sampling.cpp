@@ -83,6 +83,24 @@ TEST_CASE("samples are conflict-free, inside the box and in a defined order", "[
     }
 }
 
+TEST_CASE("a radius far larger than a free box gives one sample, uniform over the box", "[sampling][gpu]") {
+    // The lattice must stay fine across the box however large r is (and r^2 must not overflow).
+    for (double r : {3.0, 1e300}) {
+        std::vector<glm::dvec2> seen;
+        for (std::uint32_t seed = 1; seed <= 4; ++seed) {
+            const Box box{1, 0.5, Boundary::Free};
+            const Sampling cpu = sample(options(r, seed, Backend::Cpu, box));
+            const Sampling gpu = sample(options(r, seed, Backend::Gpu, box));
+            REQUIRE(cpu.size() == 1);
+            CHECK(gpu.lattice == cpu.lattice);
+            const glm::dvec2 p = cpu.point(0);
+            CHECK((p.x >= 0 && p.x < 1 && p.y >= 0 && p.y < 0.5));
+            for (const glm::dvec2& q : seen) CHECK(q != p);
+            seen.push_back(p);
+        }
+    }
+}
+
 TEST_CASE("the same seed gives the same points; another seed does not", "[sampling]") {
     const Sampling a = sample(options(0.02, 11, Backend::Cpu));
     const Sampling b = sample(options(0.02, 11, Backend::Cpu));

@@ -63,6 +63,9 @@ Plan make_plan(const SampleOptions& o, std::uint32_t max_cell_bits) {
                                     "square cells of side <= r/sqrt(2) tile it", o.box.width, o.box.height));
         side = o.box.width / double(nx);
     } else {
+        // Any side <= r/sqrt(2) works; capping it at the box keeps 2^30 lattice steps across the
+        // box when r dwarfs it, so the first sample is still uniform over the box.
+        side = std::min(side, std::max(o.box.width, o.box.height));
         nx = std::uint64_t(std::ceil(o.box.width / side));
         ny = std::uint64_t(std::ceil(o.box.height / side));
     }
@@ -89,8 +92,11 @@ Plan make_plan(const SampleOptions& o, std::uint32_t max_cell_bits) {
         d.lattice_x = std::uint32_t(std::min<double>(std::ceil(o.box.width / plan.quantum), double(nx << bits)));
         d.lattice_y = std::uint32_t(std::min<double>(std::ceil(o.box.height / plan.quantum), double(ny << bits)));
     }
+    // Squared lattice distances in the domain are < 2^63 (coordinates < 2^31), so a radius whose
+    // square reaches 2^63 covers the whole box: clamping it there is exact, and sums cannot wrap.
     const long double rq = (long double)r / (long double)plan.quantum;
-    d.radius2 = std::uint64_t(std::ceil(rq * rq));
+    const long double rq2 = std::ceil(rq * rq);
+    d.radius2 = rq2 >= 9223372036854775808.0L ? std::uint64_t(1) << 63 : std::uint64_t(rq2);
     const std::uint64_t cell_side = std::uint64_t(1) << bits;
     // A sample must cover its whole base cell, so that an occupied base cell needs no darts.
     if (d.radius2 <= 2 * (cell_side - 1) * (cell_side - 1))
