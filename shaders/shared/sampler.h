@@ -34,45 +34,43 @@ VRPD_FN void mark_dart_range(CellArgs a, Cells cells, Uints scan, Grid grid, uin
     grid.word[base_of_point(a.domain, cells.cell[e])] = uvec2(GRID_TAG | scan.value[e], scan.value[end_cell]);
 }
 
+// Is point p in the disk of a sample of an earlier round (or off the domain)? The samples near
+// base cell `base` are read from the grid; dom is local_domain(base).
+VRPD_FN bool covered_by_sample(Domain dom, Grid grid, uvec2 base, uvec2 p) {
+    if (!in_domain(dom, p)) return true;
+    int reach = int(dom.reach);
+    for (int dy = -reach; dy <= reach; dy++) {
+        for (int dx = -reach; dx <= reach; dx++) {
+            uint nb = neighbour_cell(dom, base, dx, dy);
+            if (nb == GRID_EMPTY) continue;
+            uvec2 w = grid.word[nb];
+            if (grid_is_sample(w) && in_disk(dom, w, p)) return true;
+        }
+    }
+    return false;
+}
+
 // For the first active cell e of a base cell: writes the darts of all active cells of that base
 // cell (cell i's at scan[i] .. scan[i+1]), each rejected if it lies off the domain or in the disk
-// of a sample of an earlier round. Each nearby sample is read once for all the base cell's darts;
-// states are updated in the dart buffer, not in a local array (which GPUs spill per lane).
-// Returns how many darts are still undecided.
+// of a sample of an earlier round. Each dart is made, tested and written once (on GPUs each
+// buffer access costs; most base cells have 0-2 darts). Returns how many are still undecided.
 VRPD_FN uint throw_base_cell(CellArgs a, Cells cells, Uints scan, Darts darts, Grid grid, uint e) {
     uint end_cell = group_end(a.domain, cells, e, a.cell_count);
-    uint first = scan.value[e];
-    uint end = scan.value[end_cell];
     uvec2 base = base_cell_of(a.domain, cells.cell[e]);
-    if (first == end) return 0u;
     Domain dom = local_domain(a.domain, base);
     uint undecided = 0u;
     for (uint i = e; i < end_cell; i++) {
+        uint cell_first = scan.value[i];
+        uint cell_end = scan.value[i + 1u];
+        if (cell_first == cell_end) continue;
         uvec2 corner = cells.cell[i];
         uint stream = cell_stream(a.domain.seed, a.round, corner);
-        uint cell_first = scan.value[i];
-        for (uint j = cell_first; j < scan.value[i + 1u]; j++) {
+        for (uint j = cell_first; j < cell_end; j++) {
             uvec4 dart = make_dart(stream, j - cell_first, corner, a.side);
-            bool inside = in_domain(a.domain, uvec2(dart.x, dart.y));
-            dart.w = inside ? DART_UNDECIDED : DART_REJECTED;
-            undecided += inside ? 1u : 0u;
+            bool rejected = covered_by_sample(dom, grid, base, uvec2(dart.x, dart.y));
+            dart.w = rejected ? DART_REJECTED : DART_UNDECIDED;
+            undecided += rejected ? 0u : 1u;
             darts.dart[j] = dart;
-        }
-    }
-    int reach = int(dom.reach);
-    for (int dy = -reach; dy <= reach && undecided != 0u; dy++) {
-        for (int dx = -reach; dx <= reach && undecided != 0u; dx++) {
-            uint nb = neighbour_cell(dom, base, dx, dy);
-            if (nb == GRID_EMPTY) continue;
-            uvec2 p = grid.word[nb];
-            if (!grid_is_sample(p)) continue;
-            for (uint j = first; j < end; j++) {
-                uvec4 dart = darts.dart[j];
-                if (dart.w == DART_UNDECIDED && in_disk(dom, p, uvec2(dart.x, dart.y))) {
-                    darts.dart[j].w = DART_REJECTED;
-                    undecided--;
-                }
-            }
         }
     }
     return undecided;
@@ -156,65 +154,58 @@ VRPD_FN uint bit_count4(uint m) { return (m & 1u) + ((m >> 1u) & 1u) + ((m >> 2u
 // Clamps the last lattice coordinate of an interval to a free boundary's last lattice point.
 VRPD_FN uint clip_hi(uint hi, uint extent, uint periodic) { return periodic != 0u || hi < extent ? hi : extent - 1u; }
 
+// Which of the `fanout` children (4, or 1: the cell itself) of the active cell at `corner` stay
+// active, as a bit mask. A child is dropped if it lies off the domain or one sample's disk covers
+// it wholly (exact corner test, see far_offset2). Children covered only by a union of disks stay,
+// and are split until they are single lattice points, where the test is exact. A child's x and
+// y intervals are shared in pairs: 2 + 2 far offsets per sample rather than 4 corner tests.
+VRPD_FN uint surviving_children(Domain dom, Grid grid, uvec2 base, uvec2 corner, uint side, uint fanout) {
+    uint mask = 0u;
+    for (uint c = 0u; c < fanout; c++)
+        if (in_domain(dom, child_corner(corner, side, c))) mask |= 1u << c;
+    uint x1 = corner.x + side;
+    uint y1 = corner.y + side;
+    uint hx0 = clip_hi(x1 - 1u, dom.lattice_x, dom.periodic);
+    uint hy0 = clip_hi(y1 - 1u, dom.lattice_y, dom.periodic);
+    // Second children off a free boundary are dropped already; `far` keeps them so.
+    bool x1_in = fanout == 4u && (dom.periodic != 0u || x1 < dom.lattice_x);
+    bool y1_in = fanout == 4u && (dom.periodic != 0u || y1 < dom.lattice_y);
+    uint hx1 = x1_in ? clip_hi(x1 + side - 1u, dom.lattice_x, dom.periodic) : 0u;
+    uint hy1 = y1_in ? clip_hi(y1 + side - 1u, dom.lattice_y, dom.periodic) : 0u;
+    uint64_t far = uint64_t(1) << 62;
+    int reach = int(dom.reach);
+    for (int dy = -reach; dy <= reach && mask != 0u; dy++) {
+        for (int dx = -reach; dx <= reach && mask != 0u; dx++) {
+            uint nb = neighbour_cell(dom, base, dx, dy);
+            if (nb == GRID_EMPTY) continue;
+            uvec2 p = grid.word[nb];
+            if (!grid_is_sample(p)) continue;
+            uint64_t fx0 = far_offset2(p.x, corner.x, hx0, dom.lattice_x, dom.periodic);
+            uint64_t fy0 = far_offset2(p.y, corner.y, hy0, dom.lattice_y, dom.periodic);
+            uint64_t fx1 = x1_in ? far_offset2(p.x, x1, hx1, dom.lattice_x, dom.periodic) : far;
+            uint64_t fy1 = y1_in ? far_offset2(p.y, y1, hy1, dom.lattice_y, dom.periodic) : far;
+            for (uint c = 0u; c < fanout; c++) {
+                uint64_t far2 = ((c & 1u) == 0u ? fx0 : fx1) + ((c >> 1u) == 0u ? fy0 : fy1);
+                if (far2 < dom.radius2) mask &= ~(1u << c);
+            }
+        }
+    }
+    return mask;
+}
+
 // For the first active cell e of a base cell: masks[i] has bit c set for the children c of every
-// active cell i of that base cell that stay active (fanout 4, or 1: the cell itself), and
-// counts[i] their number, for the scan that places them in the next active list. A
-// child is dropped if its base cell holds a sample, it lies off the domain, or one sample's disk
-// covers it wholly (exact corner test, see far_offset2). Children covered only by a union of
-// disks stay, and are split until they are single lattice points, where the test is exact.
-// Each nearby sample is read once for the whole base cell; a child's x and y intervals are
-// shared in pairs, so a sample costs 2 + 2 far offsets per active cell, not 4 corner tests.
+// active cell i of that base cell that stay active (none if the base cell holds a sample), and
+// counts[i] their number, for the scan that places them in the next active list.
 VRPD_FN void refine_base_cell(CellArgs a, Cells cells, Uints counts, Uints masks, Grid grid, uint e) {
     uint end_cell = group_end(a.domain, cells, e, a.cell_count);
     uvec2 base = base_cell_of(a.domain, cells.cell[e]);
     Domain dom = local_domain(a.domain, base);
     bool occupied = grid_is_sample(grid.word[base_index(dom, base)]);
-    uint side = a.side;
-    uint alive = 0u;
     for (uint i = e; i < end_cell; i++) {
-        uvec2 corner = cells.cell[i];
-        uint mask = 0u;
-        for (uint c = 0u; c < a.param; c++) {
-            bool keep = !occupied && in_domain(dom, child_corner(corner, side, c));
-            mask |= keep ? 1u << c : 0u;
-            alive += keep ? 1u : 0u;
-        }
+        uint mask = occupied ? 0u : surviving_children(dom, grid, base, cells.cell[i], a.side, a.param);
         masks.value[i] = mask;
+        counts.value[i] = bit_count4(mask);
     }
-    int reach = int(dom.reach);
-    for (int dy = -reach; dy <= reach && alive != 0u; dy++) {
-        for (int dx = -reach; dx <= reach && alive != 0u; dx++) {
-            uint nb = neighbour_cell(dom, base, dx, dy);
-            if (nb == GRID_EMPTY) continue;
-            uvec2 p = grid.word[nb];
-            if (!grid_is_sample(p)) continue;
-            for (uint i = e; i < end_cell; i++) {
-                uint mask = masks.value[i];
-                if (mask == 0u) continue;
-                uvec2 corner = cells.cell[i];
-                uint x1 = corner.x + side;
-                uint y1 = corner.y + side;
-                uint64_t fx0 = far_offset2(p.x, corner.x, clip_hi(x1 - 1u, dom.lattice_x, dom.periodic), dom.lattice_x, dom.periodic);
-                uint64_t fy0 = far_offset2(p.y, corner.y, clip_hi(y1 - 1u, dom.lattice_y, dom.periodic), dom.lattice_y, dom.periodic);
-                // Second children off a free boundary are flagged 0 already; `far` keeps them so.
-                uint64_t far = uint64_t(1) << 62;
-                uint64_t fx1 = far, fy1 = far;
-                if (a.param == 4u && (dom.periodic != 0u || x1 < dom.lattice_x))
-                    fx1 = far_offset2(p.x, x1, clip_hi(x1 + side - 1u, dom.lattice_x, dom.periodic), dom.lattice_x, dom.periodic);
-                if (a.param == 4u && (dom.periodic != 0u || y1 < dom.lattice_y))
-                    fy1 = far_offset2(p.y, y1, clip_hi(y1 + side - 1u, dom.lattice_y, dom.periodic), dom.lattice_y, dom.periodic);
-                for (uint c = 0u; c < a.param; c++) {
-                    uint64_t far2 = ((c & 1u) == 0u ? fx0 : fx1) + ((c >> 1u) == 0u ? fy0 : fy1);
-                    if ((mask & (1u << c)) != 0u && far2 < dom.radius2) {
-                        mask &= ~(1u << c);
-                        alive--;
-                    }
-                }
-                masks.value[i] = mask;
-            }
-        }
-    }
-    for (uint i = e; i < end_cell; i++) counts.value[i] = bit_count4(masks.value[i]);
 }
 
 // Writes the surviving children of active cell i to the next active list, from its rank on.
