@@ -81,6 +81,21 @@ TEST_CASE("bad input: one line on stderr, non-zero exit, no output file", "[cli]
     CHECK(unwritable.err.find("cannot write") != std::string::npos);
 }
 
+TEST_CASE("without a Vulkan driver, gpu says so and points to cpu, which still works", "[cli]") {
+    const fs::path out = scratch() / "nodriver.csv";
+    const std::string no_driver = "VK_ICD_FILENAMES=/nonexistent.json VK_DRIVER_FILES=/nonexistent.json ";
+    const fs::path err = scratch() / "nodriver.txt";
+    const int status = std::system((no_driver + VRPD_CLI + " sample --radius 0.1 -o " + out.string() + " 2> " +
+                                    err.string()).c_str());
+    CHECK(WEXITSTATUS(status) == 2);
+    CHECK(slurp(err).find("--device cpu") != std::string::npos);
+    CHECK_FALSE(fs::exists(out));
+    const int cpu = std::system((no_driver + VRPD_CLI + " sample --radius 0.1 --device cpu -o " + out.string() +
+                                 " 2> /dev/null").c_str());
+    CHECK(WEXITSTATUS(cpu) == 0);
+    CHECK(fs::exists(out));
+}
+
 TEST_CASE("a good run's CSV parses, and devices give byte-identical files", "[cli][gpu]") {
     const fs::path cpu = scratch() / "cpu.csv", gpu = scratch() / "gpu.csv", bin = scratch() / "gpu.bin";
     REQUIRE(cli("sample --radius 0.02 --seed 7 --device cpu -o " + cpu.string()).code == 0);
