@@ -76,9 +76,13 @@ int run_check(const CheckOptions& o) {
     std::cout << fmt::format("largest empty circle radius {:.9g} at ({:.9g}, {:.9g}); Rc {}: {}\n", r.largest_empty_radius,
                              r.largest_empty_centre.x, r.largest_empty_centre.y, radii.coverage,
                              r.maximal ? "maximal" : "NOT maximal");
-    std::cout << fmt::format("Delaunay{}: {} triangles, angles {:.3f}..{:.3f} deg, edges {:.4f}..{:.4f} Rf\n",
+    std::string edges_rc;
+    if (radii.coverage != radii.inhibition)
+        edges_rc = fmt::format(" = {:.4f}..{:.4f} Rc", r.min_edge / radii.coverage, r.max_edge / radii.coverage);
+    std::cout << fmt::format("Delaunay{}: {} triangles, angles {:.3f}..{:.3f} deg, edges {:.4f}..{:.4f} Rf{}\n",
                              box.boundary == Boundary::Free ? " (circumcentre in the box)" : "", r.triangles,
-                             r.min_angle_degrees, r.max_angle_degrees, r.min_edge / radii.inhibition, r.max_edge / radii.inhibition);
+                             r.min_angle_degrees, r.max_angle_degrees, r.min_edge / radii.inhibition,
+                             r.max_edge / radii.inhibition, edges_rc);
     std::cout << (r.passed() ? "PASS" : "FAIL") << "\n";
     if (!o.json.empty()) {
         nlohmann::json j{{"points", r.points}, {"density", r.density}, {"rf", radii.inhibition}, {"rc", radii.coverage},
