@@ -2,7 +2,6 @@
 // pool with the same parallel arrival-order resolution; `serial` accepts the same darts one at a
 // time in arrival order, the textbook definition of the process, kept simple as the oracle.
 #include <algorithm>
-#include <numeric>
 
 #include <fmt/format.h>
 

@@ -140,7 +140,7 @@ public:
         const std::uint32_t child_side = spec.refine ? spec.side / 2 : spec.side;
         a = cell_args(n, spec.round, child_side, fanout);
         ctx_.dispatch(refine_cells_, &a, groups(std::uint64_t(n) + 1, WORKGROUP_SIZE));
-        ctx_.barrier();  // survival flags before their scan
+        ctx_.barrier();  // surviving-children counts and masks before their scan
         scan(scan_, std::uint64_t(n) + 1, COUNTER_ACTIVE);
         ctx_.dispatch(scatter_cells_, &a, groups(n, WORKGROUP_SIZE));
         ctx_.barrier();  // the next active list before the next round and the host
