@@ -80,6 +80,6 @@ Sampling detail::sample_plan(const SampleOptions& options, const Plan& plan) {
     return result;
 }
 
-const char* version() { return "0.1.0"; }
+const char* version() { return VRPD_VERSION; }
 
 }  // namespace vrpd

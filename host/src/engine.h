@@ -20,7 +20,6 @@ struct RoundSpec {
 
 struct RoundResult {
     std::uint64_t darts;           // thrown this round
-    std::uint64_t accepted;
     std::uint64_t active;          // active cells for the next round
 };
 

@@ -83,12 +83,11 @@ public:
         std::stable_sort(accepted_darts.begin(), accepted_darts.end(),
                          [&](uint a, uint b) { return darts_[a].z < darts_[b].z; });
         for (uint j : accepted_darts) out_.emplace_back(darts_[j].x, darts_[j].y);
-        const std::uint64_t accepted = accepted_darts.size();
 
         // The darts are spent: give their memory back before refinement, the run's peak.
         std::vector<uvec4>().swap(darts_);
         refine(spec);
-        return {total, accepted, cells_.size()};
+        return {total, cells_.size()};
     }
 
     std::vector<uvec2> samples() override { return std::move(out_); }

@@ -14,7 +14,6 @@ struct Plan {
     double quantum;              // lattice spacing in user units
     std::uint32_t deepest_level; // cells of this level are single lattice points
     std::uint64_t base_cells;
-    std::uint64_t max_samples;   // at most one per base cell
 };
 
 // max_cell_bits caps the lattice's resolution (tests use it to make runs reach the deepest

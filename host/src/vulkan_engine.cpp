@@ -150,7 +150,7 @@ public:
         emitted_ += accepted;
         active_ = counter(COUNTER_ACTIVE);
         std::swap(cells_[0], cells_[1]);
-        return {darts, accepted, active_};
+        return {darts, active_};
     }
 
     std::vector<uvec2> samples() override {
