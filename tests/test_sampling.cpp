@@ -44,7 +44,7 @@ TEST_CASE("the lattice plan keeps the invariants the kernels rely on", "[options
         CHECK(plan.domain.radius2 > 2 * (side - 1) * (side - 1));      // a sample covers its base cell
         CHECK(plan.domain.lattice_x < 0x80000000u);                    // grid tag bit stays free
         CHECK(std::abs(std::sqrt(double(plan.domain.radius2)) * plan.quantum - r) < 1e-6 * r);
-        CHECK(plan.domain.reach <= shared::MAX_REACH);
+        CHECK(shared::conflict_reach(plan.domain) <= int(shared::MAX_REACH));
     }
 }
 

@@ -115,7 +115,10 @@ int main(int argc, char** argv) {
     SampleOptions opt;
     std::string extent = "1,1", boundary = "periodic", device = "gpu", output;
     auto* sample_cmd = app.add_subcommand("sample", "maximal Poisson-disk sampling of a box");
-    sample_cmd->add_option("--radius,-r", opt.radius, "disk radius r (inhibition = coverage)")->required();
+    double rf = 0, rc = 0;
+    auto* radius_opt = sample_cmd->add_option("--radius,-r", opt.radius, "disk radius r (Rf = Rc = r)");
+    auto* rf_opt = sample_cmd->add_option("--rf", rf, "inhibition radius Rf: no two samples closer (paper section 3)");
+    auto* rc_opt = sample_cmd->add_option("--rc", rc, "coverage radius Rc, Rf <= Rc <= 4 Rf: every point within Rc of a sample");
     sample_cmd->add_option("--extent", extent, "box W,H (default 1,1)");
     sample_cmd->add_option("--boundary", boundary, "periodic (default) or free");
     sample_cmd->add_option("--seed", opt.seed, "random seed (default 0)");
@@ -160,6 +163,13 @@ int main(int argc, char** argv) {
 
     try {
         if (*sample_cmd) {
+            if (radius_opt->count() == (rf_opt->count() + rc_opt->count() > 0))
+                throw Error("give --radius R, or --rf Rf and --rc Rc");
+            if (!radius_opt->count()) {
+                if (!rf_opt->count() || !rc_opt->count()) throw Error("give both --rf and --rc (or --radius for Rf = Rc)");
+                opt.radius = rf;
+                opt.coverage = rc;
+            }
             opt.backend = cli::parse_backend(device);
             opt.box.boundary = cli::parse_boundary(boundary);
             cli::parse_extent(extent, opt.box);
@@ -169,8 +179,9 @@ int main(int argc, char** argv) {
             if (output.empty()) write_csv(s, std::cout);
             else write_points(s, output);
             const double area = s.box.width * s.box.height;
-            std::cerr << fmt::format("vrpd: {} samples, n*r^2/area {:.5f}, {:.3f} s, {:.3g} points/s, {} levels, {} darts, device {}\n",
-                                     s.size(), double(s.size()) * s.radius * s.radius / area, s.stats.seconds,
+            std::cerr << fmt::format("vrpd: {} samples, n*{}^2/area {:.5f}, {:.3f} s, {:.3g} points/s, {} levels, {} darts, device {}\n",
+                                     s.size(), s.coverage == s.radius ? "r" : "Rf",
+                                     double(s.size()) * s.radius * s.radius / area, s.stats.seconds,
                                      double(s.size()) / s.stats.seconds, s.stats.levels, s.stats.darts, s.device);
             return 0;
         }

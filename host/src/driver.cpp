@@ -72,6 +72,7 @@ Sampling detail::sample_plan(const SampleOptions& options, const Plan& plan) {
     result.lattice = engine->samples();
     result.quantum = plan.quantum;
     result.radius = options.radius;
+    result.coverage = options.coverage == 0.0 ? options.radius : options.coverage;
     result.box = options.box;
     result.device = engine->device_name();
     result.stats.levels = level + 1;

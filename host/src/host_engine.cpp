@@ -39,28 +39,33 @@ public:
 
     RoundResult round(const RoundSpec& spec) override {
         const Domain dom = plan_.domain;
-        const uint n = uint(cells_.size());
-        CellArgs args{dom, 0, 0, 0, 0, 0, 0, 0, 0, n, spec.round, spec.side, spec.exp_neg_lambda};
+        // One radius: the darts go to the active cells. Two: to the base cells near them.
+        if (two_radii(dom)) list_dart_cells(spec);
+        std::vector<uvec2>& targets = two_radii(dom) ? dart_cells_ : cells_;
+        const uint n = uint(targets.size());
+        const uint side = two_radii(dom) ? 1u << dom.cell_bits : spec.side;
+        CellArgs args{dom, 0, 0, 0, 0, 0, 0, 0, 0, n, spec.round, side, spec.exp_neg_lambda};
+        const Cells cells{targets.data()};
 
         scan_.resize(std::size_t(n) + 1);
         pool_.parallel_for(n, [&](std::size_t b, std::size_t e, unsigned) {
             for (std::size_t i = b; i < e; ++i)
-                scan_[i] = dart_count(cell_stream(dom.seed, spec.round, cells_[i]), spec.exp_neg_lambda);
+                scan_[i] = dart_count(cell_stream(dom.seed, spec.round, targets[i]), spec.exp_neg_lambda);
         });
         const std::uint64_t total = exclusive_scan(n);
         if (total >= MAX_ROUND_DARTS) throw Error("a round would throw more than 2^30 darts");
         darts_.resize(total);
         pool_.parallel_for(n, [&](std::size_t b, std::size_t e, unsigned) {
             for (std::size_t i = b; i < e; ++i)
-                if (first_in_base_cell(dom, cells(), uint(i))) mark_dart_range(args, cells(), scan(), grid(), uint(i));
+                if (first_in_base_cell(dom, cells, uint(i))) mark_dart_range(args, cells, scan(), grid(), uint(i));
         });
         // Throw, rejecting darts covered by earlier rounds; collect the undecided per thread.
         std::vector<std::vector<uint>> undecided(pool_.size());
         pool_.parallel_for(n, [&](std::size_t b, std::size_t e, unsigned w) {
             for (std::size_t i = b; i < e; ++i) {
-                if (!first_in_base_cell(dom, cells(), uint(i))) continue;
-                if (throw_base_cell(args, cells(), scan(), darts(), grid(), uint(i)) == 0) continue;
-                const uvec2 range = grid_[base_of_point(dom, cells_[i])];
+                if (!first_in_base_cell(dom, cells, uint(i))) continue;
+                if (throw_base_cell(args, cells, scan(), darts(), grid(), uint(i)) == 0) continue;
+                const uvec2 range = grid_[base_of_point(dom, targets[i])];
                 for (uint j = range.x & ~GRID_TAG; j < range.y; ++j)
                     if (darts_[j].w == DART_UNDECIDED) undecided[w].push_back(j);
             }
@@ -73,8 +78,8 @@ public:
         scan_.resize(total);
         pool_.parallel_for(n, [&](std::size_t b, std::size_t e, unsigned) {
             for (std::size_t i = b; i < e; ++i)
-                if (first_in_base_cell(dom, cells(), uint(i)))
-                    commit_base_cell(grid(), darts(), scan(), base_of_point(dom, cells_[i]));
+                if (first_in_base_cell(dom, cells, uint(i)))
+                    commit_base_cell(grid(), darts(), scan(), base_of_point(dom, targets[i]));
         });
         // The round's samples in arrival order: (key, dart index), dart index being spatial order.
         std::vector<uint> accepted_darts;
@@ -86,6 +91,7 @@ public:
 
         // The darts are spent: give their memory back before refinement, the run's peak.
         std::vector<uvec4>().swap(darts_);
+        std::vector<uvec2>().swap(dart_cells_);
         refine(spec);
         return {total, cells_.size()};
     }
@@ -97,6 +103,23 @@ private:
     Darts darts() { return {darts_.data()}; }
     Grid grid() { return {grid_.data()}; }
     Uints scan() { return {scan_.data()}; }
+
+    // Two radii: the base cells that get darts this round, from the active cells (see flag_dart_cells).
+    void list_dart_cells(const RoundSpec& spec) {
+        const Domain dom = plan_.domain;
+        const uint n = uint(cells_.size());
+        const uint bases = uint(plan_.base_cells);
+        scan_.assign(std::size_t(bases) + 1, 0);
+        const CellArgs args{dom, 0, 0, 0, 0, 0, 0, 0, 0, n, spec.round, spec.side, 0};
+        pool_.parallel_for(n, [&](std::size_t b, std::size_t e, unsigned) {
+            for (std::size_t i = b; i < e; ++i)
+                if (first_in_base_cell(dom, cells(), uint(i))) flag_dart_cells(args, cells(), scan(), grid(), uint(i));
+        });
+        dart_cells_.resize(exclusive_scan(bases));
+        pool_.parallel_for(bases, [&](std::size_t b, std::size_t e, unsigned) {
+            for (std::size_t i = b; i < e; ++i) list_dart_cell(dom, scan(), Cells{dart_cells_.data()}, uint(i));
+        });
+    }
 
     // Exclusive prefix sum of scan_[0, n) in place; scan_[n] becomes the total.
     std::uint64_t exclusive_scan(uint n) {
@@ -118,7 +141,7 @@ private:
                 return arrives_before(darts_[a].z, a, darts_[b].z, b);
             });
             for (uint d : work)
-                darts_[d].w = covered_by_accepted_dart(dom, grid(), darts(), d) ? DART_REJECTED : DART_ACCEPTED;
+                darts_[d].w = excluded_by_accepted_darts(dom, grid(), darts(), d) ? DART_REJECTED : DART_ACCEPTED;
             return;
         }
         // Jacobi passes: every step reads the states of the previous pass, so threads never race.
@@ -167,6 +190,7 @@ private:
     std::vector<uvec2> grid_;
     std::vector<uvec2> cells_;
     std::vector<uvec2> next_;
+    std::vector<uvec2> dart_cells_;  // two radii: the base cells that get darts this round
     std::vector<uvec4> darts_;
     std::vector<uint> scan_;
     std::vector<uint> masks_;

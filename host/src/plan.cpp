@@ -7,11 +7,15 @@
 
 #include <fmt/format.h>
 
+#include "shared/coverage.h"
+
 namespace vrpd::detail {
 namespace {
 
 constexpr std::uint32_t kLatticeLimit = 0x7FFFFFFFu;  // coordinates stay below 2^31 (grid tag bit)
 constexpr std::uint32_t kMinCellBits = 10;            // >= 1024 lattice steps per base cell side
+
+constexpr double kMaxCoverageRatio = 4.0;
 
 bool finite_positive(double v) { return std::isfinite(v) && v > 0.0; }
 
@@ -46,6 +50,15 @@ void validate(const SampleOptions& o) {
     if (o.box.boundary == Boundary::Periodic && o.radius >= short_side / 2.0)
         throw Error(fmt::format("radius {} is too large for a periodic box of {} x {}: it must be < {} (half the shorter side)",
                                 o.radius, o.box.width, o.box.height, short_side / 2.0));
+    if (o.coverage == 0.0) return;
+    if (!std::isfinite(o.coverage) || o.coverage < o.radius)
+        throw Error(fmt::format("coverage radius Rc must be a finite number >= the inhibition radius Rf (got Rc {}, Rf {})",
+                                o.coverage, o.radius));
+    if (o.coverage > detail::kMaxCoverageRatio * o.radius)
+        throw Error(fmt::format("Rc / Rf = {:.6g} is above the supported {}", o.coverage / o.radius, detail::kMaxCoverageRatio));
+    if (o.box.boundary == Boundary::Periodic && o.coverage >= short_side / 4.0)
+        throw Error(fmt::format("Rc {} is too large for a periodic box of {} x {}: with two radii it must be < {} "
+                                "(a quarter of the shorter side)", o.coverage, o.box.width, o.box.height, short_side / 4.0));
 }
 }  // namespace vrpd
 
@@ -73,8 +86,17 @@ Plan make_plan(const SampleOptions& o, std::uint32_t max_cell_bits) {
     if (cells_per_row > (kLatticeLimit >> kMinCellBits))
         throw Error(fmt::format("the box is {:.3g} radii across: at most {} base cells per side fit the 31-bit lattice",
                                 std::max(o.box.width, o.box.height) / r, kLatticeLimit >> kMinCellBits));
+    // Two radii: Rc is at most 2^19 lattice units, the bound under which coverage.h's exact
+    // circle-intersection tests fit 128-bit products.
+    const bool two = o.coverage != 0.0 && o.coverage != o.radius;
+    const std::uint32_t top = std::min<std::uint32_t>(30, max_cell_bits);
     std::uint32_t bits = std::min(kMinCellBits, max_cell_bits);
-    while (bits < std::min<std::uint32_t>(30, max_cell_bits) && (cells_per_row << (bits + 1)) <= kLatticeLimit) ++bits;
+    auto fits = [&](std::uint32_t b) {
+        const double rc_units = o.coverage / (side / double(1u << b));
+        return (cells_per_row << b) <= kLatticeLimit && (!two || rc_units * rc_units < double(shared::MAX_COVER2) * 0.999);
+    };
+    while (bits < top && fits(bits + 1)) ++bits;
+    if (!fits(bits)) throw Error("internal: no lattice resolution fits the radii");
 
     Plan plan{};
     shared::Domain& d = plan.domain;
@@ -94,21 +116,40 @@ Plan make_plan(const SampleOptions& o, std::uint32_t max_cell_bits) {
     }
     // Squared lattice distances in the domain are < 2^63 (coordinates < 2^31), so a radius whose
     // square reaches 2^63 covers the whole box: clamping it there is exact, and sums cannot wrap.
-    const long double rq = (long double)r / (long double)plan.quantum;
-    const long double rq2 = std::ceil(rq * rq);
-    d.radius2 = rq2 >= 9223372036854775808.0L ? std::uint64_t(1) << 63 : std::uint64_t(rq2);
+    auto squared_units = [&](double radius) {
+        const long double rq = (long double)radius / (long double)plan.quantum;
+        const long double rq2 = std::ceil(rq * rq);
+        return rq2 >= 9223372036854775808.0L ? std::uint64_t(1) << 63 : std::uint64_t(rq2);
+    };
+    d.radius2 = squared_units(r);
+    d.cover2 = two ? squared_units(o.coverage) : d.radius2;
+    if (two && (d.cover2 <= d.radius2 + 2 * std::uint64_t(std::sqrt(double(d.radius2))) + 1 || d.cover2 > shared::MAX_COVER2))
+        throw Error(fmt::format("Rc {} and Rf {} are less than one lattice step ({:.3g}) apart: use --radius for one radius",
+                                o.coverage, r, plan.quantum));
     const std::uint64_t cell_side = std::uint64_t(1) << bits;
     // A sample must cover its whole base cell, so that an occupied base cell needs no darts.
     if (d.radius2 <= 2 * (cell_side - 1) * (cell_side - 1))
         throw Error("internal: base cell diagonal is not shorter than the radius");
-    d.reach = 1;
-    while (shared::cell_gap2(d, int(d.reach) + 1, 0) < d.radius2) ++d.reach;
-    if (d.reach > shared::MAX_REACH || (d.periodic && (d.reach > nx || d.reach > ny)))
+    // Rows/columns of base cells a disk of squared radius limit2 reaches across.
+    auto reach_of = [&](std::uint64_t limit2) {
+        std::uint32_t n = 1;
+        while (shared::cell_gap2(d, int(n) + 1, 0) < limit2) ++n;
+        return n;
+    };
+    const std::uint32_t conflict = reach_of(d.radius2);
+    const std::uint32_t cover = reach_of(d.cover2 + 1);
+    const std::uint32_t influence = two ? reach_of(shared::influence2(d)) : conflict;
+    if (conflict > shared::MAX_REACH || (d.periodic && (conflict > nx || conflict > ny)))
         throw Error("internal: a disk reaches further than the neighbourhood the kernels scan");
-    d.reachable = 0;
-    for (int dy = -int(d.reach); dy <= int(d.reach); ++dy)
-        for (int dx = -int(d.reach); dx <= int(d.reach); ++dx)
-            if (shared::cell_gap2(d, dx, dy) < d.radius2) d.reachable |= std::uint64_t(1) << shared::reach_bit(dx, dy);
+    if (two && d.periodic && (2 * influence + 1 > nx || 2 * influence + 1 > ny))
+        throw Error(fmt::format("Rc {} is too large for a periodic box of {} x {}: the 2 Rc neighbourhood must not wrap onto itself",
+                                o.coverage, o.box.width, o.box.height));
+    d.reach = conflict | cover << 8 | influence << 16;
+    // The most samples within 2 Rc of a point, all >= Rf apart (disks of radius Rf/2 in one of
+    // radius 2 Rc + Rf/2): coverage.h keeps them in an array of MAX_DISKS.
+    const double ratio = std::sqrt(double(d.cover2) / double(d.radius2));
+    if (two && (4.0 * ratio + 1.0) * (4.0 * ratio + 1.0) > double(shared::MAX_DISKS))
+        throw Error(fmt::format("internal: Rc / Rf = {} exceeds the disk capacity of the kernels", ratio));
 
     plan.deepest_level = bits;
     plan.base_cells = nx * ny;

@@ -14,7 +14,9 @@
 #include "commit_cells.h"
 #include "count_darts.h"
 #include "emit_samples.h"
+#include "flag_dart_cells.h"
 #include "init_cells.h"
+#include "list_dart_cells.h"
 #include "mark_ranges.h"
 #include "refine_cells.h"
 #include "resolve_darts.h"
@@ -33,7 +35,8 @@ namespace {
 using namespace shared;
 
 // Push-constant layouts must match std430 as glslang lays them out.
-static_assert(sizeof(Domain) == 48 && offsetof(Domain, lattice_x) == 16 && offsetof(Domain, seed) == 44);
+static_assert(sizeof(Domain) == 48 && offsetof(Domain, cover2) == 8 && offsetof(Domain, lattice_x) == 16 &&
+              offsetof(Domain, seed) == 44);
 static_assert(sizeof(CellArgs) == 128 && offsetof(CellArgs, cells) == 48 && offsetof(CellArgs, cell_count) == 112);
 static_assert(sizeof(DartArgs) == 128 && offsetof(DartArgs, darts) == 48 && offsetof(DartArgs, dart_count) == 112);
 static_assert(sizeof(ScanArgs) == 40 && offsetof(ScanArgs, count) == 24);
@@ -66,7 +69,7 @@ public:
         VkCommandBuffer cmd = ctx_.begin();
         // Every grid word starts empty: (GRID_EMPTY, GRID_EMPTY).
         ctx_.vk().vkCmdFillBuffer(cmd, grid_.handle(), 0, VK_WHOLE_SIZE, GRID_EMPTY);
-        CellArgs a = cell_args(std::uint32_t(n), 0, 0, 0);
+        CellArgs a = cell_args(cells_[0], std::uint32_t(n), 0, 0, 0);
         ctx_.dispatch(init_cells_, &a, groups(n, WORKGROUP_SIZE));
         ctx_.barrier();  // grid fill and first active list before the first round reads them
         ctx_.submit_and_wait();
@@ -75,16 +78,16 @@ public:
     }
 
     RoundResult round(const RoundSpec& spec) override {
-        const std::uint32_t n = active_;
-        const std::uint32_t fanout = spec.refine ? 4 : 1;
-        const std::uint64_t slots = std::uint64_t(n) * fanout;
-        if (slots >= GRID_TAG) throw Error("more than 2^31 active cells");
+        const bool two = two_radii(plan_.domain);
+        // One radius: the darts go to the active cells. Two: to the base cells near them.
+        const std::uint32_t n = two ? list_dart_cells(spec) : active_;
+        const Buffer& targets = two ? dart_cells_ : cells_[0];
+        const std::uint32_t side = two ? 1u << plan_.domain.cell_bits : spec.side;
         ensure_scan(std::uint64_t(n) + 1, false);
-        ensure(masks_, std::uint64_t(n) * 4);
 
         // Submit 1: dart counts and their prefix sums.
         ctx_.begin();
-        CellArgs a = cell_args(n, spec.round, spec.side, spec.exp_neg_lambda);
+        CellArgs a = cell_args(targets, n, spec.round, side, spec.exp_neg_lambda);
         ctx_.dispatch(count_darts_, &a, groups(std::uint64_t(n) + 1, WORKGROUP_SIZE));
         ctx_.barrier();  // counts before the scan
         scan(scan_, std::uint64_t(n) + 1, COUNTER_DARTS);
@@ -99,7 +102,7 @@ public:
         ensure(work_[1], std::uint64_t(darts) * 4);
         VkCommandBuffer cmd = ctx_.begin();
         ctx_.vk().vkCmdFillBuffer(cmd, counters_.handle(), (COUNTER_WORK0 + 3) * 4, 4, 0);
-        a = cell_args(n, spec.round, spec.side, darts);
+        a = cell_args(targets, n, spec.round, side, darts);
         ctx_.dispatch(mark_ranges_, &a, groups(n, WORKGROUP_SIZE));
         ctx_.barrier();  // dart ranges and the empty work list before throw_darts reads and appends
         ctx_.dispatch(throw_darts_, &a, groups(n, WORKGROUP_SIZE));
@@ -127,6 +130,12 @@ public:
         }
 
         // Last submit: commit, emit the accepted darts as samples, keep or refine the cells.
+        const std::uint32_t active = active_;
+        const std::uint32_t fanout = spec.refine ? 4 : 1;
+        const std::uint64_t slots = std::uint64_t(active) * fanout;
+        if (slots >= GRID_TAG) throw Error("more than 2^31 active cells");
+        ensure_scan(std::uint64_t(std::max(darts, active)) + 1, true);
+        ensure(masks_, std::uint64_t(active) * 4);
         ensure(samples_, (emitted_ + darts) * sizeof(uvec2), true);
         ensure(keys_, std::uint64_t(darts) * 4);
         ensure(cells_[1], slots * sizeof(uvec2));
@@ -138,11 +147,11 @@ public:
         ctx_.dispatch(emit_samples_, &d, groups(darts, WORKGROUP_SIZE));
         ctx_.barrier();  // emission has read the flags' ranks before refine overwrites them
         const std::uint32_t child_side = spec.refine ? spec.side / 2 : spec.side;
-        a = cell_args(n, spec.round, child_side, fanout);
-        ctx_.dispatch(refine_cells_, &a, groups(std::uint64_t(n) + 1, WORKGROUP_SIZE));
+        a = cell_args(cells_[0], active, spec.round, child_side, fanout);
+        ctx_.dispatch(refine_cells_, &a, groups(std::uint64_t(active) + 1, WORKGROUP_SIZE));
         ctx_.barrier();  // surviving-children counts and masks before their scan
-        scan(scan_, std::uint64_t(n) + 1, COUNTER_ACTIVE);
-        ctx_.dispatch(scatter_cells_, &a, groups(n, WORKGROUP_SIZE));
+        scan(scan_, std::uint64_t(active) + 1, COUNTER_ACTIVE);
+        ctx_.dispatch(scatter_cells_, &a, groups(active, WORKGROUP_SIZE));
         ctx_.barrier();  // the next active list before the next round and the host
         ctx_.submit_and_wait();
         const std::uint32_t accepted = counter(COUNTER_ACCEPTED);
@@ -167,8 +176,32 @@ public:
     }
 
 private:
-    CellArgs cell_args(std::uint32_t n, std::uint32_t round, std::uint32_t side, std::uint32_t param) const {
-        return {plan_.domain, cells_[0].address(), cells_[1].address(), darts_.address(), scan_.address(),
+    // Two radii: lists the base cells that get darts this round (flag_dart_cells, a scan of the
+    // flags, list_dart_cells) and returns their count.
+    std::uint32_t list_dart_cells(const RoundSpec& spec) {
+        const std::uint64_t bases = plan_.base_cells;
+        ensure(flags_, (bases + 1) * 4);
+        ensure(block_sums_, std::uint64_t(groups(bases + 1, SCAN_BLOCK)) * 4);
+        ensure(dart_cells_, bases * sizeof(uvec2));
+        VkCommandBuffer cmd = ctx_.begin();
+        ctx_.vk().vkCmdFillBuffer(cmd, flags_.handle(), 0, (bases + 1) * 4, 0);
+        ctx_.barrier();  // cleared flags before they are set
+        CellArgs a = cell_args(cells_[0], active_, spec.round, spec.side, 0);
+        a.scan = flags_.address();
+        ctx_.dispatch(flag_dart_cells_, &a, groups(std::uint64_t(active_) + 1, WORKGROUP_SIZE));
+        ctx_.barrier();  // flags before their scan
+        scan(flags_, bases + 1, COUNTER_DART_CELLS);
+        a = cell_args(cells_[0], std::uint32_t(bases), spec.round, spec.side, 0);
+        a.scan = flags_.address();
+        a.cells_out = dart_cells_.address();
+        ctx_.dispatch(list_dart_cells_, &a, groups(bases, WORKGROUP_SIZE));
+        ctx_.barrier();  // the list before the round's kernels read it
+        ctx_.submit_and_wait();
+        return counter(COUNTER_DART_CELLS);
+    }
+
+    CellArgs cell_args(const Buffer& cells, std::uint32_t n, std::uint32_t round, std::uint32_t side, std::uint32_t param) const {
+        return {plan_.domain, cells.address(), cells_[1].address(), darts_.address(), scan_.address(),
                 grid_.address(), work_[0].address(), counters_.address(), masks_.address(), n, round, side, param};
     }
 
@@ -244,6 +277,8 @@ private:
     Plan plan_;
     VulkanContext ctx_;
     Kernel init_cells_{ctx_, words(spirv_init_cells), sizeof(CellArgs), WORKGROUP_SIZE};
+    Kernel flag_dart_cells_{ctx_, words(spirv_flag_dart_cells), sizeof(CellArgs), WORKGROUP_SIZE};
+    Kernel list_dart_cells_{ctx_, words(spirv_list_dart_cells), sizeof(CellArgs), WORKGROUP_SIZE};
     Kernel count_darts_{ctx_, words(spirv_count_darts), sizeof(CellArgs), WORKGROUP_SIZE};
     Kernel mark_ranges_{ctx_, words(spirv_mark_ranges), sizeof(CellArgs), WORKGROUP_SIZE};
     Kernel apply_decisions_{ctx_, words(spirv_apply_decisions), sizeof(DartArgs), WORKGROUP_SIZE};
@@ -259,6 +294,7 @@ private:
     Kernel scan_add_{ctx_, words(spirv_scan_add), sizeof(ScanArgs), 64};
     Kernel sort_histogram_{ctx_, words(spirv_sort_histogram), sizeof(SortArgs), 64};
     Kernel sort_scatter_{ctx_, words(spirv_sort_scatter), sizeof(SortArgs), 1};
+    Buffer flags_, dart_cells_;  // two radii: per base cell flags, and the cells that get darts
     Buffer counters_, grid_, darts_, scan_, block_sums_, masks_, samples_, keys_, sort_points_, sort_keys_, histogram_;
     std::array<Buffer, 2> cells_, work_;
     std::uint64_t emitted_ = 0;

@@ -6,10 +6,14 @@
 
 #ifdef __cplusplus
 #include <cstdint>
+#include <glm/common.hpp>
 #include <glm/vec2.hpp>
 #include <glm/vec4.hpp>
 namespace vrpd::shared {
+using glm::max;
+using glm::min;
 using uint = std::uint32_t;
+using ivec2 = glm::ivec2;
 using uvec2 = glm::uvec2;
 using uvec4 = glm::uvec4;
 using std::int64_t;
@@ -20,12 +24,17 @@ using std::uint64_t;
 // A device address (GL_EXT_buffer_reference) is a 64-bit integer on the host.
 #define VRPD_BUFFER(T) std::uint64_t
 #define VRPD_FN inline
+// An output parameter, and a variable private to each invocation (each host thread).
+#define VRPD_OUT(T) T&
+#define VRPD_PRIVATE inline thread_local
 #else
 // GLSL: the extensions are enabled by shaders/common.glsl, included first by every kernel.
 #define VRPD_BEGIN
 #define VRPD_END
 #define VRPD_BUFFER(T) T
 #define VRPD_FN
+#define VRPD_OUT(T) out T
+#define VRPD_PRIVATE
 #endif
 
 #endif

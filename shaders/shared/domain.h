@@ -11,19 +11,30 @@ VRPD_BEGIN
 // Base cells are squares of 2^cell_bits lattice units whose diagonal is shorter than the radius,
 // so a base cell holds at most one sample and a sample covers its whole base cell.
 struct Domain {
-    uint64_t radius2;      // conflict iff squared lattice distance < radius2 (Eq. 1)
-    uint64_t reachable;    // bit (dy + 3) * 7 + (dx + 3): a disk can reach across to the cell (dx, dy) away
+    uint64_t radius2;      // inhibition Rf: conflict iff squared lattice distance < radius2 (Eqs. 1, 5)
+    uint64_t cover2;       // coverage Rc: a point is covered iff its squared distance < cover2 (Eqs. 2, 7);
+                           // equal to radius2 for one radius, else at most MAX_COVER2 (see coverage.h)
     uint lattice_x;        // lattice points per row: x in [0, lattice_x); < 2^31
     uint lattice_y;
     uint cells_x;          // base cells per row
     uint cells_y;
     uint cell_bits;        // base cell side = 1 << cell_bits lattice units
     uint periodic;         // 1: torus of lattice_x * lattice_y, 0: free boundary
-    uint reach;            // base cells within this many rows/columns may hold a conflicting sample (<= MAX_REACH)
+    uint reach;            // base cells within this many rows/columns may hold: a conflicting sample (bits
+                           // 0-7, <= MAX_REACH), a covering one (bits 8-15), one within 2 Rc (bits 16-23)
     uint seed;
 };
 
 const uint MAX_REACH = 3u;
+
+VRPD_FN bool two_radii(Domain dom) { return dom.cover2 != dom.radius2; }
+VRPD_FN int conflict_reach(Domain dom) { return int(dom.reach & 0xFFu); }
+VRPD_FN int cover_reach(Domain dom) { return int((dom.reach >> 8u) & 0xFFu); }
+// The widest neighbourhood any kernel scans: 2 Rc with two radii (a dart's membership in T
+// depends on the samples within 2 Rc), else Rf.
+VRPD_FN uint influence_reach(Domain dom) { return (dom.reach >> 16u) & 0xFFu; }
+// Squared radius of the influence neighbourhood: samples at distance^2 <= 4 Rc^2 can matter.
+VRPD_FN uint64_t influence2(Domain dom) { return uint64_t(4) * dom.cover2 + uint64_t(1); }
 
 // Grid words (one uvec2 per base cell): a sample's lattice position, or one of these tags.
 // Lattice coordinates are < 2^31, so bit 31 of .x marks a tag.
@@ -47,9 +58,10 @@ VRPD_FN uint64_t distance2(Domain dom, uvec2 p, uvec2 q) {
     return dx * dx + dy * dy;
 }
 
-// Eq. 1: two samples conflict iff they are closer than r. A point at distance exactly r is
-// uncovered (Eq. 2), so conflict and cover are the same strict test.
+// Eq. 1: two samples conflict iff they are closer than Rf (Eq. 5). A point at distance exactly Rc is
+// uncovered (Eqs. 2, 7), so conflict and cover are the same strict test, with one radius or another.
 VRPD_FN bool in_disk(Domain dom, uvec2 centre, uvec2 p) { return distance2(dom, centre, p) < dom.radius2; }
+VRPD_FN bool in_cover_disk(Domain dom, uvec2 centre, uvec2 p) { return distance2(dom, centre, p) < dom.cover2; }
 
 // Largest squared coordinate offset from c to the interval [lo, hi] (lo <= hi, hi - lo < extent / 2),
 // the x or y half of the exact test "a cell lies wholly in a disk": the disk is convex, so the
@@ -72,6 +84,19 @@ VRPD_FN uint64_t far_offset2(uint c, uint lo, uint hi, uint extent, uint periodi
     return uint64_t(m) * uint64_t(m);
 }
 
+// Signed offset from coordinate a to b along one axis, the shorter way round on a torus. Exact
+// when |offset| < extent / 2 (callers use it only within 2 Rc, less than a quarter of the torus).
+VRPD_FN int axis_offset(uint a, uint b, uint extent, uint periodic) {
+    int64_t d = int64_t(b) - int64_t(a);
+    int64_t n = int64_t(extent);
+    if (periodic != 0u) d += d > n / 2 ? -n : (d < -(n / 2) ? n : int64_t(0));
+    return int(d);
+}
+
+VRPD_FN ivec2 offset_to(Domain dom, uvec2 from, uvec2 to) {
+    return ivec2(axis_offset(from.x, to.x, dom.lattice_x, dom.periodic), axis_offset(from.y, to.y, dom.lattice_y, dom.periodic));
+}
+
 VRPD_FN bool in_domain(Domain dom, uvec2 p) { return p.x < dom.lattice_x && p.y < dom.lattice_y; }
 
 // Squared gap between a base cell and the one (dx, dy) cells away: no point of the two is nearer.
@@ -84,14 +109,14 @@ VRPD_FN uint64_t cell_gap2(Domain dom, int dx, int dy) {
     return gx * gx + gy * gy;
 }
 
-VRPD_FN uint reach_bit(int dx, int dy) { return uint((dy + 3) * 7 + (dx + 3)); }
-
 // Index of the base cell (cx + dx, cy + dy), or GRID_EMPTY when it falls off a free boundary or
-// is too far for a disk to reach across the gap. make_plan guarantees reach <= cells per side, so
-// one wrap step suffices on a torus. Cells at least `reach` from every side take the short path.
-VRPD_FN uint neighbour_cell(Domain dom, uvec2 cell, int dx, int dy) {
-    if (((dom.reachable >> reach_bit(dx, dy)) & uint64_t(1)) == uint64_t(0)) return GRID_EMPTY;
-    if (cell.x >= dom.reach && cell.x + dom.reach < dom.cells_x && cell.y >= dom.reach && cell.y + dom.reach < dom.cells_y)
+// when no two points of the cells are closer than sqrt(limit2). make_plan guarantees
+// influence_reach <= cells per side, so one wrap step suffices on a torus. Cells at least
+// influence_reach from every side take the short path.
+VRPD_FN uint neighbour_cell(Domain dom, uvec2 cell, int dx, int dy, uint64_t limit2) {
+    if (cell_gap2(dom, dx, dy) >= limit2) return GRID_EMPTY;
+    uint r = influence_reach(dom);
+    if (cell.x >= r && cell.x + r < dom.cells_x && cell.y >= r && cell.y + r < dom.cells_y)
         return uint(int(cell.y * dom.cells_x + cell.x) + dy * int(dom.cells_x) + dx);
     int x = int(cell.x) + dx;
     int y = int(cell.y) + dy;
@@ -111,7 +136,7 @@ VRPD_FN uint neighbour_cell(Domain dom, uvec2 cell, int dx, int dy) {
 // the torus, so straight distances equal torus distances there and the wrap can be skipped.
 // Every predicate gives the same answer with either domain; this one is cheaper.
 VRPD_FN Domain local_domain(Domain dom, uvec2 cell) {
-    uint r = dom.reach;
+    uint r = influence_reach(dom);
     if (dom.periodic != 0u && cell.x >= r && cell.x + r < dom.cells_x && cell.y >= r && cell.y + r < dom.cells_y &&
         dom.cells_x >= 2u * r + 2u && dom.cells_y >= 2u * r + 2u)
         dom.periodic = 0u;

@@ -11,7 +11,10 @@ layout(buffer_reference, std430, buffer_reference_align = 8) buffer Grid { uvec2
 layout(buffer_reference, std430, buffer_reference_align = 16) buffer Darts { uvec4 dart[]; };
 layout(buffer_reference, std430, buffer_reference_align = 4) buffer Uints { uint value[]; };
 layout(buffer_reference, std430, buffer_reference_align = 8) buffer Points { uvec2 point[]; };
+// Sets flag i to 1. Invocations that write it concurrently all write 1: the result is the same.
+void set_flag(Uints flags, uint i) { flags.value[i] = 1u; }
 #else
+#include <atomic>
 namespace vrpd::shared {
 // Host views of the same buffers, so the kernel bodies in sampler.h compile unchanged in C++.
 struct Cells { uvec2* cell; };
@@ -19,6 +22,8 @@ struct Grid { uvec2* word; };
 struct Darts { uvec4* dart; };
 struct Uints { uint* value; };
 struct Points { uvec2* point; };
+// Host threads may write one flag concurrently (all write 1): an atomic store keeps that defined.
+inline void set_flag(Uints flags, uint i) { std::atomic_ref<uint>(flags.value[i]).store(1u, std::memory_order_relaxed); }
 }  // namespace vrpd::shared
 #endif
 
@@ -35,10 +40,12 @@ const uint COUNTER_DARTS = 8u;     // scan totals: darts thrown this round,
 const uint COUNTER_ACCEPTED = 9u;  // darts accepted this round,
 const uint COUNTER_ACTIVE = 10u;   // cells active for the next round,
 const uint COUNTER_SORT = 11u;     // the sort's histogram
-const uint COUNTER_WORDS = 12u;
+const uint COUNTER_DART_CELLS = 12u;  // two radii: base cells that get darts this round
+const uint COUNTER_WORDS = 13u;
 
 // Kernels over the active cells: init_cells, count_darts, mark_ranges, throw_darts, commit_cells,
-// refine_cells, scatter_cells.
+// refine_cells, scatter_cells; with two radii flag_dart_cells and list_dart_cells, which make the
+// list of base cells the darts go to (the kernels from count_darts to commit_cells run over it).
 struct CellArgs {
     Domain domain;
     VRPD_BUFFER(Cells) cells;      // active cells (lattice corners), ordered by base cell

@@ -5,6 +5,7 @@
 #ifndef VRPD_SAMPLER_H
 #define VRPD_SAMPLER_H
 #include "bridge.h"
+#include "coverage.h"
 #include "darts.h"
 #include "domain.h"
 #include "kernels.h"
@@ -38,10 +39,10 @@ VRPD_FN void mark_dart_range(CellArgs a, Cells cells, Uints scan, Grid grid, uin
 // base cell `base` are read from the grid; dom is local_domain(base).
 VRPD_FN bool covered_by_sample(Domain dom, Grid grid, uvec2 base, uvec2 p) {
     if (!in_domain(dom, p)) return true;
-    int reach = int(dom.reach);
+    int reach = conflict_reach(dom);
     for (int dy = -reach; dy <= reach; dy++) {
         for (int dx = -reach; dx <= reach; dx++) {
-            uint nb = neighbour_cell(dom, base, dx, dy);
+            uint nb = neighbour_cell(dom, base, dx, dy, dom.radius2);
             if (nb == GRID_EMPTY) continue;
             uvec2 w = grid.word[nb];
             if (grid_is_sample(w) && in_disk(dom, w, p)) return true;
@@ -50,9 +51,54 @@ VRPD_FN bool covered_by_sample(Domain dom, Grid grid, uvec2 base, uvec2 p) {
     return false;
 }
 
+// Two radii: appends to disk_at the samples of earlier rounds within 2 Rc of p (n already there).
+VRPD_FN uint gather_samples(Domain dom, Grid grid, uvec2 base, uvec2 p, uint n) {
+    int reach = int(influence_reach(dom));
+    uint64_t limit2 = influence2(dom);
+    for (int dy = -reach; dy <= reach; dy++) {
+        for (int dx = -reach; dx <= reach; dx++) {
+            uint nb = neighbour_cell(dom, base, dx, dy, limit2);
+            if (nb == GRID_EMPTY) continue;
+            uvec2 w = grid.word[nb];
+            if (grid_is_sample(w) && distance2(dom, p, w) < limit2) disk_at[n++] = offset_to(dom, p, w);
+        }
+    }
+    return n;
+}
+
+// Two radii: appends to disk_at this round's darts in `state` that arrive before dart d and lie
+// within 2 Rc of it. Returns the new count, MAX_DISKS + 1 if they do not fit; `conflict` is set
+// when one of them is closer than Rf.
+VRPD_FN uint gather_darts(Domain dom, Grid grid, Darts darts, uint d, uint state, uint n, VRPD_OUT(bool) conflict) {
+    uvec4 me = darts.dart[d];
+    uvec2 p = uvec2(me.x, me.y);
+    uvec2 cell = base_cell_of(dom, p);
+    int reach = int(influence_reach(dom));
+    uint64_t limit2 = influence2(dom);
+    conflict = false;
+    for (int dy = -reach; dy <= reach; dy++) {
+        for (int dx = -reach; dx <= reach; dx++) {
+            uint nb = neighbour_cell(dom, cell, dx, dy, limit2);
+            if (nb == GRID_EMPTY) continue;
+            uvec2 w = grid.word[nb];
+            if (!grid_is_darts(w)) continue;
+            for (uint j = w.x & ~GRID_TAG; j < w.y; j++) {
+                uvec4 other = darts.dart[j];
+                if (j == d || other.w != state || !arrives_before(other.z, j, me.z, d)) continue;
+                uint64_t gap2 = distance2(dom, p, uvec2(other.x, other.y));
+                if (gap2 >= limit2) continue;
+                conflict = conflict || gap2 < dom.radius2;
+                if (n == MAX_DISKS) return MAX_DISKS + 1u;
+                disk_at[n++] = offset_to(dom, p, uvec2(other.x, other.y));
+            }
+        }
+    }
+    return n;
+}
+
 // For the first active cell e of a base cell: writes the darts of all active cells of that base
 // cell (cell i's at scan[i] .. scan[i+1]), each rejected if it lies off the domain or in the disk
-// of a sample of an earlier round. Each dart is made, tested and written once (on GPUs each
+// of a sample of an earlier round (with two radii: or outside T, paper Eq. 9). Each dart is made, tested and written once (on GPUs each
 // buffer access costs; most base cells have 0-2 darts). Returns how many are still undecided.
 VRPD_FN uint throw_base_cell(CellArgs a, Cells cells, Uints scan, Darts darts, Grid grid, uint e) {
     uint end_cell = group_end(a.domain, cells, e, a.cell_count);
@@ -68,6 +114,8 @@ VRPD_FN uint throw_base_cell(CellArgs a, Cells cells, Uints scan, Darts darts, G
         for (uint j = cell_first; j < cell_end; j++) {
             uvec4 dart = make_dart(stream, j - cell_first, corner, a.side);
             bool rejected = covered_by_sample(dom, grid, base, uvec2(dart.x, dart.y));
+            if (!rejected && two_radii(dom))
+                rejected = !reaches_uncovered(gather_samples(dom, grid, base, uvec2(dart.x, dart.y), 0u), dom.cover2);
             dart.w = rejected ? DART_REJECTED : DART_UNDECIDED;
             undecided += rejected ? 0u : 1u;
             darts.dart[j] = dart;
@@ -81,16 +129,34 @@ VRPD_FN uint throw_base_cell(CellArgs a, Cells cells, Uints scan, Darts darts, G
 // Decisions are only taken when they are final, so the outcome is the sequential process's.
 // A pass reads the states left by the previous pass and applies its decisions after it
 // (Jacobi): no invocation reads a state another one is writing.
+//
+// With two radii a dart is accepted iff it is free and in T given the samples and the darts
+// accepted before it. Both only shrink as earlier darts are accepted, so: rejected as soon as the
+// accepted ones exclude it; accepted once it is free of, and in T despite, all the undecided too.
+VRPD_FN uint resolve_dart_two_radii(Domain global, Grid grid, Darts darts, uint d) {
+    uvec4 me = darts.dart[d];
+    uvec2 p = uvec2(me.x, me.y);
+    uvec2 cell = base_cell_of(global, p);
+    Domain dom = local_domain(global, cell);
+    bool conflict;
+    uint n = gather_darts(dom, grid, darts, d, DART_ACCEPTED, gather_samples(dom, grid, cell, p, 0u), conflict);
+    if (conflict || !reaches_uncovered(n, dom.cover2)) return DART_REJECTED;
+    uint all = gather_darts(dom, grid, darts, d, DART_UNDECIDED, n, conflict);
+    if (all == n) return DART_ACCEPTED;
+    return !conflict && all <= MAX_DISKS && reaches_uncovered(all, dom.cover2) ? DART_ACCEPTED : DART_UNDECIDED;
+}
+
 VRPD_FN uint resolve_dart(Domain global, Grid grid, Darts darts, uint d) {
+    if (two_radii(global)) return resolve_dart_two_radii(global, grid, darts, d);
     uvec4 me = darts.dart[d];
     uvec2 p = uvec2(me.x, me.y);
     uvec2 cell = base_cell_of(global, p);
     Domain dom = local_domain(global, cell);
     bool waiting = false;
-    int reach = int(dom.reach);
+    int reach = conflict_reach(dom);
     for (int dy = -reach; dy <= reach; dy++) {
         for (int dx = -reach; dx <= reach; dx++) {
-            uint nb = neighbour_cell(dom, cell, dx, dy);
+            uint nb = neighbour_cell(dom, cell, dx, dy, dom.radius2);
             if (nb == GRID_EMPTY) continue;
             uvec2 w = grid.word[nb];
             if (!grid_is_darts(w)) continue;
@@ -107,16 +173,24 @@ VRPD_FN uint resolve_dart(Domain global, Grid grid, Darts darts, uint d) {
     return waiting ? DART_UNDECIDED : DART_ACCEPTED;
 }
 
-// The textbook test, for the serial backend: does an already accepted dart of this round cover d?
-VRPD_FN bool covered_by_accepted_dart(Domain global, Grid grid, Darts darts, uint d) {
+// The textbook test, for the serial backend: do the darts of this round accepted so far exclude
+// d (one closer than Rf; with two radii, or d outside T)?
+VRPD_FN bool excluded_by_accepted_darts(Domain global, Grid grid, Darts darts, uint d) {
     uvec4 me = darts.dart[d];
+    if (two_radii(global)) {
+        uvec2 cell = base_cell_of(global, uvec2(me.x, me.y));
+        Domain dom = local_domain(global, cell);
+        bool conflict;
+        uint n = gather_darts(dom, grid, darts, d, DART_ACCEPTED, gather_samples(dom, grid, cell, uvec2(me.x, me.y), 0u), conflict);
+        return conflict || !reaches_uncovered(n, dom.cover2);
+    }
     uvec2 p = uvec2(me.x, me.y);
     uvec2 cell = base_cell_of(global, p);
     Domain dom = local_domain(global, cell);
-    int reach = int(dom.reach);
+    int reach = conflict_reach(dom);
     for (int dy = -reach; dy <= reach; dy++) {
         for (int dx = -reach; dx <= reach; dx++) {
-            uint nb = neighbour_cell(dom, cell, dx, dy);
+            uint nb = neighbour_cell(dom, cell, dx, dy, dom.radius2);
             if (nb == GRID_EMPTY) continue;
             uvec2 w = grid.word[nb];
             if (!grid_is_darts(w)) continue;
@@ -142,6 +216,45 @@ VRPD_FN void commit_base_cell(Grid grid, Darts darts, Uints flags, uint b) {
         if (accepted) result = uvec2(dart.x, dart.y);
     }
     grid.word[b] = result;
+}
+
+// Two radii. The active cells track where U (points >= Rc from every sample) may remain; the darts
+// go to base cells instead. For the first active cell e of a base cell: flags every base cell that
+// holds no sample and lies within Rc of the base cell's active cells. Each point of T is free, so
+// its base cell holds no sample, and within Rc of U, which lies in the active cells: the flagged
+// cells cover T, and darts uniform over them, kept iff in T (exact test), are uniform over T.
+VRPD_FN void flag_dart_cells(CellArgs a, Cells cells, Uints flags, Grid grid, uint e) {
+    Domain dom = a.domain;
+    uint end_cell = group_end(dom, cells, e, a.cell_count);
+    uvec2 base = base_cell_of(dom, cells.cell[e]);
+    int side = 1 << dom.cell_bits;
+    uvec2 origin = uvec2(base.x << dom.cell_bits, base.y << dom.cell_bits);
+    // The group's bounding box, in lattice units from the base cell's corner: [lo, hi].
+    uvec2 lo = uvec2(uint(side), uint(side));
+    uvec2 hi = uvec2(0u, 0u);
+    for (uint i = e; i < end_cell; i++) {
+        uvec2 c = cells.cell[i] - origin;
+        lo = min(lo, c);
+        hi = max(hi, c + uvec2(a.side - 1u, a.side - 1u));
+    }
+    int reach = cover_reach(dom);
+    for (int dy = -reach; dy <= reach; dy++) {
+        for (int dx = -reach; dx <= reach; dx++) {
+            uint nb = neighbour_cell(dom, base, dx, dy, dom.cover2 + uint64_t(1));
+            if (nb == GRID_EMPTY) continue;
+            int64_t gx = dx > 0 ? int64_t(dx * side - int(hi.x)) : (dx < 0 ? int64_t(int(lo.x) - (dx + 1) * side + 1) : int64_t(0));
+            int64_t gy = dy > 0 ? int64_t(dy * side - int(hi.y)) : (dy < 0 ? int64_t(int(lo.y) - (dy + 1) * side + 1) : int64_t(0));
+            if (uint64_t(gx * gx + gy * gy) <= dom.cover2 && !grid_is_sample(grid.word[nb])) set_flag(flags, nb);
+        }
+    }
+}
+
+// Two radii, for base cell b: after the flags' exclusive scan, a flagged cell joins the list of
+// cells that get darts (in base cell order, as the kernels from count_darts on require).
+VRPD_FN void list_dart_cell(Domain dom, Uints ranks, Cells cells_out, uint b) {
+    uint rank = ranks.value[b];
+    if (ranks.value[b + 1u] != rank)
+        cells_out.cell[rank] = uvec2((b % dom.cells_x) << dom.cell_bits, (b / dom.cells_x) << dom.cell_bits);
 }
 
 // Child c (0..3, or 0 for a cell kept whole) of an active cell; side is the child's side.
@@ -173,10 +286,10 @@ VRPD_FN uint surviving_children(Domain dom, Grid grid, uvec2 base, uvec2 corner,
     uint hx1 = x1_in ? clip_hi(x1 + side - 1u, dom.lattice_x, dom.periodic) : 0u;
     uint hy1 = y1_in ? clip_hi(y1 + side - 1u, dom.lattice_y, dom.periodic) : 0u;
     uint64_t far = uint64_t(1) << 62;
-    int reach = int(dom.reach);
+    int reach = cover_reach(dom);
     for (int dy = -reach; dy <= reach && mask != 0u; dy++) {
         for (int dx = -reach; dx <= reach && mask != 0u; dx++) {
-            uint nb = neighbour_cell(dom, base, dx, dy);
+            uint nb = neighbour_cell(dom, base, dx, dy, dom.cover2);
             if (nb == GRID_EMPTY) continue;
             uvec2 p = grid.word[nb];
             if (!grid_is_sample(p)) continue;
@@ -186,7 +299,7 @@ VRPD_FN uint surviving_children(Domain dom, Grid grid, uvec2 base, uvec2 corner,
             uint64_t fy1 = y1_in ? far_offset2(p.y, y1, hy1, dom.lattice_y, dom.periodic) : far;
             for (uint c = 0u; c < fanout; c++) {
                 uint64_t far2 = ((c & 1u) == 0u ? fx0 : fx1) + ((c >> 1u) == 0u ? fy0 : fy1);
-                if (far2 < dom.radius2) mask &= ~(1u << c);
+                if (far2 < dom.cover2) mask &= ~(1u << c);
             }
         }
     }

@@ -1,5 +1,5 @@
 // vrpd: maximal Poisson-disk sampling on Vulkan compute, with CPU backends that give the same points.
-// Implements section 1 of Mitchell, Rand, Ebeida, Bajaj, "Variable Radii Poisson-Disk Sampling".
+// Implements sections 1 and 3 (two radii) of Mitchell, Rand, Ebeida, Bajaj, "Variable Radii Poisson-Disk Sampling".
 #pragma once
 
 #include <cstddef>
@@ -30,7 +30,9 @@ struct Box {
 };
 
 struct SampleOptions {
-    double radius = 0.0;         // inhibition = coverage radius r
+    double radius = 0.0;         // inhibition radius Rf: no two samples closer (paper Eq. 5)
+    double coverage = 0.0;       // coverage radius Rc, Rf <= Rc <= 4 Rf: every point within Rc of a
+                                 // sample (Eq. 8); 0: equal to radius, the classical one-radius case
     Box box;
     std::uint32_t seed = 0;
     Backend backend = Backend::Gpu;
@@ -50,7 +52,8 @@ struct SamplingStats {
 struct Sampling {
     std::vector<glm::uvec2> lattice;  // sample i is at lattice[i] * quantum
     double quantum = 0.0;
-    double radius = 0.0;
+    double radius = 0.0;              // Rf
+    double coverage = 0.0;            // Rc (equal to radius for one radius)
     Box box;
     std::string device;
     SamplingStats stats;

@@ -1,0 +1,135 @@
+// Exact membership in the paper's T = S ∩ (U ⊕ Rc) (section 3, Eq. 9) for two radii Rf < Rc:
+// does the closed Rc-disk around a dart y reach a point that no earlier sample's open Rc-disk
+// covers? All disks have one radius Rc (squared radius R2 = Domain.cover2, an integer in lattice
+// units), and every quantity below is an integer: the answer is exact and the same on every device.
+//
+// The method. Let K = (closed disk of y) minus (the open disks of the samples within 2 Rc of y).
+// If K is not empty, either y itself is in K, or K has a vertex: a point where two of the circles
+// (y's own or the samples') cross, lying in y's closed disk and in no sample's open disk. (A
+// component of K without a vertex is bounded by whole circles; with equal radii that forces y's
+// circle to meet no other disk, so y is in K, or a sample at y itself, which the Rf test rejects.)
+// So y reaches U iff y is uncovered or one of those O(n^2) intersection points is uncovered.
+//
+// Precision. An intersection point p = m + sigma h n/|n| of the circles around a and b (m the
+// midpoint, n = perp(b - a), L = |b - a|^2, h^2 = R2 - L/4) is irrational, but for a third centre c
+//     4 sqrt(L) (|p - c|^2 - R2) = A sqrt(L) + sigma B sqrt(M),
+//     A = |e|^2 - L,  B = 2 e.n,  e = a + b - 2c,  M = 4 R2 - L,
+// so its side of c's circle is the sign of A sqrt(L) + B' sqrt(M), decided by comparing A^2 L with
+// B'^2 M. With R2 <= MAX_COVER2 = 2^38 and only centres c with |e|^2 <= 16 R2 compared (others are
+// more than Rc from p), both products are below 2^124: 128-bit integers, no floating point.
+#ifndef VRPD_COVERAGE_H
+#define VRPD_COVERAGE_H
+#include "bridge.h"
+
+VRPD_BEGIN
+
+const uint64_t MAX_COVER2 = uint64_t(1) << 38;
+
+// Centres (offsets from the dart, |offset|^2 <= 4 R2) of the disks a test considers. They are
+// >= Rf apart, so at most (4 Rc / Rf + 1)^2 fit (disks of radius Rf/2 inside one of 2 Rc + Rf/2):
+// 289 for Rc = 4 Rf, the largest ratio make_plan accepts.
+const uint MAX_DISKS = 300u;
+VRPD_PRIVATE ivec2 disk_at[MAX_DISKS];
+
+VRPD_FN uint64_t norm2(ivec2 v) {
+    int64_t x = int64_t(v.x);
+    int64_t y = int64_t(v.y);
+    return uint64_t(x * x + y * y);
+}
+
+// a * b as a 128-bit (hi, lo), from 32-bit halves (GLSL has no 64-bit widening multiply).
+VRPD_FN void mul_wide(uint64_t a, uint64_t b, VRPD_OUT(uint64_t) hi, VRPD_OUT(uint64_t) lo) {
+    uint64_t low32 = uint64_t(0xFFFFFFFFu);
+    uint64_t p00 = (a & low32) * (b & low32);
+    uint64_t p01 = (a & low32) * (b >> 32);
+    uint64_t p10 = (a >> 32) * (b & low32);
+    uint64_t p11 = (a >> 32) * (b >> 32);
+    uint64_t mid = (p00 >> 32) + (p01 & low32) + (p10 & low32);
+    lo = (p00 & low32) | (mid << 32);
+    hi = p11 + (p01 >> 32) + (p10 >> 32) + (mid >> 32);
+}
+
+// s^2 m as a 128-bit (hi, lo); the caller guarantees s^2 m < 2^128.
+VRPD_FN void square_times(uint64_t s, uint64_t m, VRPD_OUT(uint64_t) hi, VRPD_OUT(uint64_t) lo) {
+    uint64_t h1;
+    uint64_t l1;
+    mul_wide(s, s, h1, l1);
+    uint64_t h2;
+    mul_wide(l1, m, h2, lo);
+    hi = h2 + h1 * m;
+}
+
+VRPD_FN int sign_of(int64_t v) { return v > int64_t(0) ? 1 : (v < int64_t(0) ? -1 : 0); }
+VRPD_FN uint64_t magnitude(int64_t v) { return uint64_t(v < int64_t(0) ? -v : v); }
+
+// The sign of a sqrt(l) + b sqrt(m), exactly (a^2 l and b^2 m below 2^128).
+VRPD_FN int sign_of_root_sum(int64_t a, uint64_t l, int64_t b, uint64_t m) {
+    int sa = l == uint64_t(0) ? 0 : sign_of(a);
+    int sb = m == uint64_t(0) ? 0 : sign_of(b);
+    if (sa == sb || sb == 0) return sa;
+    if (sa == 0) return sb;
+    uint64_t ah;
+    uint64_t al;
+    uint64_t bh;
+    uint64_t bl;
+    square_times(magnitude(a), l, ah, al);
+    square_times(magnitude(b), m, bh, bl);
+    if (ah == bh && al == bl) return 0;
+    return (ah > bh || (ah == bh && al > bl)) ? sa : sb;
+}
+
+// Sign of |p - c|^2 - R2 for the crossing p (side sigma = +-1) of the circles around a and b.
+// Needs 0 < |b - a|^2 <= 4 R2 and |a + b - 2c|^2 <= 16 R2.
+VRPD_FN int crossing_side(ivec2 a, ivec2 b, ivec2 c, int sigma, uint64_t r2) {
+    int64_t dx = int64_t(b.x) - int64_t(a.x);
+    int64_t dy = int64_t(b.y) - int64_t(a.y);
+    int64_t ex = int64_t(a.x) + int64_t(b.x) - 2 * int64_t(c.x);
+    int64_t ey = int64_t(a.y) + int64_t(b.y) - 2 * int64_t(c.y);
+    uint64_t l = uint64_t(dx * dx + dy * dy);
+    int64_t big_a = ex * ex + ey * ey - int64_t(l);
+    int64_t big_b = 2 * (ey * dx - ex * dy) * int64_t(sigma);
+    return sign_of_root_sum(big_a, l, big_b, uint64_t(4) * r2 - l);
+}
+
+VRPD_FN bool crossing_near(ivec2 a, ivec2 b, ivec2 c, uint64_t r2) {
+    return norm2(ivec2(a.x + b.x - 2 * c.x, a.y + b.y - 2 * c.y)) <= uint64_t(16) * r2;
+}
+
+// Is the crossing (sigma) of the circles around a and b outside every open disk of disk_at[0, n)
+// other than skip_a and skip_b?
+VRPD_FN bool crossing_uncovered(ivec2 a, ivec2 b, int sigma, uint skip_a, uint skip_b, uint n, uint64_t r2) {
+    for (uint k = 0u; k < n; k++) {
+        if (k == skip_a || k == skip_b) continue;
+        ivec2 c = disk_at[k];
+        if (crossing_near(a, b, c, r2) && crossing_side(a, b, c, sigma, r2) < 0) return false;
+    }
+    return true;
+}
+
+// Does the closed disk of squared radius r2 around the dart (the origin) reach a point outside
+// every open disk around disk_at[0, n)? See the method above.
+VRPD_FN bool reaches_uncovered(uint n, uint64_t r2) {
+    bool centre_covered = false;
+    for (uint k = 0u; k < n && !centre_covered; k++) centre_covered = norm2(disk_at[k]) < r2;
+    if (!centre_covered) return true;
+    ivec2 origin = ivec2(0, 0);
+    for (uint i = 0u; i < n; i++) {
+        if (norm2(disk_at[i]) == uint64_t(0)) continue;
+        for (int sigma = -1; sigma <= 1; sigma += 2)
+            if (crossing_uncovered(origin, disk_at[i], sigma, i, i, n, r2)) return true;
+    }
+    for (uint i = 0u; i < n; i++) {
+        for (uint j = i + 1u; j < n; j++) {
+            ivec2 a = disk_at[i];
+            ivec2 b = disk_at[j];
+            uint64_t l = norm2(ivec2(b.x - a.x, b.y - a.y));
+            if (l == uint64_t(0) || l > uint64_t(4) * r2) continue;
+            for (int sigma = -1; sigma <= 1; sigma += 2)
+                if (crossing_side(a, b, origin, sigma, r2) <= 0 && crossing_uncovered(a, b, sigma, i, j, n, r2)) return true;
+        }
+    }
+    return false;
+}
+
+VRPD_END
+#endif
