@@ -9,6 +9,8 @@
 // component of K without a vertex is bounded by whole circles; with equal radii that forces y's
 // circle to meet no other disk, so y is in K, or a sample at y itself, which the Rf test rejects.)
 // So y reaches U iff y is uncovered or one of those O(n^2) intersection points is uncovered.
+// With a free boundary U (and so K) is clipped to the box [0, lattice_x - 1] x [0, lattice_y - 1],
+// and K's vertices also include the crossings of the circles with the box's sides and its corners.
 //
 // Precision. An intersection point p = m + sigma h n/|n| of the circles around a and b (m the
 // midpoint, n = perp(b - a), L = |b - a|^2, h^2 = R2 - L/4) is irrational, but for a third centre c
@@ -95,6 +97,85 @@ VRPD_FN bool crossing_near(ivec2 a, ivec2 b, ivec2 c, uint64_t r2) {
     return norm2(ivec2(a.x + b.x - 2 * c.x, a.y + b.y - 2 * c.y)) <= uint64_t(16) * r2;
 }
 
+// A side of the box, as an offset from the dart: FAR_SIDE (no side within 2 Rc) on a torus, and
+// for sides further than that. A side matters only within Rc of the dart (s^2 <= R2).
+const int FAR_SIDE = 1 << 21;
+VRPD_FN bool side_near(int s, uint64_t r2) { return uint64_t(int64_t(s) * int64_t(s)) <= r2; }
+
+// Is the crossing (sigma) of the circles around a and b inside the box (lo.x, lo.y) - (hi.x, hi.y)?
+// 2 sqrt(L) (p.x - x0) = (a.x + b.x - 2 x0) sqrt(L) - sigma dy sqrt(M), and alike for the others.
+// Only sides within Rc of the dart are tested: the crossings tested lie within Rc of it.
+VRPD_FN bool crossing_in_box(ivec2 a, ivec2 b, int sigma, ivec2 lo, ivec2 hi, uint64_t r2) {
+    int64_t dx = int64_t(b.x) - int64_t(a.x);
+    int64_t dy = int64_t(b.y) - int64_t(a.y);
+    uint64_t l = uint64_t(dx * dx + dy * dy);
+    uint64_t m = uint64_t(4) * r2 - l;
+    int64_t sx = int64_t(a.x) + int64_t(b.x);
+    int64_t sy = int64_t(a.y) + int64_t(b.y);
+    int64_t sg = int64_t(sigma);
+    if (side_near(lo.x, r2) && sign_of_root_sum(sx - 2 * int64_t(lo.x), l, -sg * dy, m) < 0) return false;
+    if (side_near(hi.x, r2) && sign_of_root_sum(2 * int64_t(hi.x) - sx, l, sg * dy, m) < 0) return false;
+    if (side_near(lo.y, r2) && sign_of_root_sum(sy - 2 * int64_t(lo.y), l, sg * dx, m) < 0) return false;
+    if (side_near(hi.y, r2) && sign_of_root_sum(2 * int64_t(hi.y) - sy, l, -sg * dx, m) < 0) return false;
+    return true;
+}
+
+VRPD_FN ivec2 swizzle(ivec2 p, bool swap) { return swap ? ivec2(p.y, p.x) : p; }
+
+// The crossing (tau = +-1) of the circle around c with the side u = s of the box, in coordinates
+// (u, v) where u is across the side (swap: u is y); the side runs over v in [v0, v1]. Is the
+// crossing p = (s, c.v + tau sqrt(N)), N = R2 - (s - c.u)^2, on the side, in the dart's closed
+// disk, and outside every open disk but c's (skip)? Each test is a sign of a + b sqrt(N).
+VRPD_FN bool side_crossing_uncovered(ivec2 centre, uint skip, int s, int v0, int v1, bool swap, int tau, uint n, uint64_t r2) {
+    ivec2 c = swizzle(centre, swap);
+    int64_t du = int64_t(s) - int64_t(c.x);
+    if (uint64_t(du * du) > r2) return false;
+    uint64_t nn = r2 - uint64_t(du * du);
+    int64_t t = int64_t(tau);
+    int64_t cv = int64_t(c.y);
+    if (sign_of_root_sum(cv - int64_t(v0), uint64_t(1), t, nn) < 0) return false;
+    if (sign_of_root_sum(int64_t(v1) - cv, uint64_t(1), -t, nn) < 0) return false;
+    int64_t s64 = int64_t(s);
+    if (sign_of_root_sum(s64 * s64 + cv * cv + int64_t(nn) - int64_t(r2), uint64_t(1), 2 * t * cv, nn) > 0) return false;
+    for (uint k = 0u; k < n; k++) {
+        if (k == skip) continue;
+        ivec2 o = swizzle(disk_at[k], swap);
+        int64_t ku = s64 - int64_t(o.x);
+        if (uint64_t(ku * ku) >= r2) continue;
+        int64_t kv = cv - int64_t(o.y);
+        if (sign_of_root_sum(ku * ku + kv * kv + int64_t(nn) - int64_t(r2), uint64_t(1), 2 * t * kv, nn) < 0) return false;
+    }
+    return true;
+}
+
+// Is the box corner p in the dart's closed disk and outside every open disk?
+VRPD_FN bool corner_uncovered(int x, int y, uint n, uint64_t r2) {
+    ivec2 p = ivec2(x, y);
+    if (!side_near(x, r2) || !side_near(y, r2) || norm2(p) > r2) return false;
+    for (uint k = 0u; k < n; k++)
+        if (norm2(ivec2(p.x - disk_at[k].x, p.y - disk_at[k].y)) < r2) return false;
+    return true;
+}
+
+// The crossings of the circles (the dart's, then disk_at[0, n)'s) with the sides of the box, and
+// its corners: is one of them in the dart's closed disk and uncovered?
+VRPD_FN bool boundary_vertex_uncovered(uint n, uint64_t r2, ivec2 lo, ivec2 hi) {
+    for (uint side = 0u; side < 4u; side++) {
+        bool swap = side >= 2u;
+        int s = (side & 1u) == 0u ? (swap ? lo.y : lo.x) : (swap ? hi.y : hi.x);
+        if (!side_near(s, r2)) continue;
+        int v0 = swap ? lo.x : lo.y;
+        int v1 = swap ? hi.x : hi.y;
+        for (int tau = -1; tau <= 1; tau += 2) {
+            if (side_crossing_uncovered(ivec2(0, 0), 0xFFFFFFFFu, s, v0, v1, swap, tau, n, r2)) return true;
+            for (uint i = 0u; i < n; i++)
+                if (side_crossing_uncovered(disk_at[i], i, s, v0, v1, swap, tau, n, r2)) return true;
+        }
+    }
+    return corner_uncovered(lo.x, lo.y, n, r2) || corner_uncovered(hi.x, lo.y, n, r2) ||
+           corner_uncovered(lo.x, hi.y, n, r2) || corner_uncovered(hi.x, hi.y, n, r2);
+}
+
 // Is the crossing (sigma) of the circles around a and b outside every open disk of disk_at[0, n)
 // other than skip_a and skip_b?
 VRPD_FN bool crossing_uncovered(ivec2 a, ivec2 b, int sigma, uint skip_a, uint skip_b, uint n, uint64_t r2) {
@@ -106,9 +187,10 @@ VRPD_FN bool crossing_uncovered(ivec2 a, ivec2 b, int sigma, uint skip_a, uint s
     return true;
 }
 
-// Does the closed disk of squared radius r2 around the dart (the origin) reach a point outside
-// every open disk around disk_at[0, n)? See the method above.
-VRPD_FN bool reaches_uncovered(uint n, uint64_t r2) {
+// Does the closed disk of squared radius r2 around the dart (the origin) reach a point of the box
+// lo - hi (offsets from the dart; FAR_SIDE for none) outside every open disk around disk_at[0, n)?
+// See the method above.
+VRPD_FN bool reaches_uncovered(uint n, uint64_t r2, ivec2 lo, ivec2 hi) {
     bool centre_covered = false;
     for (uint k = 0u; k < n && !centre_covered; k++) centre_covered = norm2(disk_at[k]) < r2;
     if (!centre_covered) return true;
@@ -116,7 +198,8 @@ VRPD_FN bool reaches_uncovered(uint n, uint64_t r2) {
     for (uint i = 0u; i < n; i++) {
         if (norm2(disk_at[i]) == uint64_t(0)) continue;
         for (int sigma = -1; sigma <= 1; sigma += 2)
-            if (crossing_uncovered(origin, disk_at[i], sigma, i, i, n, r2)) return true;
+            if (crossing_in_box(origin, disk_at[i], sigma, lo, hi, r2) && crossing_uncovered(origin, disk_at[i], sigma, i, i, n, r2))
+                return true;
     }
     for (uint i = 0u; i < n; i++) {
         for (uint j = i + 1u; j < n; j++) {
@@ -125,10 +208,12 @@ VRPD_FN bool reaches_uncovered(uint n, uint64_t r2) {
             uint64_t l = norm2(ivec2(b.x - a.x, b.y - a.y));
             if (l == uint64_t(0) || l > uint64_t(4) * r2) continue;
             for (int sigma = -1; sigma <= 1; sigma += 2)
-                if (crossing_side(a, b, origin, sigma, r2) <= 0 && crossing_uncovered(a, b, sigma, i, j, n, r2)) return true;
+                if (crossing_side(a, b, origin, sigma, r2) <= 0 && crossing_in_box(a, b, sigma, lo, hi, r2) &&
+                    crossing_uncovered(a, b, sigma, i, j, n, r2))
+                    return true;
         }
     }
-    return false;
+    return boundary_vertex_uncovered(n, r2, lo, hi);
 }
 
 VRPD_END

@@ -51,6 +51,19 @@ VRPD_FN bool covered_by_sample(Domain dom, Grid grid, uvec2 base, uvec2 p) {
     return false;
 }
 
+// Two radii: does the closed Rc-disk around p reach a point of the domain outside the open Rc-disks
+// around disk_at[0, n) (offsets from p)? A free boundary's box is passed as offsets from p.
+VRPD_FN bool reaches_uncovered_at(Domain dom, uvec2 p, uint n) {
+    ivec2 lo = ivec2(FAR_SIDE, FAR_SIDE);
+    ivec2 hi = ivec2(FAR_SIDE, FAR_SIDE);
+    lo = -lo;
+    if (dom.periodic == 0u) {
+        lo = max(lo, -ivec2(p));
+        hi = min(hi, ivec2(dom.lattice_x - 1u - p.x, dom.lattice_y - 1u - p.y));
+    }
+    return reaches_uncovered(n, dom.cover2, lo, hi);
+}
+
 // Two radii: appends to disk_at the samples of earlier rounds within 2 Rc of p (n already there).
 VRPD_FN uint gather_samples(Domain dom, Grid grid, uvec2 base, uvec2 p, uint n) {
     int reach = int(influence_reach(dom));
@@ -115,7 +128,7 @@ VRPD_FN uint throw_base_cell(CellArgs a, Cells cells, Uints scan, Darts darts, G
             uvec4 dart = make_dart(stream, j - cell_first, corner, a.side);
             bool rejected = covered_by_sample(dom, grid, base, uvec2(dart.x, dart.y));
             if (!rejected && two_radii(dom))
-                rejected = !reaches_uncovered(gather_samples(dom, grid, base, uvec2(dart.x, dart.y), 0u), dom.cover2);
+                rejected = !reaches_uncovered_at(dom, uvec2(dart.x, dart.y), gather_samples(dom, grid, base, uvec2(dart.x, dart.y), 0u));
             dart.w = rejected ? DART_REJECTED : DART_UNDECIDED;
             undecided += rejected ? 0u : 1u;
             darts.dart[j] = dart;
@@ -140,10 +153,10 @@ VRPD_FN uint resolve_dart_two_radii(Domain global, Grid grid, Darts darts, uint 
     Domain dom = local_domain(global, cell);
     bool conflict;
     uint n = gather_darts(dom, grid, darts, d, DART_ACCEPTED, gather_samples(dom, grid, cell, p, 0u), conflict);
-    if (conflict || !reaches_uncovered(n, dom.cover2)) return DART_REJECTED;
+    if (conflict || !reaches_uncovered_at(dom, p, n)) return DART_REJECTED;
     uint all = gather_darts(dom, grid, darts, d, DART_UNDECIDED, n, conflict);
     if (all == n) return DART_ACCEPTED;
-    return !conflict && all <= MAX_DISKS && reaches_uncovered(all, dom.cover2) ? DART_ACCEPTED : DART_UNDECIDED;
+    return !conflict && all <= MAX_DISKS && reaches_uncovered_at(dom, p, all) ? DART_ACCEPTED : DART_UNDECIDED;
 }
 
 VRPD_FN uint resolve_dart(Domain global, Grid grid, Darts darts, uint d) {
@@ -182,7 +195,7 @@ VRPD_FN bool excluded_by_accepted_darts(Domain global, Grid grid, Darts darts, u
         Domain dom = local_domain(global, cell);
         bool conflict;
         uint n = gather_darts(dom, grid, darts, d, DART_ACCEPTED, gather_samples(dom, grid, cell, uvec2(me.x, me.y), 0u), conflict);
-        return conflict || !reaches_uncovered(n, dom.cover2);
+        return conflict || !reaches_uncovered_at(dom, uvec2(me.x, me.y), n);
     }
     uvec2 p = uvec2(me.x, me.y);
     uvec2 cell = base_cell_of(global, p);
