@@ -11,5 +11,5 @@ void main() {
     uint e = gl_GlobalInvocationID.x;
     if (e == 0u) a.scan.value[a.param] = 0u;
     if (e < a.cell_count && first_in_base_cell(a.domain, a.cells, e))
-        commit_base_cell(a.grid, a.darts, a.scan, base_of_point(a.domain, a.cells.cell[e]));
+        commit_base_cell(a.grid, a.darts, a.scan, a.counters, base_of_point(a.domain, a.cells.cell[e]));
 }

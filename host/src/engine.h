@@ -37,6 +37,11 @@ public:
     virtual std::vector<glm::uvec2> samples() = 0;
 };
 
+// The error of a run in which a dart's T test went past its bounds (shared/coverage.h).
+inline constexpr const char* kTooComplex =
+    "two radii: a dart's T-membership test went past its bounds (more than 64 samples within 2 Rc, or 8192 "
+    "steps); this Rc/Rf and box are beyond what the kernels handle";
+
 enum class Resolution { Parallel, Serial };
 std::unique_ptr<Engine> make_host_engine(const Plan& plan, Resolution resolution, unsigned threads);
 std::unique_ptr<Engine> make_vulkan_engine(const Plan& plan, const std::string& device);

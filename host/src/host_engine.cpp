@@ -2,6 +2,7 @@
 // pool with the same parallel arrival-order resolution; `serial` accepts the same darts one at a
 // time in arrival order, the textbook definition of the process, kept simple as the oracle.
 #include <algorithm>
+#include <array>
 
 #include <fmt/format.h>
 
@@ -76,11 +77,13 @@ public:
 
         // Commit: grid words become samples or empty again; scan_ flags the accepted darts.
         scan_.resize(total);
+        std::array<uint, COUNTER_WORDS> counters{};
         pool_.parallel_for(n, [&](std::size_t b, std::size_t e, unsigned) {
             for (std::size_t i = b; i < e; ++i)
                 if (first_in_base_cell(dom, cells, uint(i)))
-                    commit_base_cell(grid(), darts(), scan(), base_of_point(dom, targets[i]));
+                    commit_base_cell(grid(), darts(), scan(), Uints{counters.data()}, base_of_point(dom, targets[i]));
         });
+        if (counters[COUNTER_TOO_COMPLEX]) throw Error(kTooComplex);
         // The round's samples in arrival order: (key, dart index), dart index being spatial order.
         std::vector<uint> accepted_darts;
         for (uint j = 0; j < total; ++j)
@@ -141,7 +144,7 @@ private:
                 return arrives_before(darts_[a].z, a, darts_[b].z, b);
             });
             for (uint d : work)
-                darts_[d].w = excluded_by_accepted_darts(dom, grid(), darts(), d) ? DART_REJECTED : DART_ACCEPTED;
+                darts_[d].w = serial_decision(dom, grid(), darts(), d);
             return;
         }
         // Jacobi passes: every step reads the states of the previous pass, so threads never race.

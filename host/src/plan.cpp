@@ -145,12 +145,6 @@ Plan make_plan(const SampleOptions& o, std::uint32_t max_cell_bits) {
         throw Error(fmt::format("Rc {} is too large for a periodic box of {} x {}: the 2 Rc neighbourhood must not wrap onto itself",
                                 o.coverage, o.box.width, o.box.height));
     d.reach = conflict | cover << 8 | influence << 16;
-    // The most samples within 2 Rc of a point, all >= Rf apart (disks of radius Rf/2 in one of
-    // radius 2 Rc + Rf/2): coverage.h keeps them in an array of MAX_DISKS.
-    const double ratio = std::sqrt(double(d.cover2) / double(d.radius2));
-    if (two && (4.0 * ratio + 1.0) * (4.0 * ratio + 1.0) > double(shared::MAX_DISKS))
-        throw Error(fmt::format("internal: Rc / Rf = {} exceeds the disk capacity of the kernels", ratio));
-
     plan.deepest_level = bits;
     plan.base_cells = nx * ny;
     return plan;

@@ -67,8 +67,9 @@ public:
         const std::uint64_t n = plan_.base_cells;
         ensure(cells_[0], n * sizeof(uvec2));
         VkCommandBuffer cmd = ctx_.begin();
-        // Every grid word starts empty: (GRID_EMPTY, GRID_EMPTY).
+        // Every grid word starts empty: (GRID_EMPTY, GRID_EMPTY); no dart has been too complex.
         ctx_.vk().vkCmdFillBuffer(cmd, grid_.handle(), 0, VK_WHOLE_SIZE, GRID_EMPTY);
+        ctx_.vk().vkCmdFillBuffer(cmd, counters_.handle(), COUNTER_TOO_COMPLEX * 4, 4, 0);
         CellArgs a = cell_args(cells_[0], std::uint32_t(n), 0, 0, 0);
         ctx_.dispatch(init_cells_, &a, groups(n, WORKGROUP_SIZE));
         ctx_.barrier();  // grid fill and first active list before the first round reads them
@@ -154,6 +155,7 @@ public:
         ctx_.dispatch(scatter_cells_, &a, groups(active, WORKGROUP_SIZE));
         ctx_.barrier();  // the next active list before the next round and the host
         ctx_.submit_and_wait();
+        if (counter(COUNTER_TOO_COMPLEX)) throw Error(kTooComplex);
         const std::uint32_t accepted = counter(COUNTER_ACCEPTED);
         sort_round(accepted);
         emitted_ += accepted;

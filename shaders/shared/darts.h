@@ -59,6 +59,8 @@ VRPD_FN bool arrives_before(uint key_a, uint index_a, uint key_b, uint index_b) 
 const uint DART_UNDECIDED = 0u;
 const uint DART_ACCEPTED = 1u;
 const uint DART_REJECTED = 2u;
+// Two radii: the dart's T test went past its bounds (coverage.h); the run fails with an error.
+const uint DART_TOO_COMPLEX = 3u;
 
 VRPD_END
 #endif

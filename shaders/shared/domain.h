@@ -86,11 +86,12 @@ VRPD_FN uint64_t far_offset2(uint c, uint lo, uint hi, uint extent, uint periodi
 
 // Signed offset from coordinate a to b along one axis, the shorter way round on a torus. Exact
 // when |offset| < extent / 2 (callers use it only within 2 Rc, less than a quarter of the torus).
+// Coordinates are below 2^31, so 32-bit arithmetic holds every step.
 VRPD_FN int axis_offset(uint a, uint b, uint extent, uint periodic) {
-    int64_t d = int64_t(b) - int64_t(a);
-    int64_t n = int64_t(extent);
-    if (periodic != 0u) d += d > n / 2 ? -n : (d < -(n / 2) ? n : int64_t(0));
-    return int(d);
+    int d = int(b) - int(a);
+    int half_extent = int(extent / 2u);
+    if (periodic != 0u) d += d > half_extent ? -int(extent) : (d < -half_extent ? int(extent) : 0);
+    return d;
 }
 
 VRPD_FN ivec2 offset_to(Domain dom, uvec2 from, uvec2 to) {

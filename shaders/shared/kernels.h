@@ -41,7 +41,8 @@ const uint COUNTER_ACCEPTED = 9u;  // darts accepted this round,
 const uint COUNTER_ACTIVE = 10u;   // cells active for the next round,
 const uint COUNTER_SORT = 11u;     // the sort's histogram
 const uint COUNTER_DART_CELLS = 12u;  // two radii: base cells that get darts this round
-const uint COUNTER_WORDS = 13u;
+const uint COUNTER_TOO_COMPLEX = 13u; // two radii: 1 if a dart's T test went past its bounds
+const uint COUNTER_WORDS = 14u;
 
 // Kernels over the active cells: init_cells, count_darts, mark_ranges, throw_darts, commit_cells,
 // refine_cells, scatter_cells; with two radii flag_dart_cells and list_dart_cells, which make the

@@ -53,7 +53,8 @@ VRPD_FN bool covered_by_sample(Domain dom, Grid grid, uvec2 base, uvec2 p) {
 
 // Two radii: does the closed Rc-disk around p reach a point of the domain outside the open Rc-disks
 // around disk_at[0, n) (offsets from p)? A free boundary's box is passed as offsets from p.
-VRPD_FN bool reaches_uncovered_at(Domain dom, uvec2 p, uint n) {
+// T_INSIDE, T_OUTSIDE or T_UNKNOWN (see coverage.h).
+VRPD_FN uint reaches_uncovered_at(Domain dom, uvec2 p, uint n) {
     ivec2 lo = ivec2(FAR_SIDE, FAR_SIDE);
     ivec2 hi = ivec2(FAR_SIDE, FAR_SIDE);
     lo = -lo;
@@ -65,6 +66,7 @@ VRPD_FN bool reaches_uncovered_at(Domain dom, uvec2 p, uint n) {
 }
 
 // Two radii: appends to disk_at the samples of earlier rounds within 2 Rc of p (n already there).
+// Returns the new count, MAX_DISKS + 1 if they do not fit.
 VRPD_FN uint gather_samples(Domain dom, Grid grid, uvec2 base, uvec2 p, uint n) {
     int reach = int(influence_reach(dom));
     uint64_t limit2 = influence2(dom);
@@ -73,7 +75,9 @@ VRPD_FN uint gather_samples(Domain dom, Grid grid, uvec2 base, uvec2 p, uint n) 
             uint nb = neighbour_cell(dom, base, dx, dy, limit2);
             if (nb == GRID_EMPTY) continue;
             uvec2 w = grid.word[nb];
-            if (grid_is_sample(w) && distance2(dom, p, w) < limit2) disk_at[n++] = offset_to(dom, p, w);
+            if (!grid_is_sample(w) || distance2(dom, p, w) >= limit2) continue;
+            if (n == MAX_DISKS) return MAX_DISKS + 1u;
+            disk_at[n++] = offset_to(dom, p, w);
         }
     }
     return n;
@@ -111,7 +115,8 @@ VRPD_FN uint gather_darts(Domain dom, Grid grid, Darts darts, uint d, uint state
 
 // For the first active cell e of a base cell: writes the darts of all active cells of that base
 // cell (cell i's at scan[i] .. scan[i+1]), each rejected if it lies off the domain or in the disk
-// of a sample of an earlier round (with two radii: or outside T, paper Eq. 9). Each dart is made, tested and written once (on GPUs each
+// of a sample of an earlier round (with two radii, membership in T is left to the resolution,
+// which sees this round's earlier darts as well). Each dart is made, tested and written once (on GPUs each
 // buffer access costs; most base cells have 0-2 darts). Returns how many are still undecided.
 VRPD_FN uint throw_base_cell(CellArgs a, Cells cells, Uints scan, Darts darts, Grid grid, uint e) {
     uint end_cell = group_end(a.domain, cells, e, a.cell_count);
@@ -127,14 +132,24 @@ VRPD_FN uint throw_base_cell(CellArgs a, Cells cells, Uints scan, Darts darts, G
         for (uint j = cell_first; j < cell_end; j++) {
             uvec4 dart = make_dart(stream, j - cell_first, corner, a.side);
             bool rejected = covered_by_sample(dom, grid, base, uvec2(dart.x, dart.y));
-            if (!rejected && two_radii(dom))
-                rejected = !reaches_uncovered_at(dom, uvec2(dart.x, dart.y), gather_samples(dom, grid, base, uvec2(dart.x, dart.y), 0u));
             dart.w = rejected ? DART_REJECTED : DART_UNDECIDED;
             undecided += rejected ? 0u : 1u;
             darts.dart[j] = dart;
         }
     }
     return undecided;
+}
+
+// Two radii: the state dart d would take given the samples and this round's darts accepted before
+// it: rejected (one is closer than Rf, or d is outside T), accepted, or DART_TOO_COMPLEX (see
+// coverage.h's bounds). n: how many disks went into disk_at.
+VRPD_FN uint state_given_accepted(Domain dom, Grid grid, Darts darts, uint d, uvec2 p, uvec2 cell, VRPD_OUT(uint) n) {
+    bool conflict = false;
+    n = gather_samples(dom, grid, cell, p, 0u);
+    if (n <= MAX_DISKS) n = gather_darts(dom, grid, darts, d, DART_ACCEPTED, n, conflict);
+    if (conflict) return DART_REJECTED;
+    uint t = n <= MAX_DISKS ? reaches_uncovered_at(dom, p, n) : T_UNKNOWN;
+    return t == T_INSIDE ? DART_ACCEPTED : (t == T_OUTSIDE ? DART_REJECTED : DART_TOO_COMPLEX);
 }
 
 // One step of the exact parallel resolution of a round: dart d is accepted once every earlier
@@ -147,16 +162,16 @@ VRPD_FN uint throw_base_cell(CellArgs a, Cells cells, Uints scan, Darts darts, G
 // accepted before it. Both only shrink as earlier darts are accepted, so: rejected as soon as the
 // accepted ones exclude it; accepted once it is free of, and in T despite, all the undecided too.
 VRPD_FN uint resolve_dart_two_radii(Domain global, Grid grid, Darts darts, uint d) {
-    uvec4 me = darts.dart[d];
-    uvec2 p = uvec2(me.x, me.y);
+    uvec2 p = uvec2(darts.dart[d].x, darts.dart[d].y);
     uvec2 cell = base_cell_of(global, p);
     Domain dom = local_domain(global, cell);
+    uint n;
+    uint state = state_given_accepted(dom, grid, darts, d, p, cell, n);
+    if (state != DART_ACCEPTED) return state;
     bool conflict;
-    uint n = gather_darts(dom, grid, darts, d, DART_ACCEPTED, gather_samples(dom, grid, cell, p, 0u), conflict);
-    if (conflict || !reaches_uncovered_at(dom, p, n)) return DART_REJECTED;
     uint all = gather_darts(dom, grid, darts, d, DART_UNDECIDED, n, conflict);
     if (all == n) return DART_ACCEPTED;
-    return !conflict && all <= MAX_DISKS && reaches_uncovered_at(dom, p, all) ? DART_ACCEPTED : DART_UNDECIDED;
+    return !conflict && all <= MAX_DISKS && reaches_uncovered_at(dom, p, all) == T_INSIDE ? DART_ACCEPTED : DART_UNDECIDED;
 }
 
 VRPD_FN uint resolve_dart(Domain global, Grid grid, Darts darts, uint d) {
@@ -186,20 +201,17 @@ VRPD_FN uint resolve_dart(Domain global, Grid grid, Darts darts, uint d) {
     return waiting ? DART_UNDECIDED : DART_ACCEPTED;
 }
 
-// The textbook test, for the serial backend: do the darts of this round accepted so far exclude
-// d (one closer than Rf; with two radii, or d outside T)?
-VRPD_FN bool excluded_by_accepted_darts(Domain global, Grid grid, Darts darts, uint d) {
+// The textbook test, for the serial backend, given the darts of this round accepted so far: the
+// state of d (rejected if one is closer than Rf; with two radii, also if d is outside T).
+VRPD_FN uint serial_decision(Domain global, Grid grid, Darts darts, uint d) {
     uvec4 me = darts.dart[d];
-    if (two_radii(global)) {
-        uvec2 cell = base_cell_of(global, uvec2(me.x, me.y));
-        Domain dom = local_domain(global, cell);
-        bool conflict;
-        uint n = gather_darts(dom, grid, darts, d, DART_ACCEPTED, gather_samples(dom, grid, cell, uvec2(me.x, me.y), 0u), conflict);
-        return conflict || !reaches_uncovered_at(dom, uvec2(me.x, me.y), n);
-    }
     uvec2 p = uvec2(me.x, me.y);
     uvec2 cell = base_cell_of(global, p);
     Domain dom = local_domain(global, cell);
+    if (two_radii(global)) {
+        uint n;
+        return state_given_accepted(dom, grid, darts, d, p, cell, n);
+    }
     int reach = conflict_reach(dom);
     for (int dy = -reach; dy <= reach; dy++) {
         for (int dx = -reach; dx <= reach; dx++) {
@@ -209,21 +221,23 @@ VRPD_FN bool excluded_by_accepted_darts(Domain global, Grid grid, Darts darts, u
             if (!grid_is_darts(w)) continue;
             for (uint j = w.x & ~GRID_TAG; j < w.y; j++) {
                 uvec4 other = darts.dart[j];
-                if (j != d && other.w == DART_ACCEPTED && in_disk(dom, uvec2(other.x, other.y), p)) return true;
+                if (j != d && other.w == DART_ACCEPTED && in_disk(dom, uvec2(other.x, other.y), p)) return DART_REJECTED;
             }
         }
     }
-    return false;
+    return DART_ACCEPTED;
 }
 
 // Ends the round for the base cell of active cell e (called for the first active cell of each
 // base cell): the grid word becomes the accepted sample, if any (at most one: the base cell's
 // diagonal is shorter than r), else empty again; flags[j] = 1 marks accepted darts for emission.
-VRPD_FN void commit_base_cell(Grid grid, Darts darts, Uints flags, uint b) {
+// A dart left DART_TOO_COMPLEX sets counters[COUNTER_TOO_COMPLEX]: the engine fails the run.
+VRPD_FN void commit_base_cell(Grid grid, Darts darts, Uints flags, Uints counters, uint b) {
     uvec2 w = grid.word[b];
     uvec2 result = uvec2(GRID_EMPTY, GRID_EMPTY);
     for (uint j = w.x & ~GRID_TAG; j < w.y; j++) {
         uvec4 dart = darts.dart[j];
+        if (dart.w == DART_TOO_COMPLEX) set_flag(counters, COUNTER_TOO_COMPLEX);
         bool accepted = dart.w == DART_ACCEPTED;
         flags.value[j] = accepted ? 1u : 0u;
         if (accepted) result = uvec2(dart.x, dart.y);

@@ -1,0 +1,396 @@
+// Two radii (issue: inhibition Rf < coverage Rc, paper section 3): the exact T-membership test
+// against 128-bit arithmetic and dense brute force, options, conflict-freeness, gpu = cpu = serial,
+// and that every accepted sample reduced the uncovered set U.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <cstring>
+#include <random>
+
+#include "coverage_probe.h"
+#include "shared/coverage.h"
+#include "support.h"
+#include "vulkan_context.h"
+
+using namespace vrpd;
+using vrpd::test::options;
+
+namespace {
+
+SampleOptions two_radii(double rf, double rc, std::uint32_t seed, Backend backend, Box box = {}) {
+    SampleOptions o = options(rf, seed, backend, box);
+    o.coverage = rc;
+    return o;
+}
+
+// Sign of a sqrt(l) + b sqrt(m) with unsigned __int128 products (a^2 l, b^2 m < 2^128).
+int reference_sign(std::int64_t a, std::uint64_t l, std::int64_t b, std::uint64_t m) {
+    const long double approx = (long double)a * std::sqrt((long double)l) + (long double)b * std::sqrt((long double)m);
+    const int sa = l == 0 ? 0 : (a > 0) - (a < 0);
+    const int sb = m == 0 ? 0 : (b > 0) - (b < 0);
+    if (sa == sb || sb == 0) return sa;
+    if (sa == 0) return sb;
+    using u128 = unsigned __int128;
+    const u128 ua = u128(std::uint64_t(a < 0 ? -a : a));
+    const u128 ub = u128(std::uint64_t(b < 0 ? -b : b));
+    const u128 lhs = ua * ua * l;
+    const u128 rhs = ub * ub * m;
+    if (lhs == rhs) return 0;
+    const int exact = lhs > rhs ? sa : sb;
+    // The long double estimate must agree wherever it is clearly away from 0 (guards the reference).
+    if (std::abs(approx) > 1e-6L * (std::abs((long double)a) * std::sqrt((long double)l)))
+        REQUIRE(exact == (approx > 0 ? 1 : -1));
+    return exact;
+}
+
+struct Config {
+    std::vector<glm::ivec2> disks;  // centres, offsets from the dart at the origin
+    glm::ivec2 lo, hi;              // the box, as offsets from the dart (FAR_SIDE: no side)
+};
+
+// Does the closed disk of radius sqrt(r2) around the origin hold a point of the box outside every
+// open disk? Dense polar grid in doubles; only points clear of every circle and side by a margin
+// count, so rounding cannot make it see an uncovered point that is not there.
+bool brute_force_reaches(const Config& c, double r2) {
+    const double r = std::sqrt(r2);
+    const int rings = 240, spokes = 960;
+    for (int k = 0; k <= rings; ++k) {
+        const double rho = r * k / rings * (1 - 1e-7);
+        for (int a = 0; a < (k == 0 ? 1 : spokes); ++a) {
+            const double t = 2 * M_PI * a / spokes;
+            const double x = rho * std::cos(t), y = rho * std::sin(t);
+            const double margin = 1e-7 * r;
+            if (x < c.lo.x + margin || y < c.lo.y + margin || x > c.hi.x - margin || y > c.hi.y - margin) continue;
+            bool clear = true;
+            for (const glm::ivec2& d : c.disks) {
+                const double dx = x - d.x, dy = y - d.y;
+                if (std::sqrt(dx * dx + dy * dy) < r + margin) {
+                    clear = false;
+                    break;
+                }
+            }
+            if (clear) return true;
+        }
+    }
+    return false;
+}
+
+std::string describe(const Config& c) {
+    std::string text = "box (" + std::to_string(c.lo.x) + "," + std::to_string(c.lo.y) + ")-(" + std::to_string(c.hi.x) +
+                       "," + std::to_string(c.hi.y) + "), disks";
+    for (const glm::ivec2& d : c.disks) text += " (" + std::to_string(d.x) + "," + std::to_string(d.y) + ")";
+    return text;
+}
+
+// The exact test's answer: T_INSIDE, T_OUTSIDE or T_UNKNOWN.
+shared::uint exact_test(const Config& c, std::uint64_t r2) {
+    for (std::size_t i = 0; i < c.disks.size(); ++i) shared::disk_at[i] = c.disks[i];
+    return shared::reaches_uncovered(shared::uint(c.disks.size()), r2, c.lo, c.hi);
+}
+
+// Random configurations as the sampler meets them: disk centres >= Rf apart and >= Rf from the
+// dart, within 2 Rc of it, inside the box.
+Config random_config(std::mt19937_64& rng, double rc, double rf, bool boxed) {
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    Config c;
+    const int far = shared::FAR_SIDE;
+    c.lo = {-far, -far};
+    c.hi = {far, far};
+    if (boxed) {
+        // Each side near the dart (within 1.3 Rc) or far, as at the box's sides and corners.
+        std::uniform_real_distribution<double> side(0.0, 1.3 * rc);
+        auto pick = [&]() { return rng() % 3 == 0 ? far : int(side(rng)); };
+        c.lo = {-pick(), -pick()};
+        c.hi = {pick(), pick()};
+    }
+    const int wanted = 1 + int(rng() % (rng() % 2 ? 8 : 48));
+    for (int tries = 0; tries < 400 && int(c.disks.size()) < wanted; ++tries) {
+        const glm::dvec2 p{2 * rc * u(rng), 2 * rc * u(rng)};
+        const glm::ivec2 q{int(std::lround(p.x)), int(std::lround(p.y))};
+        auto d2 = [](glm::ivec2 a, glm::ivec2 b) { const glm::dvec2 v(a - b);
+            return std::hypot(v.x, v.y); };
+        if (d2(q, {0, 0}) > 2 * rc || d2(q, {0, 0}) < rf) continue;
+        if (q.x < c.lo.x || q.y < c.lo.y || q.x > c.hi.x || q.y > c.hi.y) continue;
+        bool apart = true;
+        for (const glm::ivec2& d : c.disks) apart = apart && d2(q, d) >= rf;
+        if (apart) c.disks.push_back(q);
+    }
+    return c;
+}
+
+}  // namespace
+
+TEST_CASE("sign of a sqrt(l) + b sqrt(m) is exact up to the 2^124 products the test meets", "[two-radii]") {
+    std::mt19937_64 rng(7);
+    const std::uint64_t r2 = shared::MAX_COVER2;
+    for (int i = 0; i < 200000; ++i) {
+        // |a|, |b| up to 2^42 and l, m up to 4 r2 = 2^40: the bounds coverage.h relies on.
+        const std::int64_t a = std::int64_t(rng() % (std::uint64_t(1) << 43)) - (std::int64_t(1) << 42);
+        const std::int64_t b = std::int64_t(rng() % (std::uint64_t(1) << 43)) - (std::int64_t(1) << 42);
+        const std::uint64_t l = rng() % (4 * r2 + 1);
+        // Half the cases near the tie a^2 l = b^2 m, where a float test would go wrong.
+        std::uint64_t m = rng() % (4 * r2 + 1);
+        if (i % 2 && b != 0 && l != 0) {
+            const long double t = (long double)a * a * l / ((long double)b * b);
+            if (t < 4.0L * r2) m = std::uint64_t(t) + rng() % 3 - 1;
+        }
+        INFO(a << " " << l << " " << b << " " << m);
+        REQUIRE(shared::sign_of_root_sum(a, l, b, m) == reference_sign(a, l, b, m));
+    }
+    // Exact ties: 3 sqrt(4) - 2 sqrt(9) = 0, at the largest magnitudes as well.
+    CHECK(shared::sign_of_root_sum(3, 4, -2, 9) == 0);
+    const std::int64_t big = std::int64_t(1) << 41;
+    CHECK(shared::sign_of_root_sum(big, 4 * r2, -2 * big, r2) == 0);
+    CHECK(shared::sign_of_root_sum(big, 4 * r2, -2 * big, r2 + 1) == -1);
+    CHECK(shared::sign_of_root_sum(big, 4 * r2 + 1, -2 * big, r2) == 1);
+}
+
+TEST_CASE("T membership: the exact test agrees with dense brute force", "[two-radii]") {
+    std::mt19937_64 rng(11);
+    for (const double rc : {1000.0, double((1 << 19) - 1)}) {
+        const std::uint64_t r2 = std::uint64_t(rc * rc);
+        REQUIRE(r2 <= shared::MAX_COVER2);
+        for (const double ratio : {1.5, 2.0, 4.0}) {
+            for (const bool boxed : {false, true}) {
+                int reaches = 0, covered = 0, missed = 0;
+                for (int i = 0; i < 300; ++i) {
+                    const Config c = random_config(rng, rc, rc / ratio, boxed);
+                    const shared::uint answer = exact_test(c, r2);
+                    REQUIRE(answer != shared::T_UNKNOWN);
+                    const bool exact = answer == shared::T_INSIDE;
+                    const bool dense = brute_force_reaches(c, double(r2));
+                    INFO("Rc " << rc << " ratio " << ratio << " case " << i << ": " << describe(c));
+                    // A dense point clearly uncovered inside the disk: the exact test must see it.
+                    if (dense) REQUIRE(exact);
+                    (exact ? reaches : covered)++;
+                    // The grid can miss slivers thinner than its spacing (~0.7 % of Rc): count them.
+                    if (exact && !dense) ++missed;
+                }
+                INFO("Rc " << rc << " ratio " << ratio << " boxed " << boxed << ": " << reaches << " reach U, " << covered
+                           << " do not, " << missed << " slivers the grid missed");
+                // Both answers are common, so neither direction goes untested.
+                CHECK(reaches >= 30);
+                CHECK(covered >= 30);
+                CHECK(missed <= reaches / 20);
+            }
+        }
+    }
+}
+
+TEST_CASE("T membership: the device gives the host's answer on every configuration", "[two-radii][gpu]") {
+    // Configurations of both kinds, with and without box sides, small and large Rc.
+    std::mt19937_64 rng(5);
+    std::vector<Config> configs;
+    std::vector<std::uint64_t> r2s;
+    for (const double rc : {1000.0, double((1 << 19) - 1)})
+        for (const double ratio : {1.5, 2.0, 4.0})
+            for (const bool boxed : {false, true})
+                for (int i = 0; i < 400; ++i) {
+                    configs.push_back(random_config(rng, rc, rc / ratio, boxed));
+                    r2s.push_back(std::uint64_t(rc * rc));
+                }
+    constexpr std::size_t kWords = 68;  // PROBE_WORDS of coverage_probe.comp
+    detail::VulkanContext ctx("");
+    detail::Kernel probe(ctx, {spirv_coverage_probe, std::size(spirv_coverage_probe)}, 20, 64);
+    detail::Buffer in(ctx, configs.size() * kWords * sizeof(glm::ivec2), true);
+    detail::Buffer out(ctx, configs.size() * 4, true);
+    auto* words = static_cast<glm::ivec2*>(in.mapped());
+    std::vector<shared::uint> host(configs.size());
+    for (std::size_t i = 0; i < configs.size(); ++i) {
+        const Config& c = configs[i];
+        REQUIRE(c.disks.size() <= kWords - 4);
+        glm::ivec2* w = words + i * kWords;
+        w[0] = {int(c.disks.size()), 0};
+        w[1] = {int(std::uint32_t(r2s[i])), int(std::uint32_t(r2s[i] >> 32))};
+        w[2] = c.lo;
+        w[3] = c.hi;
+        for (std::size_t k = 0; k < c.disks.size(); ++k) w[4 + k] = c.disks[k];
+        host[i] = exact_test(c, r2s[i]);
+    }
+    struct {
+        std::uint64_t probes, results;
+        std::uint32_t count;
+    } push{in.address(), out.address(), std::uint32_t(configs.size())};
+    ctx.begin();
+    ctx.dispatch(probe, &push, std::uint32_t((configs.size() + 63) / 64));
+    ctx.barrier();  // results before the host reads them
+    ctx.submit_and_wait();
+    ctx.check_validation();
+    const auto* results = static_cast<const std::uint32_t*>(out.mapped());
+    std::size_t reaches = 0;
+    for (std::size_t i = 0; i < configs.size(); ++i) {
+        INFO("configuration " << i << ": " << describe(configs[i]));
+        REQUIRE(results[i] == host[i]);
+        reaches += host[i] == shared::T_INSIDE;
+    }
+    CHECK(reaches > configs.size() / 5);
+    CHECK(reaches < configs.size() * 4 / 5);
+}
+
+TEST_CASE("two-radii options are refused with a reason", "[two-radii][options]") {
+    auto refuses = [](SampleOptions o, const char* words) {
+        CHECK_THROWS_WITH(detail::make_plan(o), Catch::Contains(words));
+    };
+    refuses(two_radii(0.01, 0.005, 0, Backend::Cpu), ">= the inhibition radius");
+    refuses(two_radii(0.01, std::nan(""), 0, Backend::Cpu), ">= the inhibition radius");
+    refuses(two_radii(0.01, 0.0401, 0, Backend::Cpu), "above the supported 4");
+    refuses(two_radii(0.1, 0.26, 0, Backend::Cpu), "a quarter of the shorter side");
+    refuses(two_radii(0.01, 0.01 * (1 + 1e-9), 0, Backend::Cpu), "less than one lattice step");
+    CHECK_NOTHROW(detail::make_plan(two_radii(0.01, 0.04, 0, Backend::Cpu)));
+    CHECK_NOTHROW(detail::make_plan(two_radii(0.1, 0.26, 0, Backend::Cpu, {1, 1, Boundary::Free})));
+    // Rc = Rf is the one-radius sampler.
+    const detail::Plan same = detail::make_plan(two_radii(0.01, 0.01, 0, Backend::Cpu));
+    CHECK(same.domain.cover2 == same.domain.radius2);
+}
+
+namespace {
+struct TwoCase {
+    double rf, rc;
+    Box box;
+    std::uint32_t max_cell_bits;
+};
+const TwoCase kTwoCases[] = {
+    {0.02, 0.03, {1, 1, Boundary::Periodic}, 30},
+    {0.01, 0.02, {1, 1, Boundary::Periodic}, 30},
+    {0.01, 0.04, {1, 1, Boundary::Periodic}, 30},
+    {0.02, 0.04, {1.5, 0.7, Boundary::Free}, 30},
+    {0.01, 0.04, {1, 1, Boundary::Free}, 30},
+    // A coarse lattice: runs reach the deepest level, where cells are single lattice points.
+    {0.03, 0.06, {1, 1, Boundary::Periodic}, 4},
+    {0.03, 0.045, {1, 0.6, Boundary::Free}, 4},
+};
+}  // namespace
+
+TEST_CASE("two radii: conflict-free at Rf, inside the box, gpu = cpu = serial", "[two-radii][gpu]") {
+    for (const TwoCase& c : kTwoCases) {
+        for (std::uint32_t seed : {1u, 2u}) {
+            INFO("Rf " << c.rf << " Rc " << c.rc << " box " << c.box.width << "x" << c.box.height << " bits "
+                       << c.max_cell_bits << " seed " << seed);
+            auto run = [&](Backend b) {
+                const SampleOptions o = two_radii(c.rf, c.rc, seed, b, c.box);
+                return detail::sample_plan(o, detail::make_plan(o, c.max_cell_bits));
+            };
+            const detail::Plan plan = detail::make_plan(two_radii(c.rf, c.rc, seed, Backend::Cpu, c.box), c.max_cell_bits);
+            const Sampling serial = run(Backend::Serial);
+            const Sampling cpu = run(Backend::Cpu);
+            const Sampling gpu = run(Backend::Gpu);
+            REQUIRE(serial.size() > 10);
+            CHECK(vrpd::test::brute_force_conflicts(plan, serial) == 0);
+            for (std::size_t i = 0; i < serial.size(); ++i) {
+                const glm::dvec2 p = serial.point(i);
+                REQUIRE((p.x >= 0 && p.y >= 0 && p.x < c.box.width && p.y < c.box.height));
+            }
+            if (c.max_cell_bits == 4) CHECK(serial.stats.levels > plan.deepest_level);
+            CHECK(cpu.lattice == serial.lattice);
+            CHECK(gpu.lattice == serial.lattice);
+            CHECK(gpu.stats.darts == serial.stats.darts);
+        }
+    }
+}
+
+// Eq. 9: a sample is accepted only if its Rc-disk reaches a point of U left by the samples before
+// it, so every sample, in acceptance order, must reduce U. Checked by dense brute force in the
+// user's coordinates, independent of the lattice code; like any grid, it can miss a sliver of U
+// thinner than its spacing, so at most 2 % of the samples may go unconfirmed. A sampler that
+// accepted free darts without the T test fails it: most of its later samples reach no U.
+TEST_CASE("every accepted sample reduced the uncovered set", "[two-radii]") {
+    for (const Boundary boundary : {Boundary::Periodic, Boundary::Free}) {
+        const Box box{1, 1, boundary};
+        for (std::uint32_t seed : {1u, 2u}) {
+            const double rf = 0.04, rc = 0.08;
+            const Sampling s = sample(two_radii(rf, rc, seed, Backend::Serial, box));
+            auto gap = [&](double a, double b) {
+                double d = std::abs(a - b);
+                return boundary == Boundary::Periodic ? std::min(d, 1.0 - d) : d;
+            };
+            std::size_t unconfirmed = 0;
+            for (std::size_t i = 1; i < s.size(); ++i) {
+                const glm::dvec2 x = s.point(i);
+                std::vector<glm::dvec2> near;
+                for (std::size_t j = 0; j < i; ++j)
+                    if (std::hypot(gap(s.point(j).x, x.x), gap(s.point(j).y, x.y)) < 2 * rc) near.push_back(s.point(j));
+                bool reduces = false;
+                for (int k = 0; k <= 80 && !reduces; ++k) {
+                    for (int a = 0; a < 320 && !reduces; ++a) {
+                        const double rho = rc * k / 80, t = 2 * M_PI * a / 320;
+                        glm::dvec2 p{x.x + rho * std::cos(t), x.y + rho * std::sin(t)};
+                        if (boundary == Boundary::Free && (p.x < 0 || p.y < 0 || p.x > 1 || p.y > 1)) continue;
+                        if (boundary == Boundary::Periodic) p = glm::fract(p);
+                        bool covered = false;
+                        for (const glm::dvec2& q : near) covered = covered || std::hypot(gap(q.x, p.x), gap(q.y, p.y)) < rc;
+                        reduces = !covered;
+                    }
+                }
+                if (!reduces) ++unconfirmed;
+            }
+            INFO((boundary == Boundary::Free ? "free" : "periodic") << " seed " << seed << ": " << unconfirmed << " of "
+                                                                     << s.size() << " samples unconfirmed");
+            REQUIRE(s.size() > 100);
+            CHECK(unconfirmed <= s.size() / 50);
+        }
+    }
+}
+
+#include "resolve_probe.h"
+#include "shared/sampler.h"
+
+// The resolution passes of one round, run on the device and on the host from the same state: every
+// pass must give the same decision for every dart. A first round on a free box, so that darts near
+// the sides and corners meet the boundary's part of the T test.
+TEST_CASE("two radii: the device's resolution passes give the host's decisions", "[two-radii][gpu]") {
+    using namespace vrpd::shared;
+    const SampleOptions o = two_radii(0.01, 0.04, 1, Backend::Cpu, {1, 1, Boundary::Free});
+    const detail::Plan plan = detail::make_plan(o);
+    const Domain dom = plan.domain;
+    std::vector<uvec2> grid(plan.base_cells);
+    std::vector<uvec4> darts;
+    const uint exp_neg = uint(std::floor(std::exp(-0.5) * 4294967296.0));
+    for (uint y = 0; y < dom.cells_y; ++y)
+        for (uint x = 0; x < dom.cells_x; ++x) {
+            const uvec2 corner(x << dom.cell_bits, y << dom.cell_bits);
+            const uint stream = cell_stream(dom.seed, 0, corner);
+            const uint first = uint(darts.size());
+            const uint count = dart_count(stream, exp_neg);
+            for (uint j = 0; j < count; ++j) {
+                uvec4 dart = make_dart(stream, j, corner, 1u << dom.cell_bits);
+                dart.w = in_domain(dom, uvec2(dart.x, dart.y)) ? DART_UNDECIDED : DART_REJECTED;
+                darts.push_back(dart);
+            }
+            grid[y * dom.cells_x + x] = count ? uvec2(GRID_TAG | first, first + count) : uvec2(GRID_EMPTY, GRID_EMPTY);
+        }
+    const uint n = uint(darts.size());
+    detail::VulkanContext ctx("");
+    detail::Kernel probe(ctx, {spirv_resolve_probe, std::size(spirv_resolve_probe)}, 80, 64);
+    detail::Buffer dart_buffer(ctx, n * sizeof(uvec4), true);
+    detail::Buffer grid_buffer(ctx, grid.size() * sizeof(uvec2), true);
+    detail::Buffer decisions(ctx, n * 4, true);
+    std::memcpy(grid_buffer.mapped(), grid.data(), grid.size() * sizeof(uvec2));
+    struct {
+        Domain domain;
+        std::uint64_t darts, grid, decisions;
+        std::uint32_t count;
+    } push{dom, dart_buffer.address(), grid_buffer.address(), decisions.address(), n};
+    std::vector<uint> host(n);
+    int passes = 0;
+    for (bool undecided = true; undecided; ++passes) {
+        std::memcpy(dart_buffer.mapped(), darts.data(), n * sizeof(uvec4));
+        ctx.begin();
+        ctx.dispatch(probe, &push, (n + 63) / 64);
+        ctx.barrier();  // decisions before the host reads them
+        ctx.submit_and_wait();
+        ctx.check_validation();
+        const auto* device = static_cast<const uint*>(decisions.mapped());
+        undecided = false;
+        for (uint d = 0; d < n; ++d) {
+            host[d] = darts[d].w == DART_UNDECIDED ? resolve_dart(dom, Grid{grid.data()}, Darts{darts.data()}, d) : darts[d].w;
+            INFO("pass " << passes << " dart " << d << " at " << darts[d].x << "," << darts[d].y);
+            REQUIRE(device[d] == host[d]);
+        }
+        for (uint d = 0; d < n; ++d) {
+            darts[d].w = host[d];
+            undecided = undecided || host[d] == DART_UNDECIDED;
+        }
+        REQUIRE(passes < 100);
+    }
+    CHECK(passes > 2);
+}
