@@ -67,6 +67,13 @@ TEST_CASE("bad input: one line on stderr, non-zero exit, no output file", "[cli]
         "sample --radius 0.01 --bogus",
         "sample",
         "sample --radius 0.01 --threads 0",
+        "sample --rf 0.01",
+        "sample --rc 0.02",
+        "sample --radius 0.01 --rf 0.01 --rc 0.02",
+        "sample --rf 0.02 --rc 0.01",
+        "sample --rf 0.01 --rc 0.05",
+        "sample --rf 0.1 --rc 0.3",
+        "sample --rf 0.01 --rc nan",
     };
     for (const char* args : bad) {
         const Run r = cli(std::string(args) + " -o " + out.string());
@@ -79,6 +86,18 @@ TEST_CASE("bad input: one line on stderr, non-zero exit, no output file", "[cli]
     const Run unwritable = cli("sample --radius 0.05 -o /nonexistent/dir/p.csv");
     CHECK(unwritable.code != 0);
     CHECK(unwritable.err.find("cannot write") != std::string::npos);
+}
+
+TEST_CASE("two radii from the command line: a file check passes at Rf and Rc", "[cli][two-radii]") {
+    const fs::path out = scratch() / "two.csv";
+    const Run run = cli("sample --rf 0.02 --rc 0.04 --seed 3 --device cpu -o " + out.string());
+    INFO(run.err);
+    REQUIRE(run.code == 0);
+    CHECK(run.err.find("n*Rf^2/area") != std::string::npos);
+    CHECK(cli("check " + out.string() + " --rf 0.02 --rc 0.04").code == 0);
+    // The same points miss coverage at a smaller Rc and conflict at a larger Rf.
+    CHECK(cli("check " + out.string() + " --rf 0.02 --rc 0.03").code == 1);
+    CHECK(cli("check " + out.string() + " --rf 0.03 --rc 0.04").code == 1);
 }
 
 TEST_CASE("without a Vulkan driver, gpu says so and points to cpu, which still works", "[cli]") {
@@ -127,12 +146,17 @@ TEST_CASE("check: 0 for a maximal set, 1 when a sample is missing, 2 for bad inp
 
 TEST_CASE("bench and check write JSON that says what they measured", "[cli]") {
     const fs::path bench = scratch() / "bench.json", report = scratch() / "report.json", pts = scratch() / "b.csv";
-    REQUIRE(cli("bench --radii 0.05 --devices cpu serial --repeat 1 --json " + bench.string()).code == 0);
+    REQUIRE(cli("bench --radii 0.05 --rc 0.1 --devices cpu serial --repeat 1 --json " + bench.string()).code == 0);
     const auto b = nlohmann::json::parse(slurp(bench));
-    REQUIRE(b["rows"].size() == 2);
+    REQUIRE(b["rows"].size() == 4);
     CHECK(b["rows"][0]["samples"] == b["rows"][1]["samples"]);  // the same sampling on both devices
     CHECK(b["rows"][0]["points_per_second"].get<double>() > 0);
+    CHECK(b["rows"][0]["rc"] == 0.05);
+    CHECK(b["rows"][2]["rf"] == 0.05);  // a two-radii row: Rf = Rc / 2
+    CHECK(b["rows"][2]["rc"] == 0.1);
+    CHECK(b["rows"][2]["samples"] == b["rows"][3]["samples"]);
     CHECK(cli("bench --radii 0.7").code != 0);  // too large for the unit torus
+    CHECK(cli("bench --rc 0.3").code != 0);
 
     REQUIRE(cli("sample --radius 0.05 --seed 4 --device cpu -o " + pts.string()).code == 0);
     REQUIRE(cli("check " + pts.string() + " --radius 0.05 --json " + report.string()).code == 0);

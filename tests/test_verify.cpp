@@ -131,3 +131,40 @@ TEST_CASE("removing any one sample from a maximal set makes it fail", "[verify][
         CHECK(r.largest_empty_radius >= 0.1);
     }
 }
+
+// Two radii (paper section 3): conflict-free at Rf, maximal at Rc by the largest empty circle
+// (within q / sqrt(2), as above), and Propositions 1-2: every Delaunay edge in [Rf, 2 Rc], every
+// angle >= asin(Rf / (2 Rc)). Rc / Rf = 1 is the one-radius sampler reached through --rf/--rc.
+TEST_CASE("two radii: conflict-free at Rf, maximal at Rc, Delaunay bounds of Props. 1-2", "[verify][two-radii]") {
+    const struct {
+        double rf, rc;
+        Box box;
+        Backend backend;
+    } cases[] = {
+        {0.01, 0.01, {1, 1, Boundary::Periodic}, Backend::Cpu},
+        {0.01, 0.015, {1, 1, Boundary::Periodic}, Backend::Gpu},
+        {0.005, 0.01, {1, 1, Boundary::Periodic}, Backend::Cpu},
+        {0.005, 0.02, {1, 1, Boundary::Periodic}, Backend::Cpu},
+        {0.01, 0.015, {1.5, 0.7, Boundary::Free}, Backend::Cpu},
+        {0.005, 0.01, {1, 1, Boundary::Free}, Backend::Gpu},
+        {2.5, 10.0, {320, 180, Boundary::Free}, Backend::Cpu},
+    };
+    for (const auto& c : cases) {
+        for (std::uint32_t seed : {1u, 2u}) {
+            SampleOptions o = options(c.rf, seed, c.backend, c.box);
+            o.coverage = c.rc;
+            const Sampling s = sample(o);
+            const Report r = verify(vrpd::test::points_of(s), {c.rf, c.rc}, c.box);
+            INFO("Rf " << c.rf << " Rc " << c.rc << " box " << c.box.width << "x" << c.box.height << " seed " << seed
+                       << ": LEC " << r.largest_empty_radius << ", angles " << r.min_angle_degrees << ", edges "
+                       << r.min_edge << ".." << r.max_edge);
+            CHECK(r.conflicts == 0);
+            CHECK(r.largest_empty_radius < c.rc + s.quantum / std::sqrt(2.0));
+            CHECK(r.min_edge >= c.rf * (1 - 1e-9));
+            CHECK(r.max_edge <= 2 * c.rc + s.quantum);
+            CHECK(r.min_angle_degrees >= std::asin(c.rf / (2 * c.rc)) * 180 / M_PI - 1e-6);
+            // The sets differ from one radius: with Rc > Rf some Delaunay edges exceed 2 Rf.
+            if (c.rc >= 2 * c.rf) CHECK(r.max_edge > 2 * c.rf);
+        }
+    }
+}

@@ -1,5 +1,5 @@
-// `vrpd bench`: best-of-N wall time, points/s, darts per sample and peak memory per (radius,
-// device) on the unit torus. Each case runs in a child process so its peak RSS is its own.
+// `vrpd bench`: best-of-N wall time, points/s, darts per sample and peak memory per (radii,
+// device) on the unit torus: one radius r, and two radii Rf < Rc (paper section 3). Each case runs in a child process so its peak RSS is its own.
 #include <cstring>
 #include <fstream>
 #include <iostream>
@@ -27,11 +27,16 @@ struct CaseResult {
     double peak_bytes;
 };
 
-CaseResult run_case(double radius, Backend backend, const BenchOptions& o) {
+struct Radii {
+    double rf, rc;
+};
+
+CaseResult run_case(Radii radii, Backend backend, const BenchOptions& o) {
     CaseResult r{};
     try {
         SampleOptions opt;
-        opt.radius = radius;
+        opt.radius = radii.rf;
+        opt.coverage = radii.rc;
         opt.seed = o.seed;
         opt.backend = backend;
         r.best_seconds = 1e300;
@@ -53,14 +58,14 @@ CaseResult run_case(double radius, Backend backend, const BenchOptions& o) {
     return r;
 }
 
-CaseResult run_in_child(double radius, Backend backend, const BenchOptions& o) {
+CaseResult run_in_child(Radii radii, Backend backend, const BenchOptions& o) {
     int fds[2];
     if (pipe(fds) != 0) throw Error("bench: pipe failed");
     pid_t pid = fork();
     if (pid < 0) throw Error("bench: fork failed");
     if (pid == 0) {
         close(fds[0]);
-        CaseResult r = run_case(radius, backend, o);
+        CaseResult r = run_case(radii, backend, o);
         ssize_t ignored = write(fds[1], &r, sizeof r);
         (void)ignored;
         _exit(0);
@@ -84,33 +89,39 @@ int run_bench(const BenchOptions& o) {
     if (o.repeat == 0) throw Error("--repeat must be >= 1");
     std::vector<Backend> backends;
     for (const auto& d : o.devices) backends.push_back(parse_backend(d));
-    for (double r : o.radii) {
+    std::vector<Radii> cases;
+    for (double r : o.radii) cases.push_back({r, r});
+    for (double rc : o.coverage_radii) cases.push_back({rc / o.coverage_ratio, rc});
+    for (const Radii& c : cases) {
         SampleOptions check;
-        check.radius = r;
+        check.radius = c.rf;
+        check.coverage = c.rc;
         validate(check);
     }
     if (!o.json.empty()) check_writable(o.json);
 
     nlohmann::json rows = nlohmann::json::array();
-    std::cout << fmt::format("{:>8} {:>7} {:>9} {:>8} {:>9} {:>10} {:>7} {:>9} {:>8}  {}\n", "radius", "device", "samples",
-                             "n*r^2", "best s", "points/s", "darts/n", "peak MiB", "B/sample", "device name");
+    std::cout << fmt::format("{:>13} {:>7} {:>9} {:>8} {:>9} {:>10} {:>8} {:>7} {:>9} {:>8}  {}\n", "Rf/Rc", "device",
+                             "samples", "n*Rc^2", "best s", "points/s", "us/point", "darts/n", "peak MiB", "B/sample",
+                             "device name");
     int failures = 0;
-    for (double r : o.radii) {
+    for (const Radii& radii : cases) {
+        const std::string label = radii.rf == radii.rc ? fmt::format("{}", radii.rf) : fmt::format("{}/{}", radii.rf, radii.rc);
         for (Backend b : backends) {
-            CaseResult c = run_in_child(r, b, o);
+            CaseResult c = run_in_child(radii, b, o);
             if (!c.ok) {
-                std::cout << fmt::format("{:>8} {:>7}  error: {}\n", r, backend_name(b), c.error);
-                rows.push_back({{"radius", r}, {"device", backend_name(b)}, {"error", c.error}});
+                std::cout << fmt::format("{:>13} {:>7}  error: {}\n", label, backend_name(b), c.error);
+                rows.push_back({{"rf", radii.rf}, {"rc", radii.rc}, {"device", backend_name(b)}, {"error", c.error}});
                 ++failures;
                 continue;
             }
             const double pps = double(c.samples) / c.best_seconds;
-            std::cout << fmt::format("{:>8} {:>7} {:>9} {:>8.5f} {:>9.3f} {:>10.3g} {:>7.2f} {:>9.1f} {:>8.1f}  {}\n", r,
-                                     backend_name(b), c.samples, double(c.samples) * r * r, c.best_seconds, pps,
-                                     double(c.darts) / double(c.samples), c.peak_bytes / (1 << 20),
-                                     c.peak_bytes / double(c.samples), c.device);
+            std::cout << fmt::format("{:>13} {:>7} {:>9} {:>8.5f} {:>9.3f} {:>10.3g} {:>8.2f} {:>7.2f} {:>9.1f} {:>8.1f}  {}\n",
+                                     label, backend_name(b), c.samples, double(c.samples) * radii.rc * radii.rc,
+                                     c.best_seconds, pps, 1e6 / pps, double(c.darts) / double(c.samples),
+                                     c.peak_bytes / (1 << 20), c.peak_bytes / double(c.samples), c.device);
             std::cout.flush();
-            rows.push_back({{"radius", r}, {"device", backend_name(b)}, {"device_name", c.device},
+            rows.push_back({{"rf", radii.rf}, {"rc", radii.rc}, {"device", backend_name(b)}, {"device_name", c.device},
                             {"samples", c.samples}, {"darts", c.darts}, {"levels", c.levels},
                             {"best_seconds", c.best_seconds}, {"points_per_second", pps},
                             {"peak_rss_bytes", c.peak_bytes}, {"repeat", o.repeat}});

@@ -15,6 +15,8 @@ Boundary parse_boundary(const std::string& name);
 
 struct BenchOptions {
     std::vector<double> radii{0.01, 0.002, 0.001};
+    std::vector<double> coverage_radii{0.002};  // two-radii rows: Rc, with Rf = Rc / coverage_ratio
+    double coverage_ratio = 2.0;
     std::vector<std::string> devices{"gpu", "cpu", "serial"};
     unsigned repeat = 3;
     std::uint32_t seed = 1;
