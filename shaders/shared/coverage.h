@@ -11,6 +11,8 @@
 // So y reaches U iff y is uncovered or one of those O(n^2) intersection points is uncovered.
 // With a free boundary U (and so K) is clipped to the box [0, lattice_x - 1] x [0, lattice_y - 1],
 // and K's vertices also include the crossings of the circles with the box's sides and its corners.
+// The same search, with a square in place of y's disk, tells whether a quadtree cell still holds a
+// point of U: its corners, the circles' crossings with its sides, and crossings inside it.
 //
 // Precision. An intersection point p = m + sigma h n/|n| of the circles around a and b (m the
 // midpoint, n = perp(b - a), L = |b - a|^2, h^2 = R2 - L/4) is irrational, but for a third centre c
@@ -144,8 +146,9 @@ VRPD_FN ivec2 swizzle(ivec2 p, bool swap) { return swap ? ivec2(p.y, p.x) : p; }
 // The crossing (tau = +-1) of the circle around c with the side u = s of the box, in coordinates
 // (u, v) where u is across the side (swap: u is y); the side runs over v in [v0, v1]. Is the
 // crossing p = (s, c.v + tau sqrt(N)), N = R2 - (s - c.u)^2, on the side, in the dart's closed
-// disk, and outside every open disk but c's (skip)? Each test is a sign of a + b sqrt(N).
-VRPD_FN bool side_crossing_uncovered(ivec2 centre, uint skip, int s, int v0, int v1, bool swap, int tau, uint n, uint64_t r2) {
+// disk (if in_disk), and outside every open disk but c's (skip)? Each test is a sign of a + b sqrt(N).
+VRPD_FN bool side_crossing_uncovered(ivec2 centre, uint skip, int s, int v0, int v1, bool swap, int tau, uint n, uint64_t r2,
+                                     bool in_disk) {
     ivec2 c = swizzle(centre, swap);
     int64_t du = int64_t(s) - int64_t(c.x);
     if (uint64_t(du * du) > r2) return false;
@@ -155,7 +158,8 @@ VRPD_FN bool side_crossing_uncovered(ivec2 centre, uint skip, int s, int v0, int
     if (sign_of_root_sum(cv - int64_t(v0), uint64_t(1), t, nn) < 0) return false;
     if (sign_of_root_sum(int64_t(v1) - cv, uint64_t(1), -t, nn) < 0) return false;
     int64_t s64 = int64_t(s);
-    if (sign_of_root_sum(s64 * s64 + cv * cv + int64_t(nn) - int64_t(r2), uint64_t(1), 2 * t * cv, nn) > 0) return false;
+    if (in_disk && sign_of_root_sum(s64 * s64 + cv * cv + int64_t(nn) - int64_t(r2), uint64_t(1), 2 * t * cv, nn) > 0)
+        return false;
     for (uint k = 0u; k < n && t_step(); k++) {
         if (k == skip) continue;
         ivec2 o = swizzle(disk_at[k], swap);
@@ -167,18 +171,18 @@ VRPD_FN bool side_crossing_uncovered(ivec2 centre, uint skip, int s, int v0, int
     return t_steps <= T_TEST_BUDGET;
 }
 
-// Is the box corner (x, y) in the dart's closed disk and outside every open disk?
-VRPD_FN bool corner_uncovered(int x, int y, uint n, uint64_t r2) {
+// Is the box corner (x, y) in the dart's closed disk (if in_disk) and outside every open disk?
+VRPD_FN bool corner_uncovered(int x, int y, uint n, uint64_t r2, bool in_disk) {
     ivec2 p = ivec2(x, y);
-    if (!side_near(x, r2) || !side_near(y, r2) || norm2(p) > r2) return false;
+    if (in_disk && (!side_near(x, r2) || !side_near(y, r2) || norm2(p) > r2)) return false;
     for (uint k = 0u; k < n && t_step(); k++)
         if (norm2(ivec2(p.x - disk_at[k].x, p.y - disk_at[k].y)) < r2) return false;
     return t_steps <= T_TEST_BUDGET;
 }
 
-// The crossings of the circles (the dart's, then disk_at[0, n)'s) with the sides of the box, and
-// its corners: is one of them in the dart's closed disk and uncovered?
-VRPD_FN bool boundary_vertex_uncovered(uint n, uint64_t r2, ivec2 lo, ivec2 hi) {
+// The crossings of the circles (the dart's if in_disk, then disk_at[0, n)'s) with the sides of the
+// box, and its corners: is one of them in the dart's closed disk (if in_disk) and uncovered?
+VRPD_FN bool boundary_vertex_uncovered(uint n, uint64_t r2, ivec2 lo, ivec2 hi, bool in_disk) {
     for (uint side = 0u; side < 4u; side++) {
         bool swap = side >= 2u;
         int s = (side & 1u) == 0u ? (swap ? lo.y : lo.x) : (swap ? hi.y : hi.x);
@@ -186,13 +190,13 @@ VRPD_FN bool boundary_vertex_uncovered(uint n, uint64_t r2, ivec2 lo, ivec2 hi) 
         int v0 = swap ? lo.x : lo.y;
         int v1 = swap ? hi.x : hi.y;
         for (int tau = -1; tau <= 1; tau += 2) {
-            if (side_crossing_uncovered(ivec2(0, 0), 0xFFFFFFFFu, s, v0, v1, swap, tau, n, r2)) return true;
+            if (in_disk && side_crossing_uncovered(ivec2(0, 0), 0xFFFFFFFFu, s, v0, v1, swap, tau, n, r2, true)) return true;
             for (uint i = 0u; i < n && t_step(); i++)
-                if (side_crossing_uncovered(disk_at[i], i, s, v0, v1, swap, tau, n, r2)) return true;
+                if (side_crossing_uncovered(disk_at[i], i, s, v0, v1, swap, tau, n, r2, in_disk)) return true;
         }
     }
-    return corner_uncovered(lo.x, lo.y, n, r2) || corner_uncovered(hi.x, lo.y, n, r2) ||
-           corner_uncovered(lo.x, hi.y, n, r2) || corner_uncovered(hi.x, hi.y, n, r2);
+    return corner_uncovered(lo.x, lo.y, n, r2, in_disk) || corner_uncovered(hi.x, lo.y, n, r2, in_disk) ||
+           corner_uncovered(lo.x, hi.y, n, r2, in_disk) || corner_uncovered(hi.x, hi.y, n, r2, in_disk);
 }
 
 // Is the crossing (sigma) of the circles around a and b outside every open disk of disk_at[0, n)
@@ -206,17 +210,20 @@ VRPD_FN bool crossing_uncovered(ivec2 a, ivec2 b, int sigma, uint skip_a, uint s
     return t_steps <= T_TEST_BUDGET;  // a search cut short proves nothing
 }
 
-// Does the closed disk of squared radius r2 around the dart (the origin) reach a point of the box
-// lo - hi (offsets from the dart; FAR_SIDE for none) outside every open disk around disk_at[0, n)?
-// See the method above. T_INSIDE, T_OUTSIDE, or T_UNKNOWN past the step budget. A witness found
-// before the budget runs out is a witness: only "no witness" needs the whole search.
-VRPD_FN uint reaches_uncovered(uint n, uint64_t r2, ivec2 lo, ivec2 hi) {
+// Does the region reach a point outside every open disk around disk_at[0, n)? The region is the
+// box lo - hi (offsets from the origin; FAR_SIDE for none), cut, if in_disk, to the closed disk of
+// squared radius r2 around the origin: a dart's reach into U (in_disk), or whether a quadtree
+// cell still holds a point of U (the cell as the box, its corner the origin; every side of it and
+// every disk centre within 2 Rc of that corner). See the method above. T_INSIDE, T_OUTSIDE, or
+// T_UNKNOWN past the step budget. A witness found before the budget runs out is a witness: only
+// "no witness" needs the whole search.
+VRPD_FN uint reaches_uncovered(uint n, uint64_t r2, ivec2 lo, ivec2 hi, bool in_disk) {
     t_steps = 0u;
     bool centre_covered = false;
     for (uint k = 0u; k < n && !centre_covered; k++) centre_covered = norm2(disk_at[k]) < r2;
-    if (!centre_covered) return T_INSIDE;
+    if (in_disk && !centre_covered) return T_INSIDE;
     ivec2 origin = ivec2(0, 0);
-    for (uint i = 0u; i < n && t_step(); i++) {
+    for (uint i = 0u; i < n && in_disk && t_step(); i++) {
         if (norm2(disk_at[i]) == uint64_t(0)) continue;
         for (int sigma = -1; sigma <= 1; sigma += 2)
             if (crossing_in_box(origin, disk_at[i], sigma, lo, hi, r2) && crossing_uncovered(origin, disk_at[i], sigma, i, i, n, r2))
@@ -229,12 +236,12 @@ VRPD_FN uint reaches_uncovered(uint n, uint64_t r2, ivec2 lo, ivec2 hi) {
             uint64_t l = norm2(ivec2(b.x - a.x, b.y - a.y));
             if (l == uint64_t(0) || l > uint64_t(4) * r2) continue;
             for (int sigma = -1; sigma <= 1; sigma += 2)
-                if (crossing_side(a, b, origin, sigma, r2) <= 0 && crossing_in_box(a, b, sigma, lo, hi, r2) &&
+                if ((!in_disk || crossing_side(a, b, origin, sigma, r2) <= 0) && crossing_in_box(a, b, sigma, lo, hi, r2) &&
                     crossing_uncovered(a, b, sigma, i, j, n, r2))
                     return T_INSIDE;
         }
     }
-    if (boundary_vertex_uncovered(n, r2, lo, hi)) return T_INSIDE;
+    if (boundary_vertex_uncovered(n, r2, lo, hi, in_disk)) return T_INSIDE;
     return t_steps > T_TEST_BUDGET ? T_UNKNOWN : T_OUTSIDE;
 }
 

@@ -62,7 +62,21 @@ VRPD_FN uint reaches_uncovered_at(Domain dom, uvec2 p, uint n) {
         lo = max(lo, -ivec2(p));
         hi = min(hi, ivec2(dom.lattice_x - 1u - p.x, dom.lattice_y - 1u - p.y));
     }
-    return reaches_uncovered(n, dom.cover2, lo, hi);
+    return reaches_uncovered(n, dom.cover2, lo, hi, true);
+}
+
+// Two radii: is lattice point p within Rc of a sample of an earlier round?
+VRPD_FN bool covered_by_cover_disk(Domain dom, Grid grid, uvec2 base, uvec2 p) {
+    int reach = cover_reach(dom);
+    for (int dy = -reach; dy <= reach; dy++) {
+        for (int dx = -reach; dx <= reach; dx++) {
+            uint nb = neighbour_cell(dom, base, dx, dy, dom.cover2);
+            if (nb == GRID_EMPTY) continue;
+            uvec2 w = grid.word[nb];
+            if (grid_is_sample(w) && in_cover_disk(dom, w, p)) return true;
+        }
+    }
+    return false;
 }
 
 // Two radii: appends to disk_at the samples of earlier rounds within 2 Rc of p (n already there).
@@ -84,9 +98,11 @@ VRPD_FN uint gather_samples(Domain dom, Grid grid, uvec2 base, uvec2 p, uint n) 
 }
 
 // Two radii: appends to disk_at this round's darts in `state` that arrive before dart d and lie
-// within 2 Rc of it. Returns the new count, MAX_DISKS + 1 if they do not fit; `conflict` is set
-// when one of them is closer than Rf.
-VRPD_FN uint gather_darts(Domain dom, Grid grid, Darts darts, uint d, uint state, uint n, VRPD_OUT(bool) conflict) {
+// within 2 Rc of it, and with_samples, the samples of earlier rounds there too (one scan for
+// both). Returns the new count, MAX_DISKS + 1 if they do not fit; `conflict` is set when one of
+// the darts is closer than Rf.
+VRPD_FN uint gather_darts(Domain dom, Grid grid, Darts darts, uint d, uint state, bool with_samples, uint n,
+                          VRPD_OUT(bool) conflict) {
     uvec4 me = darts.dart[d];
     uvec2 p = uvec2(me.x, me.y);
     uvec2 cell = base_cell_of(dom, p);
@@ -98,6 +114,10 @@ VRPD_FN uint gather_darts(Domain dom, Grid grid, Darts darts, uint d, uint state
             uint nb = neighbour_cell(dom, cell, dx, dy, limit2);
             if (nb == GRID_EMPTY) continue;
             uvec2 w = grid.word[nb];
+            if (grid_is_sample(w) && with_samples && distance2(dom, p, w) < limit2) {
+                if (n == MAX_DISKS) return MAX_DISKS + 1u;
+                disk_at[n++] = offset_to(dom, p, w);
+            }
             if (!grid_is_darts(w)) continue;
             for (uint j = w.x & ~GRID_TAG; j < w.y; j++) {
                 uvec4 other = darts.dart[j];
@@ -140,13 +160,53 @@ VRPD_FN uint throw_base_cell(CellArgs a, Cells cells, Uints scan, Darts darts, G
     return undecided;
 }
 
+// Two radii: what lies within Rc of dart d (at p, in base cell `cell`), as bits: NEAR_* below.
+// Samples of earlier rounds count as accepted; darts count only if they arrive before d.
+const uint NEAR_ACCEPTED_RF = 1u;   // a sample or accepted dart closer than Rf
+const uint NEAR_ACCEPTED_RC = 2u;   // ... closer than Rc
+const uint NEAR_UNDECIDED_RF = 4u;  // an undecided dart closer than Rf
+const uint NEAR_UNDECIDED_RC = 8u;  // ... closer than Rc
+VRPD_FN uint census(Domain dom, Grid grid, Darts darts, uint d, uvec2 p, uvec2 cell) {
+    uint key = darts.dart[d].z;
+    uint found = 0u;
+    int reach = cover_reach(dom);
+    for (int dy = -reach; dy <= reach; dy++) {
+        for (int dx = -reach; dx <= reach; dx++) {
+            uint nb = neighbour_cell(dom, cell, dx, dy, dom.cover2);
+            if (nb == GRID_EMPTY) continue;
+            uvec2 w = grid.word[nb];
+            if (grid_is_sample(w)) {
+                uint64_t g = distance2(dom, w, p);
+                found |= (g < dom.cover2 ? NEAR_ACCEPTED_RC : 0u) | (g < dom.radius2 ? NEAR_ACCEPTED_RF : 0u);
+                continue;
+            }
+            if (!grid_is_darts(w)) continue;
+            for (uint j = w.x & ~GRID_TAG; j < w.y; j++) {
+                uvec4 other = darts.dart[j];
+                if (j == d || other.w == DART_REJECTED || !arrives_before(other.z, j, key, d)) continue;
+                uint64_t g = distance2(dom, uvec2(other.x, other.y), p);
+                uint shift = other.w == DART_ACCEPTED ? 0u : 2u;
+                found |= ((g < dom.cover2 ? NEAR_ACCEPTED_RC : 0u) | (g < dom.radius2 ? NEAR_ACCEPTED_RF : 0u)) << shift;
+            }
+        }
+    }
+    return found;
+}
+
 // Two radii: the state dart d would take given the samples and this round's darts accepted before
 // it: rejected (one is closer than Rf, or d is outside T), accepted, or DART_TOO_COMPLEX (see
-// coverage.h's bounds). n: how many disks went into disk_at.
-VRPD_FN uint state_given_accepted(Domain dom, Grid grid, Darts darts, uint d, uvec2 p, uvec2 cell, VRPD_OUT(uint) n) {
+// coverage.h's bounds). Cheap tests first: a conflict within Rf; then, unless the caller needs
+// the disks, a dart that nothing covers is in U and so in T. Else n disks go into disk_at.
+VRPD_FN uint state_given_accepted(Domain dom, Grid grid, Darts darts, uint d, uvec2 p, uvec2 cell, bool need_disks,
+                                  VRPD_OUT(uint) n) {
+    n = 0u;
+    if (!need_disks) {
+        uint near = census(dom, grid, darts, d, p, cell);
+        if ((near & NEAR_ACCEPTED_RF) != 0u) return DART_REJECTED;
+        if ((near & NEAR_ACCEPTED_RC) == 0u) return DART_ACCEPTED;
+    }
     bool conflict = false;
-    n = gather_samples(dom, grid, cell, p, 0u);
-    if (n <= MAX_DISKS) n = gather_darts(dom, grid, darts, d, DART_ACCEPTED, n, conflict);
+    n = gather_darts(dom, grid, darts, d, DART_ACCEPTED, true, 0u, conflict);
     if (conflict) return DART_REJECTED;
     uint t = n <= MAX_DISKS ? reaches_uncovered_at(dom, p, n) : T_UNKNOWN;
     return t == T_INSIDE ? DART_ACCEPTED : (t == T_OUTSIDE ? DART_REJECTED : DART_TOO_COMPLEX);
@@ -161,17 +221,28 @@ VRPD_FN uint state_given_accepted(Domain dom, Grid grid, Darts darts, uint d, uv
 // With two radii a dart is accepted iff it is free and in T given the samples and the darts
 // accepted before it. Both only shrink as earlier darts are accepted, so: rejected as soon as the
 // accepted ones exclude it; accepted once it is free of, and in T despite, all the undecided too.
+const uint EARLY_UNDECIDED = 4u;
+
 VRPD_FN uint resolve_dart_two_radii(Domain global, Grid grid, Darts darts, uint d) {
     uvec2 p = uvec2(darts.dart[d].x, darts.dart[d].y);
     uvec2 cell = base_cell_of(global, p);
     Domain dom = local_domain(global, cell);
+    // Cheap cases first. A conflict rejects d. If nothing covers d, even counting the undecided
+    // darts before it, d is in U, so in T, whatever they become: accepted. An undecided dart closer
+    // than Rf blocks d until it is decided (d may yet be rejected by T; that can wait).
+    uint near = census(dom, grid, darts, d, p, cell);
+    if ((near & NEAR_ACCEPTED_RF) != 0u) return DART_REJECTED;
+    if ((near & (NEAR_ACCEPTED_RC | NEAR_UNDECIDED_RC)) == 0u) return DART_ACCEPTED;
+    if ((near & NEAR_UNDECIDED_RF) != 0u) return DART_UNDECIDED;
     uint n;
-    uint state = state_given_accepted(dom, grid, darts, d, p, cell, n);
+    uint state = state_given_accepted(dom, grid, darts, d, p, cell, true, n);
     if (state != DART_ACCEPTED) return state;
     bool conflict;
-    uint all = gather_darts(dom, grid, darts, d, DART_UNDECIDED, n, conflict);
+    uint all = gather_darts(dom, grid, darts, d, DART_UNDECIDED, false, n, conflict);
     if (all == n) return DART_ACCEPTED;
-    return !conflict && all <= MAX_DISKS && reaches_uncovered_at(dom, p, all) == T_INSIDE ? DART_ACCEPTED : DART_UNDECIDED;
+    // Deciding early pays only with few undecided darts around: the test grows as n^3.
+    return !conflict && all <= MAX_DISKS && all <= n + EARLY_UNDECIDED && reaches_uncovered_at(dom, p, all) == T_INSIDE ? DART_ACCEPTED
+                                                                                                   : DART_UNDECIDED;
 }
 
 VRPD_FN uint resolve_dart(Domain global, Grid grid, Darts darts, uint d) {
@@ -208,10 +279,8 @@ VRPD_FN uint serial_decision(Domain global, Grid grid, Darts darts, uint d) {
     uvec2 p = uvec2(me.x, me.y);
     uvec2 cell = base_cell_of(global, p);
     Domain dom = local_domain(global, cell);
-    if (two_radii(global)) {
-        uint n;
-        return state_given_accepted(dom, grid, darts, d, p, cell, n);
-    }
+    uint n;
+    if (two_radii(global)) return state_given_accepted(dom, grid, darts, d, p, cell, false, n);
     int reach = conflict_reach(dom);
     for (int dy = -reach; dy <= reach; dy++) {
         for (int dx = -reach; dx <= reach; dx++) {
@@ -262,7 +331,7 @@ VRPD_FN void flag_dart_cells(CellArgs a, Cells cells, Uints flags, Grid grid, ui
     for (uint i = e; i < end_cell; i++) {
         uvec2 c = cells.cell[i] - origin;
         lo = min(lo, c);
-        hi = max(hi, c + uvec2(a.side - 1u, a.side - 1u));
+        hi = max(hi, c + uvec2(a.side, a.side));  // the closed square: surviving_children's cells
     }
     int reach = cover_reach(dom);
     for (int dy = -reach; dy <= reach; dy++) {
@@ -299,19 +368,25 @@ VRPD_FN uint clip_hi(uint hi, uint extent, uint periodic) { return periodic != 0
 // it wholly (exact corner test, see far_offset2). Children covered only by a union of disks stay,
 // and are split until they are single lattice points, where the test is exact. A child's x and
 // y intervals are shared in pairs: 2 + 2 far offsets per sample rather than 4 corner tests.
+//
+// Two radii: a cell is the closed square [corner, corner + side]^2 (continuous: T's test is), and
+// a child that no single disk covers is tested exactly (coverage.h): it stays iff it still holds
+// a point of U. So the cells track U exactly, and vanish as soon as U does. Should that test run
+// past its bounds, the child stays; at the deepest level it then falls back to its lattice point.
 VRPD_FN uint surviving_children(Domain dom, Grid grid, uvec2 base, uvec2 corner, uint side, uint fanout) {
     uint mask = 0u;
     for (uint c = 0u; c < fanout; c++)
         if (in_domain(dom, child_corner(corner, side, c))) mask |= 1u << c;
+    uint pad = two_radii(dom) ? 0u : 1u;  // one radius: the cell's lattice points
     uint x1 = corner.x + side;
     uint y1 = corner.y + side;
-    uint hx0 = clip_hi(x1 - 1u, dom.lattice_x, dom.periodic);
-    uint hy0 = clip_hi(y1 - 1u, dom.lattice_y, dom.periodic);
+    uint hx0 = clip_hi(x1 - pad, dom.lattice_x, dom.periodic);
+    uint hy0 = clip_hi(y1 - pad, dom.lattice_y, dom.periodic);
     // Second children off a free boundary are dropped already; `far` keeps them so.
     bool x1_in = fanout == 4u && (dom.periodic != 0u || x1 < dom.lattice_x);
     bool y1_in = fanout == 4u && (dom.periodic != 0u || y1 < dom.lattice_y);
-    uint hx1 = x1_in ? clip_hi(x1 + side - 1u, dom.lattice_x, dom.periodic) : 0u;
-    uint hy1 = y1_in ? clip_hi(y1 + side - 1u, dom.lattice_y, dom.periodic) : 0u;
+    uint hx1 = x1_in ? clip_hi(x1 + side - pad, dom.lattice_x, dom.periodic) : 0u;
+    uint hy1 = y1_in ? clip_hi(y1 + side - pad, dom.lattice_y, dom.periodic) : 0u;
     uint64_t far = uint64_t(1) << 62;
     int reach = cover_reach(dom);
     for (int dy = -reach; dy <= reach && mask != 0u; dy++) {
@@ -329,6 +404,17 @@ VRPD_FN uint surviving_children(Domain dom, Grid grid, uvec2 base, uvec2 corner,
                 if (far2 < dom.cover2) mask &= ~(1u << c);
             }
         }
+    }
+    for (uint c = 0u; c < fanout && two_radii(dom); c++) {
+        if ((mask & (1u << c)) == 0u) continue;
+        uvec2 cc = child_corner(corner, side, c);
+        uint n = gather_samples(dom, grid, base, cc, 0u);
+        if (n > MAX_DISKS) continue;
+        ivec2 hi = ivec2(int(side), int(side));
+        if (dom.periodic == 0u) hi = min(hi, ivec2(int(dom.lattice_x - 1u - cc.x), int(dom.lattice_y - 1u - cc.y)));
+        uint t = reaches_uncovered(n, dom.cover2, ivec2(0, 0), hi, false);
+        if (t == T_UNKNOWN && side == 1u) t = covered_by_cover_disk(dom, grid, base, cc) ? T_OUTSIDE : T_INSIDE;
+        if (t == T_OUTSIDE) mask &= ~(1u << c);
     }
     return mask;
 }

@@ -5,7 +5,7 @@
 layout(local_size_x = 64) in;
 // Test kernel: evaluates the T-membership test of shared/coverage.h on the device for a batch of
 // configurations, so a test can compare it with the host's answers. A configuration is
-// PROBE_WORDS ivec2: (n, 0), r2 as (low, high) 32 bits, the box's lo and hi, then n disk centres.
+// PROBE_WORDS ivec2: (n, in_disk), r2 as (low, high) 32 bits, the box's lo and hi, then n disk centres.
 const uint PROBE_WORDS = 68u;
 layout(buffer_reference, std430, buffer_reference_align = 8) buffer Probes { ivec2 word[]; };
 layout(buffer_reference, std430, buffer_reference_align = 4) buffer Results { uint value[]; };
@@ -18,5 +18,6 @@ void main() {
     uint n = uint(probes.word[base].x);
     uint64_t r2 = uint64_t(uint(probes.word[base + 1u].x)) | (uint64_t(uint(probes.word[base + 1u].y)) << 32);
     for (uint k = 0u; k < n; k++) disk_at[k] = probes.word[base + 4u + k];
-    results.value[i] = reaches_uncovered(n, r2, probes.word[base + 2u], probes.word[base + 3u]);
+    bool in_disk = probes.word[base].y != 0;
+    results.value[i] = reaches_uncovered(n, r2, probes.word[base + 2u], probes.word[base + 3u], in_disk);
 }
