@@ -61,7 +61,6 @@ VRPD_FN uint64_t distance2(Domain dom, uvec2 p, uvec2 q) {
 // Eq. 1: two samples conflict iff they are closer than Rf (Eq. 5). A point at distance exactly Rc is
 // uncovered (Eqs. 2, 7), so conflict and cover are the same strict test, with one radius or another.
 VRPD_FN bool in_disk(Domain dom, uvec2 centre, uvec2 p) { return distance2(dom, centre, p) < dom.radius2; }
-VRPD_FN bool in_cover_disk(Domain dom, uvec2 centre, uvec2 p) { return distance2(dom, centre, p) < dom.cover2; }
 
 // Largest squared coordinate offset from c to the interval [lo, hi] (lo <= hi, hi - lo < extent / 2),
 // the x or y half of the exact test "a cell lies wholly in a disk": the disk is convex, so the

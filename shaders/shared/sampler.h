@@ -35,20 +35,23 @@ VRPD_FN void mark_dart_range(CellArgs a, Cells cells, Uints scan, Grid grid, uin
     grid.word[base_of_point(a.domain, cells.cell[e])] = uvec2(GRID_TAG | scan.value[e], scan.value[end_cell]);
 }
 
-// Is point p in the disk of a sample of an earlier round (or off the domain)? The samples near
-// base cell `base` are read from the grid; dom is local_domain(base).
-VRPD_FN bool covered_by_sample(Domain dom, Grid grid, uvec2 base, uvec2 p) {
-    if (!in_domain(dom, p)) return true;
-    int reach = conflict_reach(dom);
+// Is point p closer than sqrt(limit2) (radius2 or cover2, with its reach) to a sample of an earlier
+// round? The samples near base cell `base` are read from the grid; dom is local_domain(base).
+VRPD_FN bool near_sample(Domain dom, Grid grid, uvec2 base, uvec2 p, uint64_t limit2, int reach) {
     for (int dy = -reach; dy <= reach; dy++) {
         for (int dx = -reach; dx <= reach; dx++) {
-            uint nb = neighbour_cell(dom, base, dx, dy, dom.radius2);
+            uint nb = neighbour_cell(dom, base, dx, dy, limit2);
             if (nb == GRID_EMPTY) continue;
             uvec2 w = grid.word[nb];
-            if (grid_is_sample(w) && in_disk(dom, w, p)) return true;
+            if (grid_is_sample(w) && distance2(dom, w, p) < limit2) return true;
         }
     }
     return false;
+}
+
+// Is point p in the disk of a sample of an earlier round (or off the domain)?
+VRPD_FN bool covered_by_sample(Domain dom, Grid grid, uvec2 base, uvec2 p) {
+    return !in_domain(dom, p) || near_sample(dom, grid, base, p, dom.radius2, conflict_reach(dom));
 }
 
 // Two radii: does the closed Rc-disk around p reach a point of the domain outside the open Rc-disks
@@ -63,20 +66,6 @@ VRPD_FN uint reaches_uncovered_at(Domain dom, uvec2 p, uint n) {
         hi = min(hi, ivec2(dom.lattice_x - 1u - p.x, dom.lattice_y - 1u - p.y));
     }
     return reaches_uncovered(n, dom.cover2, lo, hi, true);
-}
-
-// Two radii: is lattice point p within Rc of a sample of an earlier round?
-VRPD_FN bool covered_by_cover_disk(Domain dom, Grid grid, uvec2 base, uvec2 p) {
-    int reach = cover_reach(dom);
-    for (int dy = -reach; dy <= reach; dy++) {
-        for (int dx = -reach; dx <= reach; dx++) {
-            uint nb = neighbour_cell(dom, base, dx, dy, dom.cover2);
-            if (nb == GRID_EMPTY) continue;
-            uvec2 w = grid.word[nb];
-            if (grid_is_sample(w) && in_cover_disk(dom, w, p)) return true;
-        }
-    }
-    return false;
 }
 
 // Two radii: appends to disk_at the samples of earlier rounds within 2 Rc of p (n already there).
@@ -413,7 +402,7 @@ VRPD_FN uint surviving_children(Domain dom, Grid grid, uvec2 base, uvec2 corner,
         ivec2 hi = ivec2(int(side), int(side));
         if (dom.periodic == 0u) hi = min(hi, ivec2(int(dom.lattice_x - 1u - cc.x), int(dom.lattice_y - 1u - cc.y)));
         uint t = reaches_uncovered(n, dom.cover2, ivec2(0, 0), hi, false);
-        if (t == T_UNKNOWN && side == 1u) t = covered_by_cover_disk(dom, grid, base, cc) ? T_OUTSIDE : T_INSIDE;
+        if (t == T_UNKNOWN && side == 1u) t = near_sample(dom, grid, base, cc, dom.cover2, cover_reach(dom)) ? T_OUTSIDE : T_INSIDE;
         if (t == T_OUTSIDE) mask &= ~(1u << c);
     }
     return mask;
