@@ -377,6 +377,10 @@ VRPD_FN uint surviving_children(Domain dom, Grid grid, uvec2 base, uvec2 corner,
     uint hx1 = x1_in ? clip_hi(x1 + side - pad, dom.lattice_x, dom.periodic) : 0u;
     uint hy1 = y1_in ? clip_hi(y1 + side - pad, dom.lattice_y, dom.periodic) : 0u;
     uint64_t far = uint64_t(1) << 62;
+    // Two radii: bit 3 j + i stays set while no sample covers the lattice point (x_i, y_j) of the
+    // 3 x 3 corners of the children (x_0 = corner.x, x_1 = hx0, x_2 = hx1): a child with an
+    // uncovered corner holds a point of U and stays without the exact test.
+    uint open_corners = 0x1FFu;
     int reach = cover_reach(dom);
     for (int dy = -reach; dy <= reach && mask != 0u; dy++) {
         for (int dx = -reach; dx <= reach && mask != 0u; dx++) {
@@ -392,10 +396,18 @@ VRPD_FN uint surviving_children(Domain dom, Grid grid, uvec2 base, uvec2 corner,
                 uint64_t far2 = ((c & 1u) == 0u ? fx0 : fx1) + ((c >> 1u) == 0u ? fy0 : fy1);
                 if (far2 < dom.cover2) mask &= ~(1u << c);
             }
+            for (uint k = 0u; k < 9u && two_radii(dom); k++) {
+                uint i = k % 3u;
+                uint j = k / 3u;
+                uvec2 q = uvec2(i == 0u ? corner.x : (i == 1u ? hx0 : hx1), j == 0u ? corner.y : (j == 1u ? hy0 : hy1));
+                if ((open_corners & (1u << k)) != 0u && distance2(dom, p, q) < dom.cover2) open_corners &= ~(1u << k);
+            }
         }
     }
     for (uint c = 0u; c < fanout && two_radii(dom); c++) {
         if ((mask & (1u << c)) == 0u) continue;
+        uint k = 3u * (c >> 1u) + (c & 1u);
+        if ((open_corners & ((3u << k) | (3u << (k + 3u)))) != 0u) continue;
         uvec2 cc = child_corner(corner, side, c);
         uint n = gather_samples(dom, grid, base, cc, 0u);
         if (n > MAX_DISKS) continue;
