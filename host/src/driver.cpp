@@ -71,7 +71,10 @@ Sampling detail::sample_plan(const SampleOptions& options, const Plan& plan) {
         for (std::uint32_t r = 0; r < s.rounds && active > 0; ++r) {
             if (round >= kMaxRounds) throw Error(fmt::format("internal: not maximal after {} rounds", round));
             const bool refine = r + 1 == s.rounds && level < plan.deepest_level;
-            const detail::RoundResult rr = engine->round({round++, side, exp_neg(s.lambda), refine});
+            // Two radii: while active cells fill half the base grid at level 0, listing the base
+            // cells near them costs more than the few darts it saves.
+            const bool every_free_cell = level == 0 && active >= plan.base_cells / 2;
+            const detail::RoundResult rr = engine->round({round++, side, exp_neg(s.lambda), refine, every_free_cell});
             result.stats.darts += rr.darts;
             active = rr.active;
             if (refine) ++level;

@@ -16,6 +16,8 @@ struct RoundSpec {
     std::uint32_t side;            // side of the active cells, in lattice units
     std::uint32_t exp_neg_lambda;  // Poisson mean of darts per active cell, as exp(-lambda) * 2^32
     bool refine;                   // after the round, split surviving cells into 4 children
+    bool every_free_cell;          // two radii: darts go to every base cell without a sample, not
+                                   // only those near active cells (cheaper while U is everywhere)
 };
 
 struct RoundResult {

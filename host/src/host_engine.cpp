@@ -114,10 +114,16 @@ private:
         const uint bases = uint(plan_.base_cells);
         scan_.assign(std::size_t(bases) + 1, 0);
         const CellArgs args{dom, 0, 0, 0, 0, 0, 0, 0, 0, n, spec.round, spec.side, 0};
-        pool_.parallel_for(n, [&](std::size_t b, std::size_t e, unsigned) {
-            for (std::size_t i = b; i < e; ++i)
-                if (first_in_base_cell(dom, cells(), uint(i))) flag_dart_cells(args, cells(), scan(), grid(), uint(i));
-        });
+        if (spec.every_free_cell) {
+            pool_.parallel_for(bases, [&](std::size_t b, std::size_t e, unsigned) {
+                for (std::size_t i = b; i < e; ++i) flag_free_cell(grid(), scan(), uint(i));
+            });
+        } else {
+            pool_.parallel_for(n, [&](std::size_t b, std::size_t e, unsigned) {
+                for (std::size_t i = b; i < e; ++i)
+                    if (first_in_base_cell(dom, cells(), uint(i))) flag_dart_cells(args, cells(), scan(), grid(), uint(i));
+            });
+        }
         dart_cells_.resize(exclusive_scan(bases));
         pool_.parallel_for(bases, [&](std::size_t b, std::size_t e, unsigned) {
             for (std::size_t i = b; i < e; ++i) list_dart_cell(dom, scan(), Cells{dart_cells_.data()}, uint(i));

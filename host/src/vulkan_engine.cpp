@@ -15,6 +15,7 @@
 #include "count_darts.h"
 #include "emit_samples.h"
 #include "flag_dart_cells.h"
+#include "flag_free_cells.h"
 #include "init_cells.h"
 #include "list_dart_cells.h"
 #include "mark_ranges.h"
@@ -178,19 +179,24 @@ public:
     }
 
 private:
-    // Two radii: lists the base cells that get darts this round (flag_dart_cells, a scan of the
-    // flags, list_dart_cells) and returns their count.
+    // Two radii: lists the base cells that get darts this round (flag_dart_cells or
+    // flag_free_cells, a scan of the flags, list_dart_cells) and returns their count.
     std::uint32_t list_dart_cells(const RoundSpec& spec) {
         const std::uint64_t bases = plan_.base_cells;
         ensure(flags_, (bases + 1) * 4);
         ensure(block_sums_, std::uint64_t(groups(bases + 1, SCAN_BLOCK)) * 4);
         ensure(dart_cells_, bases * sizeof(uvec2));
         VkCommandBuffer cmd = ctx_.begin();
-        ctx_.vk().vkCmdFillBuffer(cmd, flags_.handle(), 0, (bases + 1) * 4, 0);
-        ctx_.barrier();  // cleared flags before they are set
         CellArgs a = cell_args(cells_[0], active_, spec.round, spec.side, 0);
         a.scan = flags_.address();
-        ctx_.dispatch(flag_dart_cells_, &a, groups(std::uint64_t(active_) + 1, WORKGROUP_SIZE));
+        if (spec.every_free_cell) {
+            a.cell_count = std::uint32_t(bases);
+            ctx_.dispatch(flag_free_cells_, &a, groups(bases + 1, WORKGROUP_SIZE));
+        } else {
+            ctx_.vk().vkCmdFillBuffer(cmd, flags_.handle(), 0, (bases + 1) * 4, 0);
+            ctx_.barrier();  // cleared flags before they are set
+            ctx_.dispatch(flag_dart_cells_, &a, groups(std::uint64_t(active_) + 1, WORKGROUP_SIZE));
+        }
         ctx_.barrier();  // flags before their scan
         scan(flags_, bases + 1, COUNTER_DART_CELLS);
         a = cell_args(cells_[0], std::uint32_t(bases), spec.round, spec.side, 0);
@@ -280,6 +286,7 @@ private:
     VulkanContext ctx_;
     Kernel init_cells_{ctx_, words(spirv_init_cells), sizeof(CellArgs), WORKGROUP_SIZE};
     Kernel flag_dart_cells_{ctx_, words(spirv_flag_dart_cells), sizeof(CellArgs), WORKGROUP_SIZE};
+    Kernel flag_free_cells_{ctx_, words(spirv_flag_free_cells), sizeof(CellArgs), WORKGROUP_SIZE};
     Kernel list_dart_cells_{ctx_, words(spirv_list_dart_cells), sizeof(CellArgs), WORKGROUP_SIZE};
     Kernel count_darts_{ctx_, words(spirv_count_darts), sizeof(CellArgs), WORKGROUP_SIZE};
     Kernel mark_ranges_{ctx_, words(spirv_mark_ranges), sizeof(CellArgs), WORKGROUP_SIZE};

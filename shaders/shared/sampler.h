@@ -86,6 +86,29 @@ VRPD_FN uint gather_samples(Domain dom, Grid grid, uvec2 base, uvec2 p, uint n) 
     return n;
 }
 
+// Two radii: fills disk_at with the samples whose Rc-disk meets the box [cc, cc + hi] (hi >= 0),
+// as offsets from cc: only they can cover a point of it or cross inside it. Returns the count,
+// MAX_DISKS + 1 if they do not fit.
+VRPD_FN uint gather_near_box(Domain dom, Grid grid, uvec2 base, uvec2 cc, ivec2 hi) {
+    uint n = 0u;
+    int reach = cover_reach(dom);
+    for (int dy = -reach; dy <= reach; dy++) {
+        for (int dx = -reach; dx <= reach; dx++) {
+            uint nb = neighbour_cell(dom, base, dx, dy, dom.cover2 + uint64_t(1));
+            if (nb == GRID_EMPTY) continue;
+            uvec2 w = grid.word[nb];
+            if (!grid_is_sample(w)) continue;
+            ivec2 o = offset_to(dom, cc, w);
+            int64_t gx = int64_t(max(max(-o.x, o.x - hi.x), 0));
+            int64_t gy = int64_t(max(max(-o.y, o.y - hi.y), 0));
+            if (uint64_t(gx * gx + gy * gy) > dom.cover2) continue;
+            if (n == MAX_DISKS) return MAX_DISKS + 1u;
+            disk_at[n++] = o;
+        }
+    }
+    return n;
+}
+
 // Two radii: appends to disk_at this round's darts in `state` that arrive before dart d and lie
 // within 2 Rc of it, and with_samples, the samples of earlier rounds there too (one scan for
 // both). Returns the new count, MAX_DISKS + 1 if they do not fit; `conflict` is set when one of
@@ -334,6 +357,10 @@ VRPD_FN void flag_dart_cells(CellArgs a, Cells cells, Uints flags, Grid grid, ui
     }
 }
 
+// Two radii, while U is still nearly everywhere: every base cell without a sample gets darts (a
+// superset of the flagged cells, so still a superset of T, and cheaper to find).
+VRPD_FN void flag_free_cell(Grid grid, Uints flags, uint b) { flags.value[b] = grid_is_sample(grid.word[b]) ? 0u : 1u; }
+
 // Two radii, for base cell b: after the flags' exclusive scan, a flagged cell joins the list of
 // cells that get darts (in base cell order, as the kernels from count_darts on require).
 VRPD_FN void list_dart_cell(Domain dom, Uints ranks, Cells cells_out, uint b) {
@@ -396,11 +423,17 @@ VRPD_FN uint surviving_children(Domain dom, Grid grid, uvec2 base, uvec2 corner,
                 uint64_t far2 = ((c & 1u) == 0u ? fx0 : fx1) + ((c >> 1u) == 0u ? fy0 : fy1);
                 if (far2 < dom.cover2) mask &= ~(1u << c);
             }
-            for (uint k = 0u; k < 9u && two_radii(dom); k++) {
-                uint i = k % 3u;
-                uint j = k / 3u;
-                uvec2 q = uvec2(i == 0u ? corner.x : (i == 1u ? hx0 : hx1), j == 0u ? corner.y : (j == 1u ? hy0 : hy1));
-                if ((open_corners & (1u << k)) != 0u && distance2(dom, p, q) < dom.cover2) open_corners &= ~(1u << k);
+            if (open_corners != 0u && two_radii(dom)) {
+                uint64_t gx[3];
+                uint64_t gy[3];
+                for (uint i = 0u; i < 3u; i++) {
+                    uint ax = axis_gap(p.x, i == 0u ? corner.x : (i == 1u ? hx0 : hx1), dom.lattice_x, dom.periodic);
+                    uint ay = axis_gap(p.y, i == 0u ? corner.y : (i == 1u ? hy0 : hy1), dom.lattice_y, dom.periodic);
+                    gx[i] = uint64_t(ax) * uint64_t(ax);
+                    gy[i] = uint64_t(ay) * uint64_t(ay);
+                }
+                for (uint k = 0u; k < 9u; k++)
+                    if (gx[k % 3u] + gy[k / 3u] < dom.cover2) open_corners &= ~(1u << k);
             }
         }
     }
@@ -409,10 +442,10 @@ VRPD_FN uint surviving_children(Domain dom, Grid grid, uvec2 base, uvec2 corner,
         uint k = 3u * (c >> 1u) + (c & 1u);
         if ((open_corners & ((3u << k) | (3u << (k + 3u)))) != 0u) continue;
         uvec2 cc = child_corner(corner, side, c);
-        uint n = gather_samples(dom, grid, base, cc, 0u);
-        if (n > MAX_DISKS) continue;
         ivec2 hi = ivec2(int(side), int(side));
         if (dom.periodic == 0u) hi = min(hi, ivec2(int(dom.lattice_x - 1u - cc.x), int(dom.lattice_y - 1u - cc.y)));
+        uint n = gather_near_box(dom, grid, base, cc, hi);
+        if (n > MAX_DISKS) continue;
         uint t = reaches_uncovered(n, dom.cover2, ivec2(0, 0), hi, false);
         if (t == T_UNKNOWN && side == 1u) t = near_sample(dom, grid, base, cc, dom.cover2, cover_reach(dom)) ? T_OUTSIDE : T_INSIDE;
         if (t == T_OUTSIDE) mask &= ~(1u << c);
