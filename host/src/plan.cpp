@@ -161,8 +161,10 @@ std::uint64_t estimated_bytes(const Plan& plan) {
 std::uint64_t estimated_device_bytes(const Plan& plan) {
     // Per base cell: grid word 8, active lists 8 + 16 (the children after level 0's refinement,
     // about half the cells survive), scan 8, darts 8 and work list 4 at lambda = 0.5, samples
-    // and keys 12 per sample (0.35 samples per base cell).
-    return plan.base_cells * 56 + (std::uint64_t(16) << 20);
+    // and keys 12 per sample (0.35 samples per base cell). Two radii add a flag and a listed
+    // dart cell per base cell, 4 + 8.
+    const std::uint64_t per_cell = plan.domain.cover2 != plan.domain.radius2 ? 68 : 56;
+    return plan.base_cells * per_cell + (std::uint64_t(16) << 20);
 }
 
 std::uint64_t host_memory_bytes() {

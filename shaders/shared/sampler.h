@@ -112,15 +112,17 @@ VRPD_FN uint gather_near_box(Domain dom, Grid grid, uvec2 base, uvec2 cc, ivec2 
 // Two radii: appends to disk_at this round's darts in `state` that arrive before dart d and lie
 // within 2 Rc of it, and with_samples, the samples of earlier rounds there too (one scan for
 // both). Returns the new count, MAX_DISKS + 1 if they do not fit; `conflict` is set when one of
-// the darts is closer than Rf.
+// the darts is closer than Rf; `undecided` counts the undecided darts before d there (all of them
+// only if the scan ran to its end).
 VRPD_FN uint gather_darts(Domain dom, Grid grid, Darts darts, uint d, uint state, bool with_samples, uint n,
-                          VRPD_OUT(bool) conflict) {
+                          VRPD_OUT(bool) conflict, VRPD_OUT(uint) undecided) {
     uvec4 me = darts.dart[d];
     uvec2 p = uvec2(me.x, me.y);
     uvec2 cell = base_cell_of(dom, p);
     int reach = int(influence_reach(dom));
     uint64_t limit2 = influence2(dom);
     conflict = false;
+    undecided = 0u;
     for (int dy = -reach; dy <= reach; dy++) {
         for (int dx = -reach; dx <= reach; dx++) {
             uint nb = neighbour_cell(dom, cell, dx, dy, limit2);
@@ -133,9 +135,11 @@ VRPD_FN uint gather_darts(Domain dom, Grid grid, Darts darts, uint d, uint state
             if (!grid_is_darts(w)) continue;
             for (uint j = w.x & ~GRID_TAG; j < w.y; j++) {
                 uvec4 other = darts.dart[j];
-                if (j == d || other.w != state || !arrives_before(other.z, j, me.z, d)) continue;
+                if (j == d || (other.w != state && other.w != DART_UNDECIDED) || !arrives_before(other.z, j, me.z, d)) continue;
                 uint64_t gap2 = distance2(dom, p, uvec2(other.x, other.y));
                 if (gap2 >= limit2) continue;
+                undecided += other.w == DART_UNDECIDED ? 1u : 0u;
+                if (other.w != state) continue;
                 conflict = conflict || gap2 < dom.radius2;
                 if (n == MAX_DISKS) return MAX_DISKS + 1u;
                 disk_at[n++] = offset_to(dom, p, uvec2(other.x, other.y));
@@ -205,20 +209,17 @@ VRPD_FN uint census(Domain dom, Grid grid, Darts darts, uint d, uvec2 p, uvec2 c
     return found;
 }
 
-// Two radii: the state dart d would take given the samples and this round's darts accepted before
-// it: rejected (one is closer than Rf, or d is outside T), accepted, or DART_TOO_COMPLEX (see
-// coverage.h's bounds). Cheap tests first: a conflict within Rf; then, unless the caller needs
-// the disks, a dart that nothing covers is in U and so in T. Else n disks go into disk_at.
-VRPD_FN uint state_given_accepted(Domain dom, Grid grid, Darts darts, uint d, uvec2 p, uvec2 cell, bool need_disks,
-                                  VRPD_OUT(uint) n) {
-    n = 0u;
-    if (!need_disks) {
-        uint near = census(dom, grid, darts, d, p, cell);
-        if ((near & NEAR_ACCEPTED_RF) != 0u) return DART_REJECTED;
-        if ((near & NEAR_ACCEPTED_RC) == 0u) return DART_ACCEPTED;
-    }
-    bool conflict = false;
-    n = gather_darts(dom, grid, darts, d, DART_ACCEPTED, true, 0u, conflict);
+// Two radii, the textbook decision for the serial backend: the state of dart d (at p, in base
+// cell `cell`) given the samples and this round's darts accepted before it: rejected (one is
+// closer than Rf, or d is outside T), accepted, or DART_TOO_COMPLEX (coverage.h's bounds).
+// Cheap tests first: a conflict within Rf, and a dart that nothing covers is in U, so in T.
+VRPD_FN uint state_given_accepted(Domain dom, Grid grid, Darts darts, uint d, uvec2 p, uvec2 cell) {
+    uint near = census(dom, grid, darts, d, p, cell);
+    if ((near & NEAR_ACCEPTED_RF) != 0u) return DART_REJECTED;
+    if ((near & NEAR_ACCEPTED_RC) == 0u) return DART_ACCEPTED;
+    bool conflict;
+    uint undecided;
+    uint n = gather_darts(dom, grid, darts, d, DART_ACCEPTED, true, 0u, conflict, undecided);
     if (conflict) return DART_REJECTED;
     uint t = n <= MAX_DISKS ? reaches_uncovered_at(dom, p, n) : T_UNKNOWN;
     return t == T_INSIDE ? DART_ACCEPTED : (t == T_OUTSIDE ? DART_REJECTED : DART_TOO_COMPLEX);
@@ -246,15 +247,18 @@ VRPD_FN uint resolve_dart_two_radii(Domain global, Grid grid, Darts darts, uint 
     if ((near & NEAR_ACCEPTED_RF) != 0u) return DART_REJECTED;
     if ((near & (NEAR_ACCEPTED_RC | NEAR_UNDECIDED_RC)) == 0u) return DART_ACCEPTED;
     if ((near & NEAR_UNDECIDED_RF) != 0u) return DART_UNDECIDED;
-    uint n;
-    uint state = state_given_accepted(dom, grid, darts, d, p, cell, true, n);
-    if (state != DART_ACCEPTED) return state;
     bool conflict;
-    uint all = gather_darts(dom, grid, darts, d, DART_UNDECIDED, false, n, conflict);
-    if (all == n) return DART_ACCEPTED;
-    // Deciding early pays only with few undecided darts around: the test grows as n^3.
-    return !conflict && all <= MAX_DISKS && all <= n + EARLY_UNDECIDED && reaches_uncovered_at(dom, p, all) == T_INSIDE ? DART_ACCEPTED
-                                                                                                   : DART_UNDECIDED;
+    uint undecided;
+    uint n = gather_darts(dom, grid, darts, d, DART_ACCEPTED, true, 0u, conflict, undecided);
+    if (conflict) return DART_REJECTED;
+    // Many undecided darts around: d waits (the earliest undecided dart of any neighbourhood always
+    // decides, so the passes end), and its T test with them, growing as n^3, is not tried.
+    if (undecided > EARLY_UNDECIDED) return DART_UNDECIDED;
+    uint t = n <= MAX_DISKS ? reaches_uncovered_at(dom, p, n) : T_UNKNOWN;
+    if (t != T_INSIDE) return t == T_OUTSIDE ? DART_REJECTED : DART_TOO_COMPLEX;
+    if (undecided == 0u) return DART_ACCEPTED;
+    uint all = gather_darts(dom, grid, darts, d, DART_UNDECIDED, false, n, conflict, undecided);
+    return !conflict && all <= MAX_DISKS && reaches_uncovered_at(dom, p, all) == T_INSIDE ? DART_ACCEPTED : DART_UNDECIDED;
 }
 
 VRPD_FN uint resolve_dart(Domain global, Grid grid, Darts darts, uint d) {
@@ -291,8 +295,7 @@ VRPD_FN uint serial_decision(Domain global, Grid grid, Darts darts, uint d) {
     uvec2 p = uvec2(me.x, me.y);
     uvec2 cell = base_cell_of(global, p);
     Domain dom = local_domain(global, cell);
-    uint n;
-    if (two_radii(global)) return state_given_accepted(dom, grid, darts, d, p, cell, false, n);
+    if (two_radii(global)) return state_given_accepted(dom, grid, darts, d, p, cell);
     int reach = conflict_reach(dom);
     for (int dy = -reach; dy <= reach; dy++) {
         for (int dx = -reach; dx <= reach; dx++) {
