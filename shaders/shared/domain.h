@@ -109,12 +109,11 @@ VRPD_FN uint64_t cell_gap2(Domain dom, int dx, int dy) {
     return gx * gx + gy * gy;
 }
 
-// Index of the base cell (cx + dx, cy + dy), or GRID_EMPTY when it falls off a free boundary or
-// when no two points of the cells are closer than sqrt(limit2). make_plan guarantees
-// influence_reach <= cells per side, so one wrap step suffices on a torus. Cells at least
-// influence_reach from every side take the short path.
-VRPD_FN uint neighbour_cell(Domain dom, uvec2 cell, int dx, int dy, uint64_t limit2) {
-    if (cell_gap2(dom, dx, dy) >= limit2) return GRID_EMPTY;
+// Index of the base cell (cx + dx, cy + dy), or GRID_EMPTY when it falls off a free boundary
+// (neighbour_cell: or when no two points of the cells are closer than sqrt(limit2)). make_plan
+// guarantees influence_reach <= cells per side, so one wrap step suffices on a torus. Cells at
+// least influence_reach from every side take the short path.
+VRPD_FN uint neighbour_index(Domain dom, uvec2 cell, int dx, int dy) {
     uint r = influence_reach(dom);
     if (cell.x >= r && cell.x + r < dom.cells_x && cell.y >= r && cell.y + r < dom.cells_y)
         return uint(int(cell.y * dom.cells_x + cell.x) + dy * int(dom.cells_x) + dx);
@@ -129,6 +128,19 @@ VRPD_FN uint neighbour_cell(Domain dom, uvec2 cell, int dx, int dy, uint64_t lim
         return GRID_EMPTY;
     }
     return uint(y) * dom.cells_x + uint(x);
+}
+
+VRPD_FN uint neighbour_cell(Domain dom, uvec2 cell, int dx, int dy, uint64_t limit2) {
+    return cell_gap2(dom, dx, dy) >= limit2 ? GRID_EMPTY : neighbour_index(dom, cell, dx, dy);
+}
+
+// The columns a scan of row dy (|dy| <= reach) must visit: |dx| <= row_reach, the cells some of
+// whose points are closer than sqrt(limit2) to some point of the centre cell; -1 if none is.
+// Scans over these use neighbour_index, which leaves out only cells off a free boundary.
+VRPD_FN int row_reach(Domain dom, int dy, int reach, uint64_t limit2) {
+    int w = reach;
+    while (w >= 0 && cell_gap2(dom, w, dy) >= limit2) w--;
+    return w;
 }
 
 // The domain as seen from base cell `cell`: on a torus, a cell whose neighbourhood does not

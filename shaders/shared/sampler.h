@@ -74,8 +74,9 @@ VRPD_FN uint gather_samples(Domain dom, Grid grid, uvec2 base, uvec2 p, uint n) 
     int reach = int(influence_reach(dom));
     uint64_t limit2 = influence2(dom);
     for (int dy = -reach; dy <= reach; dy++) {
-        for (int dx = -reach; dx <= reach; dx++) {
-            uint nb = neighbour_cell(dom, base, dx, dy, limit2);
+        int row = row_reach(dom, dy, reach, limit2);
+        for (int dx = -row; dx <= row; dx++) {
+            uint nb = neighbour_index(dom, base, dx, dy);
             if (nb == GRID_EMPTY) continue;
             uvec2 w = grid.word[nb];
             if (!grid_is_sample(w) || distance2(dom, p, w) >= limit2) continue;
@@ -93,8 +94,9 @@ VRPD_FN uint gather_near_box(Domain dom, Grid grid, uvec2 base, uvec2 cc, ivec2 
     uint n = 0u;
     int reach = cover_reach(dom);
     for (int dy = -reach; dy <= reach; dy++) {
-        for (int dx = -reach; dx <= reach; dx++) {
-            uint nb = neighbour_cell(dom, base, dx, dy, dom.cover2 + uint64_t(1));
+        int row = row_reach(dom, dy, reach, dom.cover2 + uint64_t(1));
+        for (int dx = -row; dx <= row; dx++) {
+            uint nb = neighbour_index(dom, base, dx, dy);
             if (nb == GRID_EMPTY) continue;
             uvec2 w = grid.word[nb];
             if (!grid_is_sample(w)) continue;
@@ -124,8 +126,9 @@ VRPD_FN uint gather_darts(Domain dom, Grid grid, Darts darts, uint d, uint state
     conflict = false;
     undecided = 0u;
     for (int dy = -reach; dy <= reach; dy++) {
-        for (int dx = -reach; dx <= reach; dx++) {
-            uint nb = neighbour_cell(dom, cell, dx, dy, limit2);
+        int row = row_reach(dom, dy, reach, limit2);
+        for (int dx = -row; dx <= row; dx++) {
+            uint nb = neighbour_index(dom, cell, dx, dy);
             if (nb == GRID_EMPTY) continue;
             uvec2 w = grid.word[nb];
             if (grid_is_sample(w) && with_samples && distance2(dom, p, w) < limit2) {
@@ -187,8 +190,9 @@ VRPD_FN uint census(Domain dom, Grid grid, Darts darts, uint d, uvec2 p, uvec2 c
     uint found = 0u;
     int reach = cover_reach(dom);
     for (int dy = -reach; dy <= reach; dy++) {
-        for (int dx = -reach; dx <= reach; dx++) {
-            uint nb = neighbour_cell(dom, cell, dx, dy, dom.cover2);
+        int row = row_reach(dom, dy, reach, dom.cover2);
+        for (int dx = -row; dx <= row; dx++) {
+            uint nb = neighbour_index(dom, cell, dx, dy);
             if (nb == GRID_EMPTY) continue;
             uvec2 w = grid.word[nb];
             if (grid_is_sample(w)) {
@@ -350,8 +354,9 @@ VRPD_FN void flag_dart_cells(CellArgs a, Cells cells, Uints flags, Grid grid, ui
     }
     int reach = cover_reach(dom);
     for (int dy = -reach; dy <= reach; dy++) {
-        for (int dx = -reach; dx <= reach; dx++) {
-            uint nb = neighbour_cell(dom, base, dx, dy, dom.cover2 + uint64_t(1));
+        int row = row_reach(dom, dy, reach, dom.cover2 + uint64_t(1));
+        for (int dx = -row; dx <= row; dx++) {
+            uint nb = neighbour_index(dom, base, dx, dy);
             if (nb == GRID_EMPTY) continue;
             int64_t gx = dx > 0 ? int64_t(dx * side - int(hi.x)) : (dx < 0 ? int64_t(int(lo.x) - (dx + 1) * side + 1) : int64_t(0));
             int64_t gy = dy > 0 ? int64_t(dy * side - int(hi.y)) : (dy < 0 ? int64_t(int(lo.y) - (dy + 1) * side + 1) : int64_t(0));
@@ -413,8 +418,9 @@ VRPD_FN uint surviving_children(Domain dom, Grid grid, uvec2 base, uvec2 corner,
     uint open_corners = 0x1FFu;
     int reach = cover_reach(dom);
     for (int dy = -reach; dy <= reach && mask != 0u; dy++) {
-        for (int dx = -reach; dx <= reach && mask != 0u; dx++) {
-            uint nb = neighbour_cell(dom, base, dx, dy, dom.cover2);
+        int row = row_reach(dom, dy, reach, dom.cover2);
+        for (int dx = -row; dx <= row && mask != 0u; dx++) {
+            uint nb = neighbour_index(dom, base, dx, dy);
             if (nb == GRID_EMPTY) continue;
             uvec2 p = grid.word[nb];
             if (!grid_is_sample(p)) continue;
