@@ -111,38 +111,49 @@ VRPD_FN uint gather_near_box(Domain dom, Grid grid, uvec2 base, uvec2 cc, ivec2 
     return n;
 }
 
-// Two radii: appends to disk_at this round's darts in `state` that arrive before dart d and lie
-// within 2 Rc of it, and with_samples, the samples of earlier rounds there too (one scan for
-// both). Returns the new count, MAX_DISKS + 1 if they do not fit; `conflict` is set when one of
-// the darts is closer than Rf; `undecided` counts the undecided darts before d there (all of them
-// only if the scan ran to its end).
-VRPD_FN uint gather_darts(Domain dom, Grid grid, Darts darts, uint d, uint state, bool with_samples, uint n,
-                          VRPD_OUT(bool) conflict, VRPD_OUT(uint) undecided) {
+// Early acceptance is tried with at most this many undecided darts before d within 2 Rc: its T
+// test, with them counted as accepted, grows as n^3.
+const uint EARLY_UNDECIDED = 4u;
+VRPD_PRIVATE ivec2 undecided_at[EARLY_UNDECIDED];
+
+// Two radii, in one scan of the 2 Rc neighbourhood of dart d: fills disk_at with the samples of
+// earlier rounds and this round's accepted darts before d (offsets from d). Returns their count,
+// MAX_DISKS + 1 if they do not fit (the scan then stops). `conflict`: an accepted dart is closer
+// than Rf. `undecided` counts the undecided darts before d there, the first EARLY_UNDECIDED of
+// which go to undecided_at; `undecided_conflict`: one of those is closer than Rf.
+VRPD_FN uint gather_accepted(Domain dom, Grid grid, Darts darts, uint d, VRPD_OUT(bool) conflict, VRPD_OUT(uint) undecided,
+                             VRPD_OUT(bool) undecided_conflict) {
     uvec4 me = darts.dart[d];
     uvec2 p = uvec2(me.x, me.y);
     uvec2 cell = base_cell_of(dom, p);
     int reach = int(influence_reach(dom));
     uint64_t limit2 = influence2(dom);
+    uint n = 0u;
     conflict = false;
     undecided = 0u;
+    undecided_conflict = false;
     for (int dy = -reach; dy <= reach; dy++) {
         int row = row_reach(dom, dy, reach, limit2);
         for (int dx = -row; dx <= row; dx++) {
             uint nb = neighbour_index(dom, cell, dx, dy);
             if (nb == GRID_EMPTY) continue;
             uvec2 w = grid.word[nb];
-            if (grid_is_sample(w) && with_samples && distance2(dom, p, w) < limit2) {
+            if (grid_is_sample(w) && distance2(dom, p, w) < limit2) {
                 if (n == MAX_DISKS) return MAX_DISKS + 1u;
                 disk_at[n++] = offset_to(dom, p, w);
             }
             if (!grid_is_darts(w)) continue;
             for (uint j = w.x & ~GRID_TAG; j < w.y; j++) {
                 uvec4 other = darts.dart[j];
-                if (j == d || (other.w != state && other.w != DART_UNDECIDED) || !arrives_before(other.z, j, me.z, d)) continue;
+                if (j == d || other.w == DART_REJECTED || !arrives_before(other.z, j, me.z, d)) continue;
                 uint64_t gap2 = distance2(dom, p, uvec2(other.x, other.y));
                 if (gap2 >= limit2) continue;
-                undecided += other.w == DART_UNDECIDED ? 1u : 0u;
-                if (other.w != state) continue;
+                if (other.w == DART_UNDECIDED) {
+                    if (undecided < EARLY_UNDECIDED) undecided_at[undecided] = offset_to(dom, p, uvec2(other.x, other.y));
+                    undecided_conflict = undecided_conflict || gap2 < dom.radius2;
+                    undecided++;
+                    continue;
+                }
                 conflict = conflict || gap2 < dom.radius2;
                 if (n == MAX_DISKS) return MAX_DISKS + 1u;
                 disk_at[n++] = offset_to(dom, p, uvec2(other.x, other.y));
@@ -223,7 +234,8 @@ VRPD_FN uint state_given_accepted(Domain dom, Grid grid, Darts darts, uint d, uv
     if ((near & NEAR_ACCEPTED_RC) == 0u) return DART_ACCEPTED;
     bool conflict;
     uint undecided;
-    uint n = gather_darts(dom, grid, darts, d, DART_ACCEPTED, true, 0u, conflict, undecided);
+    bool undecided_conflict;
+    uint n = gather_accepted(dom, grid, darts, d, conflict, undecided, undecided_conflict);
     if (conflict) return DART_REJECTED;
     uint t = n <= MAX_DISKS ? reaches_uncovered_at(dom, p, n) : T_UNKNOWN;
     return t == T_INSIDE ? DART_ACCEPTED : (t == T_OUTSIDE ? DART_REJECTED : DART_TOO_COMPLEX);
@@ -238,8 +250,6 @@ VRPD_FN uint state_given_accepted(Domain dom, Grid grid, Darts darts, uint d, uv
 // With two radii a dart is accepted iff it is free and in T given the samples and the darts
 // accepted before it. Both only shrink as earlier darts are accepted, so: rejected as soon as the
 // accepted ones exclude it; accepted once it is free of, and in T despite, all the undecided too.
-const uint EARLY_UNDECIDED = 4u;
-
 VRPD_FN uint resolve_dart_two_radii(Domain global, Grid grid, Darts darts, uint d) {
     uvec2 p = uvec2(darts.dart[d].x, darts.dart[d].y);
     uvec2 cell = base_cell_of(global, p);
@@ -253,7 +263,8 @@ VRPD_FN uint resolve_dart_two_radii(Domain global, Grid grid, Darts darts, uint 
     if ((near & NEAR_UNDECIDED_RF) != 0u) return DART_UNDECIDED;
     bool conflict;
     uint undecided;
-    uint n = gather_darts(dom, grid, darts, d, DART_ACCEPTED, true, 0u, conflict, undecided);
+    bool undecided_conflict;
+    uint n = gather_accepted(dom, grid, darts, d, conflict, undecided, undecided_conflict);
     if (conflict) return DART_REJECTED;
     // Many undecided darts around: d waits (the earliest undecided dart of any neighbourhood always
     // decides, so the passes end), and its T test with them, growing as n^3, is not tried.
@@ -261,8 +272,9 @@ VRPD_FN uint resolve_dart_two_radii(Domain global, Grid grid, Darts darts, uint 
     uint t = n <= MAX_DISKS ? reaches_uncovered_at(dom, p, n) : T_UNKNOWN;
     if (t != T_INSIDE) return t == T_OUTSIDE ? DART_REJECTED : DART_TOO_COMPLEX;
     if (undecided == 0u) return DART_ACCEPTED;
-    uint all = gather_darts(dom, grid, darts, d, DART_UNDECIDED, false, n, conflict, undecided);
-    return !conflict && all <= MAX_DISKS && reaches_uncovered_at(dom, p, all) == T_INSIDE ? DART_ACCEPTED : DART_UNDECIDED;
+    if (undecided_conflict || n + undecided > MAX_DISKS) return DART_UNDECIDED;
+    for (uint i = 0u; i < undecided; i++) disk_at[n + i] = undecided_at[i];
+    return reaches_uncovered_at(dom, p, n + undecided) == T_INSIDE ? DART_ACCEPTED : DART_UNDECIDED;
 }
 
 VRPD_FN uint resolve_dart(Domain global, Grid grid, Darts darts, uint d) {
