@@ -58,33 +58,13 @@ VRPD_FN bool covered_by_sample(Domain dom, Grid grid, uvec2 base, uvec2 p) {
 // around disk_at[0, n) (offsets from p)? A free boundary's box is passed as offsets from p.
 // T_INSIDE, T_OUTSIDE or T_UNKNOWN (see coverage.h).
 VRPD_FN uint reaches_uncovered_at(Domain dom, uvec2 p, uint n) {
-    ivec2 lo = ivec2(FAR_SIDE, FAR_SIDE);
+    ivec2 lo = ivec2(-FAR_SIDE, -FAR_SIDE);
     ivec2 hi = ivec2(FAR_SIDE, FAR_SIDE);
-    lo = -lo;
     if (dom.periodic == 0u) {
         lo = max(lo, -ivec2(p));
         hi = min(hi, ivec2(dom.lattice_x - 1u - p.x, dom.lattice_y - 1u - p.y));
     }
     return reaches_uncovered(n, dom.cover2, lo, hi, true);
-}
-
-// Two radii: appends to disk_at the samples of earlier rounds within 2 Rc of p (n already there).
-// Returns the new count, MAX_DISKS + 1 if they do not fit.
-VRPD_FN uint gather_samples(Domain dom, Grid grid, uvec2 base, uvec2 p, uint n) {
-    int reach = int(influence_reach(dom));
-    uint64_t limit2 = influence2(dom);
-    for (int dy = -reach; dy <= reach; dy++) {
-        int row = row_reach(dom, dy, reach, limit2);
-        for (int dx = -row; dx <= row; dx++) {
-            uint nb = neighbour_index(dom, base, dx, dy);
-            if (nb == GRID_EMPTY) continue;
-            uvec2 w = grid.word[nb];
-            if (!grid_is_sample(w) || distance2(dom, p, w) >= limit2) continue;
-            if (n == MAX_DISKS) return MAX_DISKS + 1u;
-            disk_at[n++] = offset_to(dom, p, w);
-        }
-    }
-    return n;
 }
 
 // Two radii: fills disk_at with the samples whose Rc-disk meets the box [cc, cc + hi] (hi >= 0),
