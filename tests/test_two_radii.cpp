@@ -8,7 +8,8 @@
 #include <random>
 
 #include "coverage_probe.h"
-#include "shared/coverage.h"
+#include "resolve_probe.h"
+#include "shared/sampler.h"
 #include "support.h"
 #include "vulkan_context.h"
 
@@ -348,8 +349,6 @@ TEST_CASE("every accepted sample reduced the uncovered set", "[two-radii]") {
     }
 }
 
-#include "resolve_probe.h"
-#include "shared/sampler.h"
 
 // The resolution passes of one round, run on the device and on the host from the same state: every
 // pass must give the same decision for every dart. A first round on a free box, so that darts near
