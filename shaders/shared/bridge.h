@@ -24,9 +24,10 @@ using std::uint64_t;
 // A device address (GL_EXT_buffer_reference) is a 64-bit integer on the host.
 #define VRPD_BUFFER(T) std::uint64_t
 #define VRPD_FN inline
-// An output parameter, and a variable private to each invocation (each host thread).
+// An output (or in-out) parameter, and a variable private to each invocation (each host thread).
 #define VRPD_OUT(T) T&
-#define VRPD_PRIVATE inline thread_local
+#define VRPD_INOUT(T) T&
+#define VRPD_PRIVATE constinit inline thread_local
 #else
 // GLSL: the extensions are enabled by shaders/common.glsl, included first by every kernel.
 #define VRPD_BEGIN
@@ -34,6 +35,7 @@ using std::uint64_t;
 #define VRPD_BUFFER(T) T
 #define VRPD_FN
 #define VRPD_OUT(T) out T
+#define VRPD_INOUT(T) inout T
 #define VRPD_PRIVATE
 #endif
 

@@ -109,14 +109,21 @@ VRPD_FN uint64_t cell_gap2(Domain dom, int dx, int dy) {
     return gx * gx + gy * gy;
 }
 
-// Index of the base cell (cx + dx, cy + dy), or GRID_EMPTY when it falls off a free boundary
-// (neighbour_cell: or when no two points of the cells are closer than sqrt(limit2)). make_plan
-// guarantees influence_reach <= cells per side, so one wrap step suffices on a torus. Cells at
-// least influence_reach from every side take the short path.
-VRPD_FN uint neighbour_index(Domain dom, uvec2 cell, int dx, int dy) {
+VRPD_FN uvec2 base_cell_of(Domain dom, uvec2 p) { return uvec2(p.x >> dom.cell_bits, p.y >> dom.cell_bits); }
+VRPD_FN uint base_index(Domain dom, uvec2 cell) { return cell.y * dom.cells_x + cell.x; }
+
+// Is base cell `cell` at least influence_reach cells from every side of the grid? Then its
+// neighbours' indices are plain offsets from its own: no wrap, no side to fall off.
+VRPD_FN bool inner_cell(Domain dom, uvec2 cell) {
     uint r = influence_reach(dom);
-    if (cell.x >= r && cell.x + r < dom.cells_x && cell.y >= r && cell.y + r < dom.cells_y)
-        return uint(int(cell.y * dom.cells_x + cell.x) + dy * int(dom.cells_x) + dx);
+    return cell.x >= r && cell.x + r < dom.cells_x && cell.y >= r && cell.y + r < dom.cells_y;
+}
+
+// Index of the base cell (cx + dx, cy + dy), or GRID_EMPTY when it falls off a free boundary.
+// `inner` is inner_cell(dom, cell), computed once per scan. make_plan guarantees influence_reach
+// <= cells per side, so one wrap step suffices on a torus.
+VRPD_FN uint neighbour_index(Domain dom, uvec2 cell, bool inner, int dx, int dy) {
+    if (inner) return uint(int(base_index(dom, cell)) + dy * int(dom.cells_x) + dx);
     int x = int(cell.x) + dx;
     int y = int(cell.y) + dy;
     int w = int(dom.cells_x);
@@ -128,10 +135,6 @@ VRPD_FN uint neighbour_index(Domain dom, uvec2 cell, int dx, int dy) {
         return GRID_EMPTY;
     }
     return uint(y) * dom.cells_x + uint(x);
-}
-
-VRPD_FN uint neighbour_cell(Domain dom, uvec2 cell, int dx, int dy, uint64_t limit2) {
-    return cell_gap2(dom, dx, dy) >= limit2 ? GRID_EMPTY : neighbour_index(dom, cell, dx, dy);
 }
 
 // The columns a scan of row dy (|dy| <= reach) must visit: |dx| <= row_reach, the cells some of
@@ -149,14 +152,10 @@ VRPD_FN int row_reach(Domain dom, int dy, int reach, uint64_t limit2) {
 // Every predicate gives the same answer with either domain; this one is cheaper.
 VRPD_FN Domain local_domain(Domain dom, uvec2 cell) {
     uint r = influence_reach(dom);
-    if (dom.periodic != 0u && cell.x >= r && cell.x + r < dom.cells_x && cell.y >= r && cell.y + r < dom.cells_y &&
-        dom.cells_x >= 2u * r + 2u && dom.cells_y >= 2u * r + 2u)
+    if (dom.periodic != 0u && inner_cell(dom, cell) && dom.cells_x >= 2u * r + 2u && dom.cells_y >= 2u * r + 2u)
         dom.periodic = 0u;
     return dom;
 }
-
-VRPD_FN uvec2 base_cell_of(Domain dom, uvec2 p) { return uvec2(p.x >> dom.cell_bits, p.y >> dom.cell_bits); }
-VRPD_FN uint base_index(Domain dom, uvec2 cell) { return cell.y * dom.cells_x + cell.x; }
 
 VRPD_END
 #endif

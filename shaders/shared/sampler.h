@@ -38,9 +38,11 @@ VRPD_FN void mark_dart_range(CellArgs a, Cells cells, Uints scan, Grid grid, uin
 // Is point p closer than sqrt(limit2) (radius2 or cover2, with its reach) to a sample of an earlier
 // round? The samples near base cell `base` are read from the grid; dom is local_domain(base).
 VRPD_FN bool near_sample(Domain dom, Grid grid, uvec2 base, uvec2 p, uint64_t limit2, int reach) {
+    bool inner = inner_cell(dom, base);
     for (int dy = -reach; dy <= reach; dy++) {
-        for (int dx = -reach; dx <= reach; dx++) {
-            uint nb = neighbour_cell(dom, base, dx, dy, limit2);
+        int row = row_reach(dom, dy, reach, limit2);
+        for (int dx = -row; dx <= row; dx++) {
+            uint nb = neighbour_index(dom, base, inner, dx, dy);
             if (nb == GRID_EMPTY) continue;
             uvec2 w = grid.word[nb];
             if (grid_is_sample(w) && distance2(dom, w, p) < limit2) return true;
@@ -73,10 +75,11 @@ VRPD_FN uint reaches_uncovered_at(Domain dom, uvec2 p, uint n) {
 VRPD_FN uint gather_near_box(Domain dom, Grid grid, uvec2 base, uvec2 cc, ivec2 hi) {
     uint n = 0u;
     int reach = cover_reach(dom);
+    bool inner = inner_cell(dom, base);
     for (int dy = -reach; dy <= reach; dy++) {
         int row = row_reach(dom, dy, reach, dom.cover2 + uint64_t(1));
         for (int dx = -row; dx <= row; dx++) {
-            uint nb = neighbour_index(dom, base, dx, dy);
+            uint nb = neighbour_index(dom, base, inner, dx, dy);
             if (nb == GRID_EMPTY) continue;
             uvec2 w = grid.word[nb];
             if (!grid_is_sample(w)) continue;
@@ -107,6 +110,7 @@ VRPD_FN uint gather_accepted(Domain dom, Grid grid, Darts darts, uint d, VRPD_OU
     uvec2 p = uvec2(me.x, me.y);
     uvec2 cell = base_cell_of(dom, p);
     int reach = int(influence_reach(dom));
+    bool inner = inner_cell(dom, cell);
     uint64_t limit2 = influence2(dom);
     uint n = 0u;
     conflict = false;
@@ -115,7 +119,7 @@ VRPD_FN uint gather_accepted(Domain dom, Grid grid, Darts darts, uint d, VRPD_OU
     for (int dy = -reach; dy <= reach; dy++) {
         int row = row_reach(dom, dy, reach, limit2);
         for (int dx = -row; dx <= row; dx++) {
-            uint nb = neighbour_index(dom, cell, dx, dy);
+            uint nb = neighbour_index(dom, cell, inner, dx, dy);
             if (nb == GRID_EMPTY) continue;
             uvec2 w = grid.word[nb];
             if (grid_is_sample(w) && distance2(dom, p, w) < limit2) {
@@ -180,10 +184,11 @@ VRPD_FN uint census(Domain dom, Grid grid, Darts darts, uint d, uvec2 p, uvec2 c
     uint key = darts.dart[d].z;
     uint found = 0u;
     int reach = cover_reach(dom);
+    bool inner = inner_cell(dom, cell);
     for (int dy = -reach; dy <= reach; dy++) {
         int row = row_reach(dom, dy, reach, dom.cover2);
         for (int dx = -row; dx <= row; dx++) {
-            uint nb = neighbour_index(dom, cell, dx, dy);
+            uint nb = neighbour_index(dom, cell, inner, dx, dy);
             if (nb == GRID_EMPTY) continue;
             uvec2 w = grid.word[nb];
             if (grid_is_sample(w)) {
@@ -265,9 +270,11 @@ VRPD_FN uint resolve_dart(Domain global, Grid grid, Darts darts, uint d) {
     Domain dom = local_domain(global, cell);
     bool waiting = false;
     int reach = conflict_reach(dom);
+    bool inner = inner_cell(dom, cell);
     for (int dy = -reach; dy <= reach; dy++) {
-        for (int dx = -reach; dx <= reach; dx++) {
-            uint nb = neighbour_cell(dom, cell, dx, dy, dom.radius2);
+        int row = row_reach(dom, dy, reach, dom.radius2);
+        for (int dx = -row; dx <= row; dx++) {
+            uint nb = neighbour_index(dom, cell, inner, dx, dy);
             if (nb == GRID_EMPTY) continue;
             uvec2 w = grid.word[nb];
             if (!grid_is_darts(w)) continue;
@@ -293,9 +300,11 @@ VRPD_FN uint serial_decision(Domain global, Grid grid, Darts darts, uint d) {
     Domain dom = local_domain(global, cell);
     if (two_radii(global)) return state_given_accepted(dom, grid, darts, d, p, cell);
     int reach = conflict_reach(dom);
+    bool inner = inner_cell(dom, cell);
     for (int dy = -reach; dy <= reach; dy++) {
-        for (int dx = -reach; dx <= reach; dx++) {
-            uint nb = neighbour_cell(dom, cell, dx, dy, dom.radius2);
+        int row = row_reach(dom, dy, reach, dom.radius2);
+        for (int dx = -row; dx <= row; dx++) {
+            uint nb = neighbour_index(dom, cell, inner, dx, dy);
             if (nb == GRID_EMPTY) continue;
             uvec2 w = grid.word[nb];
             if (!grid_is_darts(w)) continue;
@@ -345,10 +354,11 @@ VRPD_FN void flag_dart_cells(CellArgs a, Cells cells, Uints flags, Grid grid, ui
         hi = max(hi, c + uvec2(a.side, a.side));  // the closed square: surviving_children's cells
     }
     int reach = cover_reach(dom);
+    bool inner = inner_cell(dom, base);
     for (int dy = -reach; dy <= reach; dy++) {
         int row = row_reach(dom, dy, reach, dom.cover2 + uint64_t(1));
         for (int dx = -row; dx <= row; dx++) {
-            uint nb = neighbour_index(dom, base, dx, dy);
+            uint nb = neighbour_index(dom, base, inner, dx, dy);
             if (nb == GRID_EMPTY) continue;
             int64_t gx = dx > 0 ? int64_t(dx * side - int(hi.x)) : (dx < 0 ? int64_t(int(lo.x) - (dx + 1) * side + 1) : int64_t(0));
             int64_t gy = dy > 0 ? int64_t(dy * side - int(hi.y)) : (dy < 0 ? int64_t(int(lo.y) - (dy + 1) * side + 1) : int64_t(0));
@@ -379,62 +389,140 @@ VRPD_FN uint bit_count4(uint m) { return (m & 1u) + ((m >> 1u) & 1u) + ((m >> 2u
 // Clamps the last lattice coordinate of an interval to a free boundary's last lattice point.
 VRPD_FN uint clip_hi(uint hi, uint extent, uint periodic) { return periodic != 0u || hi < extent ? hi : extent - 1u; }
 
+// The samples of earlier rounds in the cover neighbourhood of a base cell, gathered once for all
+// of its active cells, as offsets from the base cell's corner: each cell's cover test then reads
+// this short list, not the grid, and needs no torus arithmetic. The offset of a sample is taken
+// through the neighbour cell it was found in. On a torus at least 2 reach + 1 cells wide, a
+// sample whose offset is not the shortest one lies at least reach * side + 1 >= Rc from every
+// point of the base cell along that axis, so it covers none of them either way: the tests below
+// are exact. MAX_CELL_SAMPLES holds any one-radius neighbourhood (a base cell holds at most one
+// sample and cover_reach <= MAX_REACH); a two-radii one that does not fit is scanned per cell.
+const uint MAX_CELL_SAMPLES = (2u * MAX_REACH + 1u) * (2u * MAX_REACH + 1u);
+VRPD_PRIVATE ivec2 cell_sample_at[MAX_CELL_SAMPLES];
+
+// The offset from the corner of base cell `base` to sample p, found in the cell (dx, dy) from it.
+VRPD_FN ivec2 sample_offset(Domain dom, int dx, int dy, uvec2 p) {
+    int side = 1 << dom.cell_bits;
+    uint low = uint(side) - 1u;
+    return ivec2(dx * side + int(p.x & low), dy * side + int(p.y & low));
+}
+
+// Fills cell_sample_at with the samples near base cell `base`; returns their count, or
+// MAX_CELL_SAMPLES + 1 if they do not fit.
+VRPD_FN uint gather_cell_samples(Domain dom, Grid grid, uvec2 base) {
+    uint n = 0u;
+    int reach = cover_reach(dom);
+    bool inner = inner_cell(dom, base);
+    for (int dy = -reach; dy <= reach; dy++) {
+        int row = row_reach(dom, dy, reach, dom.cover2);
+        for (int dx = -row; dx <= row; dx++) {
+            uint nb = neighbour_index(dom, base, inner, dx, dy);
+            if (nb == GRID_EMPTY) continue;
+            uvec2 p = grid.word[nb];
+            if (!grid_is_sample(p)) continue;
+            if (n == MAX_CELL_SAMPLES) return MAX_CELL_SAMPLES + 1u;
+            cell_sample_at[n++] = sample_offset(dom, dx, dy, p);
+        }
+    }
+    return n;
+}
+
+// The children of one active cell as closed lattice intervals, as offsets from the base cell's
+// corner: x in [lo0.x, hi0.x] or [lo1.x, hi1.x], the same in y. A second child off a free
+// boundary (dropped already) repeats the first's intervals.
+struct ChildBoxes {
+    ivec2 lo0;
+    ivec2 hi0;
+    ivec2 lo1;
+    ivec2 hi1;
+};
+
+// The larger squared distance from coordinate c to the ends of [lo, hi]: the cell is convex, so
+// its farthest corner pairs the farthest x with the farthest y. All three are offsets of points
+// of the domain, less than 2^31 apart: the magnitudes fit 32 bits, their squares sum below 2^63.
+VRPD_FN uint64_t far2(int c, int lo, int hi) {
+    uint a = c > lo ? uint(c) - uint(lo) : uint(lo) - uint(c);
+    uint b = c > hi ? uint(c) - uint(hi) : uint(hi) - uint(c);
+    uint m = max(a, b);
+    return uint64_t(m) * uint64_t(m);
+}
+
+VRPD_FN uint64_t square_gap(int a, int b) {
+    uint d = a > b ? uint(a) - uint(b) : uint(b) - uint(a);
+    return uint64_t(d) * uint64_t(d);
+}
+
+// Clears from `mask` the children that the disk of the sample at offset o covers wholly (exact
+// corner test), and from `open_corners` (two radii) the corners of the children it covers.
+VRPD_FN void cover_children(Domain dom, ChildBoxes b, uint fanout, ivec2 o, VRPD_INOUT(uint) mask, VRPD_INOUT(uint) open_corners) {
+    uint64_t fx0 = far2(o.x, b.lo0.x, b.hi0.x);
+    uint64_t fy0 = far2(o.y, b.lo0.y, b.hi0.y);
+    if (fx0 + fy0 < dom.cover2) mask &= ~1u;
+    if (fanout == 4u) {
+        uint64_t fx1 = far2(o.x, b.lo1.x, b.hi1.x);
+        uint64_t fy1 = far2(o.y, b.lo1.y, b.hi1.y);
+        if (fx1 + fy0 < dom.cover2) mask &= ~2u;
+        if (fx0 + fy1 < dom.cover2) mask &= ~4u;
+        if (fx1 + fy1 < dom.cover2) mask &= ~8u;
+    }
+    if (open_corners != 0u && two_radii(dom)) {
+        uint64_t gx[3];
+        uint64_t gy[3];
+        gx[0] = square_gap(o.x, b.lo0.x);
+        gx[1] = square_gap(o.x, b.hi0.x);
+        gx[2] = square_gap(o.x, b.hi1.x);
+        gy[0] = square_gap(o.y, b.lo0.y);
+        gy[1] = square_gap(o.y, b.hi0.y);
+        gy[2] = square_gap(o.y, b.hi1.y);
+        for (uint k = 0u; k < 9u; k++)
+            if (gx[k % 3u] + gy[k / 3u] < dom.cover2) open_corners &= ~(1u << k);
+    }
+}
+
 // Which of the `fanout` children (4, or 1: the cell itself) of the active cell at `corner` stay
 // active, as a bit mask. A child is dropped if it lies off the domain or one sample's disk covers
 // it wholly (exact corner test, see far_offset2). Children covered only by a union of disks stay,
 // and are split until they are single lattice points, where the test is exact. A child's x and
 // y intervals are shared in pairs: 2 + 2 far offsets per sample rather than 4 corner tests.
+// `samples` is gather_cell_samples's count for the base cell (past MAX_CELL_SAMPLES: scan the grid).
 //
 // Two radii: a cell is the closed square [corner, corner + side]^2 (continuous: T's test is), and
 // a child that no single disk covers is tested exactly (coverage.h): it stays iff it still holds
 // a point of U. So the cells track U exactly, and vanish as soon as U does. Should that test run
 // past its bounds, the child stays; at the deepest level it then falls back to its lattice point.
-VRPD_FN uint surviving_children(Domain dom, Grid grid, uvec2 base, uvec2 corner, uint side, uint fanout) {
+VRPD_FN uint surviving_children(Domain dom, Grid grid, uvec2 base, uvec2 corner, uint side, uint fanout, uint samples) {
     uint mask = 0u;
     for (uint c = 0u; c < fanout; c++)
         if (in_domain(dom, child_corner(corner, side, c))) mask |= 1u << c;
     uint pad = two_radii(dom) ? 0u : 1u;  // one radius: the cell's lattice points
+    // The children's intervals, as offsets from the base cell's corner (clipped to a free boundary).
+    uvec2 origin = uvec2(base.x << dom.cell_bits, base.y << dom.cell_bits);
     uint x1 = corner.x + side;
     uint y1 = corner.y + side;
-    uint hx0 = clip_hi(x1 - pad, dom.lattice_x, dom.periodic);
-    uint hy0 = clip_hi(y1 - pad, dom.lattice_y, dom.periodic);
-    // Second children off a free boundary are dropped already; `far` keeps them so.
+    ChildBoxes b;
+    b.lo0 = ivec2(corner - origin);
+    b.hi0 = ivec2(uvec2(clip_hi(x1 - pad, dom.lattice_x, dom.periodic), clip_hi(y1 - pad, dom.lattice_y, dom.periodic)) - origin);
     bool x1_in = fanout == 4u && (dom.periodic != 0u || x1 < dom.lattice_x);
     bool y1_in = fanout == 4u && (dom.periodic != 0u || y1 < dom.lattice_y);
-    uint hx1 = x1_in ? clip_hi(x1 + side - pad, dom.lattice_x, dom.periodic) : 0u;
-    uint hy1 = y1_in ? clip_hi(y1 + side - pad, dom.lattice_y, dom.periodic) : 0u;
-    uint64_t far = uint64_t(1) << 62;
+    b.lo1 = ivec2(x1_in ? int(x1 - origin.x) : b.lo0.x, y1_in ? int(y1 - origin.y) : b.lo0.y);
+    b.hi1 = ivec2(x1_in ? int(clip_hi(x1 + side - pad, dom.lattice_x, dom.periodic) - origin.x) : b.hi0.x,
+                  y1_in ? int(clip_hi(y1 + side - pad, dom.lattice_y, dom.periodic) - origin.y) : b.hi0.y);
     // Two radii: bit 3 j + i stays set while no sample covers the lattice point (x_i, y_j) of the
-    // 3 x 3 corners of the children (x_0 = corner.x, x_1 = hx0, x_2 = hx1): a child with an
+    // 3 x 3 corners of the children (x_0 = lo0.x, x_1 = hi0.x, x_2 = hi1.x): a child with an
     // uncovered corner holds a point of U and stays without the exact test.
     uint open_corners = 0x1FFu;
-    int reach = cover_reach(dom);
-    for (int dy = -reach; dy <= reach && mask != 0u; dy++) {
-        int row = row_reach(dom, dy, reach, dom.cover2);
-        for (int dx = -row; dx <= row && mask != 0u; dx++) {
-            uint nb = neighbour_index(dom, base, dx, dy);
-            if (nb == GRID_EMPTY) continue;
-            uvec2 p = grid.word[nb];
-            if (!grid_is_sample(p)) continue;
-            uint64_t fx0 = far_offset2(p.x, corner.x, hx0, dom.lattice_x, dom.periodic);
-            uint64_t fy0 = far_offset2(p.y, corner.y, hy0, dom.lattice_y, dom.periodic);
-            uint64_t fx1 = x1_in ? far_offset2(p.x, x1, hx1, dom.lattice_x, dom.periodic) : far;
-            uint64_t fy1 = y1_in ? far_offset2(p.y, y1, hy1, dom.lattice_y, dom.periodic) : far;
-            for (uint c = 0u; c < fanout; c++) {
-                uint64_t far2 = ((c & 1u) == 0u ? fx0 : fx1) + ((c >> 1u) == 0u ? fy0 : fy1);
-                if (far2 < dom.cover2) mask &= ~(1u << c);
-            }
-            if (open_corners != 0u && two_radii(dom)) {
-                uint64_t gx[3];
-                uint64_t gy[3];
-                for (uint i = 0u; i < 3u; i++) {
-                    uint ax = axis_gap(p.x, i == 0u ? corner.x : (i == 1u ? hx0 : hx1), dom.lattice_x, dom.periodic);
-                    uint ay = axis_gap(p.y, i == 0u ? corner.y : (i == 1u ? hy0 : hy1), dom.lattice_y, dom.periodic);
-                    gx[i] = uint64_t(ax) * uint64_t(ax);
-                    gy[i] = uint64_t(ay) * uint64_t(ay);
-                }
-                for (uint k = 0u; k < 9u; k++)
-                    if (gx[k % 3u] + gy[k / 3u] < dom.cover2) open_corners &= ~(1u << k);
+    if (samples <= MAX_CELL_SAMPLES) {
+        for (uint k = 0u; k < samples && mask != 0u; k++) cover_children(dom, b, fanout, cell_sample_at[k], mask, open_corners);
+    } else {
+        int reach = cover_reach(dom);
+        bool inner = inner_cell(dom, base);
+        for (int dy = -reach; dy <= reach && mask != 0u; dy++) {
+            int row = row_reach(dom, dy, reach, dom.cover2);
+            for (int dx = -row; dx <= row && mask != 0u; dx++) {
+                uint nb = neighbour_index(dom, base, inner, dx, dy);
+                if (nb == GRID_EMPTY) continue;
+                uvec2 p = grid.word[nb];
+                if (grid_is_sample(p)) cover_children(dom, b, fanout, sample_offset(dom, dx, dy, p), mask, open_corners);
             }
         }
     }
@@ -462,8 +550,9 @@ VRPD_FN void refine_base_cell(CellArgs a, Cells cells, Uints counts, Uints masks
     uvec2 base = base_cell_of(a.domain, cells.cell[e]);
     Domain dom = local_domain(a.domain, base);
     bool occupied = grid_is_sample(grid.word[base_index(dom, base)]);
+    uint samples = occupied ? 0u : gather_cell_samples(dom, grid, base);
     for (uint i = e; i < end_cell; i++) {
-        uint mask = occupied ? 0u : surviving_children(dom, grid, base, cells.cell[i], a.side, a.param);
+        uint mask = occupied ? 0u : surviving_children(dom, grid, base, cells.cell[i], a.side, a.param, samples);
         masks.value[i] = mask;
         counts.value[i] = bit_count4(mask);
     }
