@@ -3,6 +3,7 @@
 // time in arrival order, the textbook definition of the process, kept simple as the oracle.
 #include <algorithm>
 #include <array>
+#include <atomic>
 
 #include <fmt/format.h>
 
@@ -14,6 +15,10 @@ namespace vrpd::detail {
 namespace {
 
 using namespace shared;
+
+// Times a dart may find nothing to wait for (another thread decided it meanwhile) and be tried
+// again, before the resolution is called stuck; each retry needs a dart decided by another thread.
+constexpr uint kMaxRetries = 1u << 20;
 
 class HostEngine final : public Engine {
 public:
@@ -153,20 +158,47 @@ private:
                 darts_[d].w = serial_decision(dom, grid(), darts(), d);
             return;
         }
-        // Jacobi passes: every step reads the states of the previous pass, so threads never race.
-        std::vector<uint> decision;
-        while (!work.empty()) {
-            decision.resize(work.size());
-            pool_.parallel_for(work.size(), [&](std::size_t b, std::size_t e, unsigned) {
-                for (std::size_t i = b; i < e; ++i) decision[i] = resolve_dart(dom, grid(), darts(), work[i]);
-            });
-            std::size_t kept = 0;
-            for (std::size_t i = 0; i < work.size(); ++i) {
-                darts_[work[i]].w = decision[i];
-                if (decision[i] == DART_UNDECIDED) work[kept++] = work[i];
+        // Each thread decides the darts of its part of the list (spatial order), one at a time:
+        // a dart left undecided waits for an earlier one, which is decided first (depth first;
+        // each wait is for an earlier arrival, so the chains end). A first sweep takes the darts
+        // with nothing to wait for. Each dart's scan runs about once, where the GPU's Jacobi
+        // passes scan the undecided again in every pass. Threads may decide the same dart near
+        // their parts' border: both reach the same final state. Should another thread decide
+        // the dart waited for between the two scans, the dart is simply tried again; only a
+        // dart that waits for no dart while none decides (a bug) stops the run.
+        std::atomic<bool> stuck = false;
+        pool_.parallel_for(work.size(), [&](std::size_t b, std::size_t e, unsigned) {
+            for (std::size_t i = b; i < e; ++i) {
+                const uint state = resolve_dart(dom, grid(), darts(), work[i]);
+                if (state != DART_UNDECIDED) set_dart_state(darts(), work[i], state);
             }
-            work.resize(kept);
-        }
+            std::vector<uint> stack;
+            for (std::size_t i = b; i < e; ++i) {
+                stack.push_back(work[i]);
+                uint retries = 0;
+                while (!stack.empty()) {
+                    const uint t = stack.back();
+                    if (dart_at(darts(), t).w != DART_UNDECIDED) {
+                        stack.pop_back();
+                        continue;
+                    }
+                    const uint state = resolve_dart(dom, grid(), darts(), t);
+                    if (state != DART_UNDECIDED) {
+                        set_dart_state(darts(), t, state);
+                        stack.pop_back();
+                        continue;
+                    }
+                    const uint wait = undecided_before(dom, grid(), darts(), t);
+                    if (wait != GRID_EMPTY) {
+                        stack.push_back(wait);
+                    } else if (++retries > kMaxRetries) {
+                        stuck = true;
+                        return;
+                    }
+                }
+            }
+        });
+        if (stuck) throw Error("internal: an undecided dart waits for no earlier dart");
     }
 
     void refine(const RoundSpec& spec) {

@@ -13,6 +13,8 @@ layout(buffer_reference, std430, buffer_reference_align = 4) buffer Uints { uint
 layout(buffer_reference, std430, buffer_reference_align = 8) buffer Points { uvec2 point[]; };
 // Sets flag i to 1. Invocations that write it concurrently all write 1: the result is the same.
 void set_flag(Uints flags, uint i) { flags.value[i] = 1u; }
+// Dart j (.xy position, .z arrival key, .w state; see darts.h), read during its round's resolution.
+uvec4 dart_at(Darts darts, uint j) { return darts.dart[j]; }
 #else
 #include <atomic>
 namespace vrpd::shared {
@@ -24,6 +26,16 @@ struct Uints { uint* value; };
 struct Points { uvec2* point; };
 // Host threads may write one flag concurrently (all write 1): an atomic store keeps that defined.
 inline void set_flag(Uints flags, uint i) { std::atomic_ref<uint>(flags.value[i]).store(1u, std::memory_order_relaxed); }
+// The cpu backend's resolution decides darts while other threads read their states (see
+// HostEngine::resolve): states are read and written atomically, and only ever change from
+// undecided to final, so a reader sees either. Position and key do not change in a round.
+inline uvec4 dart_at(Darts darts, uint j) {
+    uvec4& d = darts.dart[j];
+    return uvec4(d.x, d.y, d.z, std::atomic_ref<uint>(d.w).load(std::memory_order_relaxed));
+}
+inline void set_dart_state(Darts darts, uint j, uint state) {
+    std::atomic_ref<uint>(darts.dart[j].w).store(state, std::memory_order_relaxed);
+}
 }  // namespace vrpd::shared
 #endif
 

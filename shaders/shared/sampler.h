@@ -106,7 +106,7 @@ VRPD_PRIVATE ivec2 undecided_at[EARLY_UNDECIDED];
 // which go to undecided_at; `undecided_conflict`: one of those is closer than Rf.
 VRPD_FN uint gather_accepted(Domain dom, Grid grid, Darts darts, uint d, VRPD_OUT(bool) conflict, VRPD_OUT(uint) undecided,
                              VRPD_OUT(bool) undecided_conflict) {
-    uvec4 me = darts.dart[d];
+    uvec4 me = dart_at(darts, d);
     uvec2 p = uvec2(me.x, me.y);
     uvec2 cell = base_cell_of(dom, p);
     int reach = int(influence_reach(dom));
@@ -128,7 +128,7 @@ VRPD_FN uint gather_accepted(Domain dom, Grid grid, Darts darts, uint d, VRPD_OU
             }
             if (!grid_is_darts(w)) continue;
             for (uint j = w.x & ~GRID_TAG; j < w.y; j++) {
-                uvec4 other = darts.dart[j];
+                uvec4 other = dart_at(darts, j);
                 if (j == d || other.w == DART_REJECTED || !arrives_before(other.z, j, me.z, d)) continue;
                 uint64_t gap2 = distance2(dom, p, uvec2(other.x, other.y));
                 if (gap2 >= limit2) continue;
@@ -181,7 +181,7 @@ const uint NEAR_ACCEPTED_RC = 2u;   // ... closer than Rc
 const uint NEAR_UNDECIDED_RF = 4u;  // an undecided dart closer than Rf
 const uint NEAR_UNDECIDED_RC = 8u;  // ... closer than Rc
 VRPD_FN uint census(Domain dom, Grid grid, Darts darts, uint d, uvec2 p, uvec2 cell) {
-    uint key = darts.dart[d].z;
+    uint key = dart_at(darts, d).z;
     uint found = 0u;
     int reach = cover_reach(dom);
     bool inner = inner_cell(dom, cell);
@@ -198,7 +198,7 @@ VRPD_FN uint census(Domain dom, Grid grid, Darts darts, uint d, uvec2 p, uvec2 c
             }
             if (!grid_is_darts(w)) continue;
             for (uint j = w.x & ~GRID_TAG; j < w.y; j++) {
-                uvec4 other = darts.dart[j];
+                uvec4 other = dart_at(darts, j);
                 if (j == d || other.w == DART_REJECTED || !arrives_before(other.z, j, key, d)) continue;
                 uint64_t g = distance2(dom, uvec2(other.x, other.y), p);
                 uint shift = other.w == DART_ACCEPTED ? 0u : 2u;
@@ -236,7 +236,8 @@ VRPD_FN uint state_given_accepted(Domain dom, Grid grid, Darts darts, uint d, uv
 // accepted before it. Both only shrink as earlier darts are accepted, so: rejected as soon as the
 // accepted ones exclude it; accepted once it is free of, and in T despite, all the undecided too.
 VRPD_FN uint resolve_dart_two_radii(Domain global, Grid grid, Darts darts, uint d) {
-    uvec2 p = uvec2(darts.dart[d].x, darts.dart[d].y);
+    uvec4 me = dart_at(darts, d);
+    uvec2 p = uvec2(me.x, me.y);
     uvec2 cell = base_cell_of(global, p);
     Domain dom = local_domain(global, cell);
     // Cheap cases first. A conflict rejects d. If nothing covers d, even counting the undecided
@@ -264,7 +265,7 @@ VRPD_FN uint resolve_dart_two_radii(Domain global, Grid grid, Darts darts, uint 
 
 VRPD_FN uint resolve_dart(Domain global, Grid grid, Darts darts, uint d) {
     if (two_radii(global)) return resolve_dart_two_radii(global, grid, darts, d);
-    uvec4 me = darts.dart[d];
+    uvec4 me = dart_at(darts, d);
     uvec2 p = uvec2(me.x, me.y);
     uvec2 cell = base_cell_of(global, p);
     Domain dom = local_domain(global, cell);
@@ -280,7 +281,7 @@ VRPD_FN uint resolve_dart(Domain global, Grid grid, Darts darts, uint d) {
             if (!grid_is_darts(w)) continue;
             for (uint j = w.x & ~GRID_TAG; j < w.y; j++) {
                 if (j == d) continue;
-                uvec4 other = darts.dart[j];
+                uvec4 other = dart_at(darts, j);
                 if (other.w == DART_REJECTED || !arrives_before(other.z, j, me.z, d)) continue;
                 if (!in_disk(dom, uvec2(other.x, other.y), p)) continue;
                 if (other.w == DART_ACCEPTED) return DART_REJECTED;
@@ -291,10 +292,40 @@ VRPD_FN uint resolve_dart(Domain global, Grid grid, Darts darts, uint d) {
     return waiting ? DART_UNDECIDED : DART_ACCEPTED;
 }
 
+// The cpu backend decides each dart once, not in passes (HostEngine::resolve): when resolve_dart
+// leaves d undecided, a dart d waits for is decided first, and d is tried again. This finds one:
+// an undecided dart before d within its influence radius (Rf, or 2 Rc with two radii), which
+// exists whenever resolve_dart leaves d undecided; GRID_EMPTY if there is none.
+VRPD_FN uint undecided_before(Domain global, Grid grid, Darts darts, uint d) {
+    uvec4 me = dart_at(darts, d);
+    uvec2 p = uvec2(me.x, me.y);
+    uvec2 cell = base_cell_of(global, p);
+    Domain dom = local_domain(global, cell);
+    int reach = int(influence_reach(dom));
+    uint64_t limit2 = two_radii(dom) ? influence2(dom) : dom.radius2;
+    bool inner = inner_cell(dom, cell);
+    for (int dy = -reach; dy <= reach; dy++) {
+        int row = row_reach(dom, dy, reach, limit2);
+        for (int dx = -row; dx <= row; dx++) {
+            uint nb = neighbour_index(dom, cell, inner, dx, dy);
+            if (nb == GRID_EMPTY) continue;
+            uvec2 w = grid.word[nb];
+            if (!grid_is_darts(w)) continue;
+            for (uint j = w.x & ~GRID_TAG; j < w.y; j++) {
+                uvec4 other = dart_at(darts, j);
+                if (j != d && other.w == DART_UNDECIDED && arrives_before(other.z, j, me.z, d) &&
+                    distance2(dom, p, uvec2(other.x, other.y)) < limit2)
+                    return j;
+            }
+        }
+    }
+    return GRID_EMPTY;
+}
+
 // The textbook test, for the serial backend, given the darts of this round accepted so far: the
 // state of d (rejected if one is closer than Rf; with two radii, also if d is outside T).
 VRPD_FN uint serial_decision(Domain global, Grid grid, Darts darts, uint d) {
-    uvec4 me = darts.dart[d];
+    uvec4 me = dart_at(darts, d);
     uvec2 p = uvec2(me.x, me.y);
     uvec2 cell = base_cell_of(global, p);
     Domain dom = local_domain(global, cell);
@@ -309,7 +340,7 @@ VRPD_FN uint serial_decision(Domain global, Grid grid, Darts darts, uint d) {
             uvec2 w = grid.word[nb];
             if (!grid_is_darts(w)) continue;
             for (uint j = w.x & ~GRID_TAG; j < w.y; j++) {
-                uvec4 other = darts.dart[j];
+                uvec4 other = dart_at(darts, j);
                 if (j != d && other.w == DART_ACCEPTED && in_disk(dom, uvec2(other.x, other.y), p)) return DART_REJECTED;
             }
         }
