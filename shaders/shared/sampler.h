@@ -438,10 +438,12 @@ VRPD_FN ivec2 sample_offset(Domain dom, int dx, int dy, uvec2 p) {
     return ivec2(dx * side + int(p.x & low), dy * side + int(p.y & low));
 }
 
-// Fills cell_sample_at with the samples near base cell `base`; returns their count, or
-// MAX_CELL_SAMPLES + 1 if they do not fit.
+// Fills cell_sample_at with the samples near base cell `base`, those of the 8 adjacent cells
+// first (the likeliest to cover a cell wholly, so that cover tests stop early); returns their
+// count, or MAX_CELL_SAMPLES + 1 if they do not fit.
 VRPD_FN uint gather_cell_samples(Domain dom, Grid grid, uvec2 base) {
-    uint n = 0u;
+    uint near = 0u;
+    uint far = 0u;  // stored from the end of the array down
     int reach = cover_reach(dom);
     bool inner = inner_cell(dom, base);
     for (int dy = -reach; dy <= reach; dy++) {
@@ -451,11 +453,18 @@ VRPD_FN uint gather_cell_samples(Domain dom, Grid grid, uvec2 base) {
             if (nb == GRID_EMPTY) continue;
             uvec2 p = grid.word[nb];
             if (!grid_is_sample(p)) continue;
-            if (n == MAX_CELL_SAMPLES) return MAX_CELL_SAMPLES + 1u;
-            cell_sample_at[n++] = sample_offset(dom, dx, dy, p);
+            if (near + far == MAX_CELL_SAMPLES) return MAX_CELL_SAMPLES + 1u;
+            ivec2 o = sample_offset(dom, dx, dy, p);
+            if (dx >= -1 && dx <= 1 && dy >= -1 && dy <= 1) {
+                cell_sample_at[near++] = o;
+            } else {
+                far++;
+                cell_sample_at[MAX_CELL_SAMPLES - far] = o;
+            }
         }
     }
-    return n;
+    for (uint k = 0u; k < far; k++) cell_sample_at[near + k] = cell_sample_at[MAX_CELL_SAMPLES - 1u - k];
+    return near + far;
 }
 
 // The children of one active cell as closed lattice intervals, as offsets from the base cell's
