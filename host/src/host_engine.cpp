@@ -78,6 +78,7 @@ public:
         });
         std::vector<uint> work;
         for (auto& u : undecided) work.insert(work.end(), u.begin(), u.end());
+        undecided.clear();
         resolve(std::move(work));
 
         // Commit: grid words become samples or empty again; scan_ flags the accepted darts.
@@ -89,13 +90,26 @@ public:
                     commit_base_cell(grid(), darts(), scan(), Uints{counters.data()}, base_of_point(dom, targets[i]));
         });
         if (counters[COUNTER_TOO_COMPLEX]) throw Error(kTooComplex);
-        // The round's samples in arrival order: (key, dart index), dart index being spatial order.
-        std::vector<uint> accepted_darts;
-        for (uint j = 0; j < total; ++j)
-            if (scan_[j]) accepted_darts.push_back(j);
-        std::stable_sort(accepted_darts.begin(), accepted_darts.end(),
-                         [&](uint a, uint b) { return darts_[a].z < darts_[b].z; });
-        for (uint j : accepted_darts) out_.emplace_back(darts_[j].x, darts_[j].y);
+        // The round's samples in arrival order: by (key, dart index), dart index being spatial
+        // order; both in one 64-bit word. Each thread sorts its part; their merge goes to out_.
+        std::vector<std::vector<std::uint64_t>> accepted(pool_.size());
+        pool_.parallel_for(total, [&](std::size_t b, std::size_t e, unsigned w) {
+            for (std::size_t j = b; j < e; ++j)
+                if (scan_[j]) accepted[w].push_back(std::uint64_t(darts_[j].z) << 32 | j);
+            std::sort(accepted[w].begin(), accepted[w].end());
+        });
+        std::vector<std::size_t> next(accepted.size(), 0);
+        for (;;) {
+            std::size_t best = accepted.size();
+            for (std::size_t w = 0; w < accepted.size(); ++w)
+                if (next[w] < accepted[w].size() &&
+                    (best == accepted.size() || accepted[w][next[w]] < accepted[best][next[best]]))
+                    best = w;
+            if (best == accepted.size()) break;
+            const uvec4& dart = darts_[std::uint32_t(accepted[best][next[best]++])];
+            out_.emplace_back(dart.x, dart.y);
+        }
+        accepted.clear();
 
         // The darts are spent: give their memory back before refinement, the run's peak.
         std::vector<uvec4>().swap(darts_);
