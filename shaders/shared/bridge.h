@@ -10,6 +10,7 @@
 #include <glm/vec2.hpp>
 #include <glm/vec4.hpp>
 namespace vrpd::shared {
+using glm::clamp;
 using glm::max;
 using glm::min;
 using uint = std::uint32_t;

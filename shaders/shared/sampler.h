@@ -438,12 +438,28 @@ VRPD_FN ivec2 sample_offset(Domain dom, int dx, int dy, uvec2 p) {
     return ivec2(dx * side + int(p.x & low), dy * side + int(p.y & low));
 }
 
+// The larger squared distance from coordinate c to the ends of [lo, hi]: the cell is convex, so
+// its farthest corner pairs the farthest x with the farthest y. All three are offsets of points
+// of the domain, less than 2^31 apart: the magnitudes fit 32 bits, their squares sum below 2^63.
+VRPD_FN uint64_t far2(int c, int lo, int hi) {
+    uint a = c > lo ? uint(c) - uint(lo) : uint(lo) - uint(c);
+    uint b = c > hi ? uint(c) - uint(hi) : uint(hi) - uint(c);
+    uint m = max(a, b);
+    return uint64_t(m) * uint64_t(m);
+}
+
+VRPD_FN uint64_t square_gap(int a, int b) {
+    uint d = a > b ? uint(a) - uint(b) : uint(b) - uint(a);
+    return uint64_t(d) * uint64_t(d);
+}
+
 // Fills cell_sample_at with the samples near base cell `base`, those of the 8 adjacent cells
 // first (the likeliest to cover a cell wholly, so that cover tests stop early); returns their
 // count, or MAX_CELL_SAMPLES + 1 if they do not fit.
 VRPD_FN uint gather_cell_samples(Domain dom, Grid grid, uvec2 base) {
     uint near = 0u;
     uint far = 0u;  // stored from the end of the array down
+    int side = 1 << dom.cell_bits;  // the base cell, closed: [0, side]^2 from its corner
     int reach = cover_reach(dom);
     bool inner = inner_cell(dom, base);
     for (int dy = -reach; dy <= reach; dy++) {
@@ -455,6 +471,10 @@ VRPD_FN uint gather_cell_samples(Domain dom, Grid grid, uvec2 base) {
             if (!grid_is_sample(p)) continue;
             if (near + far == MAX_CELL_SAMPLES) return MAX_CELL_SAMPLES + 1u;
             ivec2 o = sample_offset(dom, dx, dy, p);
+            // A sample no nearer than Rc to every point of the base cell covers none of them.
+            uint64_t gx = square_gap(clamp(o.x, 0, side), o.x);
+            uint64_t gy = square_gap(clamp(o.y, 0, side), o.y);
+            if (gx + gy >= dom.cover2) continue;
             if (dx >= -1 && dx <= 1 && dy >= -1 && dy <= 1) {
                 cell_sample_at[near++] = o;
             } else {
@@ -476,21 +496,6 @@ struct ChildBoxes {
     ivec2 lo1;
     ivec2 hi1;
 };
-
-// The larger squared distance from coordinate c to the ends of [lo, hi]: the cell is convex, so
-// its farthest corner pairs the farthest x with the farthest y. All three are offsets of points
-// of the domain, less than 2^31 apart: the magnitudes fit 32 bits, their squares sum below 2^63.
-VRPD_FN uint64_t far2(int c, int lo, int hi) {
-    uint a = c > lo ? uint(c) - uint(lo) : uint(lo) - uint(c);
-    uint b = c > hi ? uint(c) - uint(hi) : uint(hi) - uint(c);
-    uint m = max(a, b);
-    return uint64_t(m) * uint64_t(m);
-}
-
-VRPD_FN uint64_t square_gap(int a, int b) {
-    uint d = a > b ? uint(a) - uint(b) : uint(b) - uint(a);
-    return uint64_t(d) * uint64_t(d);
-}
 
 // Clears from `mask` the children that the disk of the sample at offset o covers wholly (exact
 // corner test), and from `open_corners` (two radii) the corners of the children it covers.
