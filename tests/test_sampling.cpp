@@ -4,7 +4,9 @@
 
 #include <cmath>
 #include <numeric>
+#include <random>
 
+#include "shared/sampler.h"
 #include "support.h"
 
 using namespace vrpd;
@@ -154,6 +156,76 @@ TEST_CASE("parity holds on a large first round (many darts per resolution pass)"
 // standard error of the mean is 0.00015; the 0.1 % tolerance (0.0007) is 4.6 standard errors. A
 // biased sampler fails it: in the prototype measurements quoted in the issue, one dart per cell
 // per round came out -0.24 % and nine phase groups +2.5 %.
+// Refinement reads a base cell's samples as offsets gathered once (sampler.h), with no torus
+// arithmetic; this checks it against all samples and torus distances computed here, on tori
+// only 2 reach + 1 base cells wide, where the offsets' exactness argument is tightest.
+TEST_CASE("refinement drops exactly the children one sample's disk covers", "[sampling]") {
+    struct RefineCase {
+        double rf, rc;
+        Box box;
+        std::uint32_t max_cell_bits;
+    };
+    const RefineCase cases[] = {
+        {0.3, 0.3, {1, 1, Boundary::Periodic}, 30},   {0.13, 0.13, {1, 1, Boundary::Periodic}, 30},
+        {0.2, 0.2, {2, 1, Boundary::Periodic}, 30},   {0.05, 0.05, {1.5, 0.7, Boundary::Free}, 30},
+        {0.03, 0.03, {1, 0.6, Boundary::Free}, 4},     {0.05, 0.2, {1, 1, Boundary::Periodic}, 30},
+        {0.05, 0.15, {1.3, 1, Boundary::Free}, 30},
+    };
+    using namespace shared;
+    std::mt19937 rng(7);
+    for (const RefineCase& c : cases) {
+        SampleOptions o = options(c.rf, 3, Backend::Cpu, c.box);
+        if (c.rc != c.rf) o.coverage = c.rc;
+        const detail::Plan plan = detail::make_plan(o, c.max_cell_bits);
+        const Sampling full = detail::sample_plan(o, plan);
+        const Domain& d = plan.domain;
+        INFO("Rf " << c.rf << " Rc " << c.rc << " box " << c.box.width << "x" << c.box.height);
+        // Every third sample removed, so that cells stay uncovered.
+        std::vector<uvec2> grid(plan.base_cells, uvec2(GRID_EMPTY, GRID_EMPTY));
+        std::vector<uvec2> kept;
+        for (std::size_t i = 0; i < full.size(); ++i)
+            if (i % 3 != 0) kept.push_back(full.lattice[i]);
+        for (uvec2 p : kept) grid[base_of_point(d, p)] = p;
+        std::size_t dropped = 0, alive = 0;
+        for (std::uint32_t b = 0; b < plan.base_cells; ++b) {
+            if (grid_is_sample(grid[b])) continue;
+            const uvec2 base(b % d.cells_x, b / d.cells_x);
+            const uvec2 origin(base.x << d.cell_bits, base.y << d.cell_bits);
+            const Domain dom = local_domain(d, base);
+            const uint n = gather_cell_samples(dom, Grid{grid.data()}, base);
+            if (!two_radii(d)) REQUIRE(n <= MAX_CELL_SAMPLES);
+            for (int trial = 0; trial < 3; ++trial) {
+                // A random active cell of the base cell, at level 0 (kept whole) or split in 4.
+                const uint level = std::uniform_int_distribution<uint>(0, std::min(d.cell_bits, 6u))(rng);
+                const uint fanout = level == 0 ? 1u : 4u;
+                const uint side = level == 0 ? 1u << d.cell_bits : 1u << (d.cell_bits - level);
+                const uint cells_across = 1u << d.cell_bits >> (level == 0 ? d.cell_bits : d.cell_bits - level + 1);
+                std::uniform_int_distribution<uint> pick(0, cells_across - 1);
+                const uvec2 corner = origin + uvec2(pick(rng), pick(rng)) * (fanout == 4u ? 2u * side : side);
+                const uint mask = surviving_children(dom, Grid{grid.data()}, base, corner, side, fanout, n);
+                const uint scanned = surviving_children(dom, Grid{grid.data()}, base, corner, side, fanout, MAX_CELL_SAMPLES + 1);
+                REQUIRE(mask == scanned);
+                if (two_radii(d)) continue;  // the exact U test of two radii has tests of its own
+                for (uint ch = 0; ch < fanout; ++ch) {
+                    const uvec2 cc = child_corner(corner, side, ch);
+                    bool expect = cc.x < d.lattice_x && cc.y < d.lattice_y;
+                    const uvec2 hi(std::min(cc.x + side - 1, d.lattice_x - 1), std::min(cc.y + side - 1, d.lattice_y - 1));
+                    for (uvec2 p : kept) {
+                        if (!expect) break;
+                        bool covers = true;
+                        for (uvec2 q : {cc, hi, uvec2(cc.x, hi.y), uvec2(hi.x, cc.y)})
+                            covers = covers && vrpd::test::lattice_distance2(plan, p, q) < d.radius2;
+                        expect = !covers;
+                    }
+                    CHECK(((mask >> ch) & 1u) == (expect ? 1u : 0u));
+                    (expect ? alive : dropped)++;
+                }
+            }
+        }
+        if (!two_radii(d)) CHECK((dropped > 20 && alive > 20));
+    }
+}
+
 TEST_CASE("density matches random sequential adsorption within 0.1 %", "[statistics]") {
     double sum = 0;
     const int seeds = 8;
