@@ -25,6 +25,8 @@ using std::uint64_t;
 // A device address (GL_EXT_buffer_reference) is a 64-bit integer on the host.
 #define VRPD_BUFFER(T) std::uint64_t
 #define VRPD_FN inline
+// A rarely taken path: kept out of line, so compilers do not compute it on every call.
+#define VRPD_COLD_FN [[gnu::cold, gnu::noinline]] inline
 // An output (or in-out) parameter, and a variable private to each invocation (each host thread).
 #define VRPD_OUT(T) T&
 #define VRPD_INOUT(T) T&
@@ -35,6 +37,7 @@ using std::uint64_t;
 #define VRPD_END
 #define VRPD_BUFFER(T) T
 #define VRPD_FN
+#define VRPD_COLD_FN
 #define VRPD_OUT(T) out T
 #define VRPD_INOUT(T) inout T
 #define VRPD_PRIVATE

@@ -119,11 +119,9 @@ VRPD_FN bool inner_cell(Domain dom, uvec2 cell) {
     return cell.x >= r && cell.x + r < dom.cells_x && cell.y >= r && cell.y + r < dom.cells_y;
 }
 
-// Index of the base cell (cx + dx, cy + dy), or GRID_EMPTY when it falls off a free boundary.
-// `inner` is inner_cell(dom, cell), computed once per scan. make_plan guarantees influence_reach
-// <= cells per side, so one wrap step suffices on a torus.
-VRPD_FN uint neighbour_index(Domain dom, uvec2 cell, bool inner, int dx, int dy) {
-    if (inner) return uint(int(base_index(dom, cell)) + dy * int(dom.cells_x) + dx);
+// neighbour_index for a cell near a side of the grid. make_plan guarantees influence_reach <=
+// cells per side, so one wrap step suffices on a torus.
+VRPD_COLD_FN uint wrapped_neighbour_index(Domain dom, uvec2 cell, int dx, int dy) {
     int x = int(cell.x) + dx;
     int y = int(cell.y) + dy;
     int w = int(dom.cells_x);
@@ -135,6 +133,13 @@ VRPD_FN uint neighbour_index(Domain dom, uvec2 cell, bool inner, int dx, int dy)
         return GRID_EMPTY;
     }
     return uint(y) * dom.cells_x + uint(x);
+}
+
+// Index of the base cell (cx + dx, cy + dy), or GRID_EMPTY when it falls off a free boundary.
+// `inner` is inner_cell(dom, cell), computed once per scan.
+VRPD_FN uint neighbour_index(Domain dom, uvec2 cell, bool inner, int dx, int dy) {
+    if (inner) return uint(int(base_index(dom, cell)) + dy * int(dom.cells_x) + dx);
+    return wrapped_neighbour_index(dom, cell, dx, dy);
 }
 
 // The columns a scan of row dy (|dy| <= reach) must visit: |dx| <= row_reach, the cells some of
