@@ -135,6 +135,25 @@ Config random_config(std::mt19937_64& rng, double rc, double rf, bool boxed, boo
 
 }  // namespace
 
+// The device multiplies 64-bit words through 32-bit halves; the host natively.
+TEST_CASE("the 128-bit product from 32-bit halves is exact", "[two-radii]") {
+    std::mt19937_64 rng(11);
+    for (int i = 0; i < 200000; ++i) {
+        const int bits_a = 1 + int(rng() % 64);
+        const int bits_b = 1 + int(rng() % 64);
+        const std::uint64_t a = bits_a == 64 ? rng() : rng() % (std::uint64_t(1) << bits_a);
+        const std::uint64_t b = bits_b == 64 ? rng() : rng() % (std::uint64_t(1) << bits_b);
+        std::uint64_t hi, lo;
+        shared::mul_wide_halves(a, b, hi, lo);
+        const unsigned __int128 p = static_cast<unsigned __int128>(a) * b;
+        INFO(a << " * " << b);
+        REQUIRE((hi == std::uint64_t(p >> 64) && lo == std::uint64_t(p)));
+    }
+    std::uint64_t hi, lo;
+    shared::mul_wide_halves(~std::uint64_t(0), ~std::uint64_t(0), hi, lo);
+    CHECK((hi == ~std::uint64_t(0) - 1 && lo == 1));
+}
+
 TEST_CASE("sign of a sqrt(l) + b sqrt(m) is exact up to the 2^124 products the test meets", "[two-radii]") {
     std::mt19937_64 rng(7);
     const std::uint64_t r2 = shared::MAX_COVER2;

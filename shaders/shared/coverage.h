@@ -57,7 +57,7 @@ VRPD_FN uint64_t norm2(ivec2 v) {
 }
 
 // a * b as a 128-bit (hi, lo), from 32-bit halves (GLSL has no 64-bit widening multiply).
-VRPD_FN void mul_wide(uint64_t a, uint64_t b, VRPD_OUT(uint64_t) hi, VRPD_OUT(uint64_t) lo) {
+VRPD_FN void mul_wide_halves(uint64_t a, uint64_t b, VRPD_OUT(uint64_t) hi, VRPD_OUT(uint64_t) lo) {
     uint64_t low32 = uint64_t(0xFFFFFFFFu);
     uint64_t p00 = (a & low32) * (b & low32);
     uint64_t p01 = (a & low32) * (b >> 32);
@@ -67,6 +67,18 @@ VRPD_FN void mul_wide(uint64_t a, uint64_t b, VRPD_OUT(uint64_t) hi, VRPD_OUT(ui
     lo = (p00 & low32) | (mid << 32);
     hi = p11 + (p01 >> 32) + (p10 >> 32) + (mid >> 32);
 }
+
+// a * b as a 128-bit (hi, lo): the same exact product, by the host's native 128-bit multiply
+// (a test checks mul_wide_halves against it).
+#ifdef __cplusplus
+VRPD_FN void mul_wide(uint64_t a, uint64_t b, VRPD_OUT(uint64_t) hi, VRPD_OUT(uint64_t) lo) {
+    const unsigned __int128 p = static_cast<unsigned __int128>(a) * b;
+    hi = uint64_t(p >> 64);
+    lo = uint64_t(p);
+}
+#else
+void mul_wide(uint64_t a, uint64_t b, out uint64_t hi, out uint64_t lo) { mul_wide_halves(a, b, hi, lo); }
+#endif
 
 // s^2 m as a 128-bit (hi, lo); the caller guarantees s^2 m < 2^128.
 VRPD_FN void square_times(uint64_t s, uint64_t m, VRPD_OUT(uint64_t) hi, VRPD_OUT(uint64_t) lo) {
