@@ -62,27 +62,6 @@ VRPD_FN uint64_t distance2(Domain dom, uvec2 p, uvec2 q) {
 // uncovered (Eqs. 2, 7), so conflict and cover are the same strict test, with one radius or another.
 VRPD_FN bool in_disk(Domain dom, uvec2 centre, uvec2 p) { return distance2(dom, centre, p) < dom.radius2; }
 
-// Largest squared coordinate offset from c to the interval [lo, hi] (lo <= hi, hi - lo < extent / 2),
-// the x or y half of the exact test "a cell lies wholly in a disk": the disk is convex, so the
-// cell's corners decide, and the farthest corner pairs the farthest x with the farthest y.
-// measured from the image of the interval whose start is nearest to c. On a torus this may
-// overestimate (never underestimate) the true offset, so a cover test built on it is conservative.
-VRPD_FN uint64_t far_offset2(uint c, uint lo, uint hi, uint extent, uint periodic) {
-    int64_t d0 = int64_t(lo) - int64_t(c);
-    if (periodic != 0u) {
-        int64_t n = int64_t(extent);
-        if (d0 >= n / 2) d0 -= n;
-        else if (d0 < -(n / 2)) d0 += n;
-    }
-    int64_t d1 = d0 + int64_t(hi - lo);
-    // |d0|, |d1| < 2^31 + 2^30: square them as 32-bit magnitudes (one widening multiply each,
-    // where a signed 64-bit square is emulated on many GPUs and on SIMD CPUs).
-    uint a = uint(d0 < int64_t(0) ? -d0 : d0);
-    uint b = uint(d1 < int64_t(0) ? -d1 : d1);
-    uint m = a > b ? a : b;
-    return uint64_t(m) * uint64_t(m);
-}
-
 // Signed offset from coordinate a to b along one axis, the shorter way round on a torus. Exact
 // when |offset| < extent / 2 (callers use it only within 2 Rc, less than a quarter of the torus).
 // Coordinates are below 2^31, so 32-bit arithmetic holds every step.

@@ -438,19 +438,20 @@ VRPD_FN ivec2 sample_offset(Domain dom, int dx, int dy, uvec2 p) {
     return ivec2(dx * side + int(p.x & low), dy * side + int(p.y & low));
 }
 
-// The larger squared distance from coordinate c to the ends of [lo, hi]: the cell is convex, so
-// its farthest corner pairs the farthest x with the farthest y. All three are offsets of points
-// of the domain, less than 2^31 apart: the magnitudes fit 32 bits, their squares sum below 2^63.
-VRPD_FN uint64_t far2(int c, int lo, int hi) {
-    uint a = c > lo ? uint(c) - uint(lo) : uint(lo) - uint(c);
-    uint b = c > hi ? uint(c) - uint(hi) : uint(hi) - uint(c);
-    uint m = max(a, b);
-    return uint64_t(m) * uint64_t(m);
-}
+// |a - b| for offsets of points of the domain: less than 2^31 apart, so the magnitude fits 32
+// bits and two squares sum below 2^63.
+VRPD_FN uint gap(int a, int b) { return a > b ? uint(a) - uint(b) : uint(b) - uint(a); }
 
 VRPD_FN uint64_t square_gap(int a, int b) {
-    uint d = a > b ? uint(a) - uint(b) : uint(b) - uint(a);
+    uint d = gap(a, b);
     return uint64_t(d) * uint64_t(d);
+}
+
+// The larger squared distance from coordinate c to the ends of [lo, hi]: the cell is convex, so
+// its farthest corner pairs the farthest x with the farthest y.
+VRPD_FN uint64_t far2(int c, int lo, int hi) {
+    uint m = max(gap(c, lo), gap(c, hi));
+    return uint64_t(m) * uint64_t(m);
 }
 
 // Fills cell_sample_at with the samples near base cell `base`, those of the 8 adjacent cells
@@ -526,7 +527,7 @@ VRPD_FN void cover_children(Domain dom, ChildBoxes b, uint fanout, ivec2 o, VRPD
 
 // Which of the `fanout` children (4, or 1: the cell itself) of the active cell at `corner` stay
 // active, as a bit mask. A child is dropped if it lies off the domain or one sample's disk covers
-// it wholly (exact corner test, see far_offset2). Children covered only by a union of disks stay,
+// it wholly (exact corner test, see far2). Children covered only by a union of disks stay,
 // and are split until they are single lattice points, where the test is exact. A child's x and
 // y intervals are shared in pairs: 2 + 2 far offsets per sample rather than 4 corner tests.
 // `samples` is gather_cell_samples's count for the base cell (past MAX_CELL_SAMPLES: scan the grid).
