@@ -24,7 +24,8 @@ struct CaseResult {
     std::uint64_t darts;
     std::uint32_t levels;
     double best_seconds;
-    double peak_bytes;
+    double peak_bytes;   // the process's peak resident memory
+    double array_bytes;  // the sampler's own arrays at their peak (SamplingStats::peak_bytes)
 };
 
 struct Radii {
@@ -46,6 +47,7 @@ CaseResult run_case(Radii radii, Backend backend, const BenchOptions& o) {
             r.samples = s.size();
             r.darts = s.stats.darts;
             r.levels = s.stats.levels;
+            r.array_bytes = double(s.stats.peak_bytes);
             std::snprintf(r.device, sizeof r.device, "%s", s.device.c_str());
         }
         rusage usage{};
@@ -101,9 +103,9 @@ int run_bench(const BenchOptions& o) {
     if (!o.json.empty()) check_writable(o.json);
 
     nlohmann::json rows = nlohmann::json::array();
-    std::cout << fmt::format("{:>13} {:>7} {:>9} {:>8} {:>9} {:>10} {:>8} {:>7} {:>9} {:>8}  {}\n", "Rf/Rc", "device",
-                             "samples", "n*Rc^2", "best s", "points/s", "us/point", "darts/n", "peak MiB", "B/sample",
-                             "device name");
+    std::cout << fmt::format("{:>13} {:>7} {:>9} {:>8} {:>9} {:>10} {:>8} {:>7} {:>9} {:>8} {:>8}  {}\n", "Rf/Rc",
+                             "device", "samples", "n*Rc^2", "best s", "points/s", "us/point", "darts/n", "peak MiB",
+                             "B/sample", "arrays/n", "device name");
     int failures = 0;
     for (const Radii& radii : cases) {
         const std::string label = radii.rf == radii.rc ? fmt::format("{}", radii.rf) : fmt::format("{}/{}", radii.rf, radii.rc);
@@ -116,15 +118,16 @@ int run_bench(const BenchOptions& o) {
                 continue;
             }
             const double pps = double(c.samples) / c.best_seconds;
-            std::cout << fmt::format("{:>13} {:>7} {:>9} {:>8.5f} {:>9.3f} {:>10.3g} {:>8.2f} {:>7.2f} {:>9.1f} {:>8.1f}  {}\n",
+            std::cout << fmt::format("{:>13} {:>7} {:>9} {:>8.5f} {:>9.3f} {:>10.3g} {:>8.2f} {:>7.2f} {:>9.1f} {:>8.1f} {:>8.1f}  {}\n",
                                      label, backend_name(b), c.samples, double(c.samples) * radii.rc * radii.rc,
                                      c.best_seconds, pps, 1e6 / pps, double(c.darts) / double(c.samples),
-                                     c.peak_bytes / (1 << 20), c.peak_bytes / double(c.samples), c.device);
+                                     c.peak_bytes / (1 << 20), c.peak_bytes / double(c.samples),
+                                     c.array_bytes / double(c.samples), c.device);
             std::cout.flush();
             rows.push_back({{"rf", radii.rf}, {"rc", radii.rc}, {"device", backend_name(b)}, {"device_name", c.device},
                             {"samples", c.samples}, {"darts", c.darts}, {"levels", c.levels},
                             {"best_seconds", c.best_seconds}, {"points_per_second", pps},
-                            {"peak_rss_bytes", c.peak_bytes}, {"repeat", o.repeat}});
+                            {"peak_rss_bytes", c.peak_bytes}, {"peak_array_bytes", c.array_bytes}, {"repeat", o.repeat}});
         }
     }
     if (!o.json.empty()) {

@@ -181,10 +181,12 @@ int main(int argc, char** argv) {
             if (output.empty()) write_csv(s, std::cout);
             else write_points(s, output);
             const double area = s.box.width * s.box.height;
-            std::cerr << fmt::format("vrpd: {} samples, n*{}^2/area {:.5f}, {:.3f} s, {:.3g} points/s, {} levels, {} darts, device {}\n",
+            std::cerr << fmt::format("vrpd: {} samples, n*{}^2/area {:.5f}, {:.3f} s, {:.3g} points/s, {} levels, {} darts, "
+                                     "{:.1f} MiB of arrays, device {}\n",
                                      s.size(), s.coverage == s.radius ? "r" : "Rf",
                                      double(s.size()) * s.radius * s.radius / area, s.stats.seconds,
-                                     double(s.size()) / s.stats.seconds, s.stats.levels, s.stats.darts, s.device);
+                                     double(s.size()) / s.stats.seconds, s.stats.levels, s.stats.darts,
+                                     double(s.stats.peak_bytes) / (1 << 20), s.device);
             return 0;
         }
         if (*devices_cmd) {

@@ -82,6 +82,7 @@ Sampling detail::sample_plan(const SampleOptions& options, const Plan& plan) {
     }
 
     result.lattice = engine->samples();
+    result.stats.peak_bytes = engine->peak_bytes();
     result.quantum = plan.quantum;
     result.radius = options.radius;
     result.coverage = options.coverage == 0.0 ? options.radius : options.coverage;

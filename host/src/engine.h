@@ -37,6 +37,9 @@ public:
     virtual RoundResult round(const RoundSpec& spec) = 0;
     // All samples so far, in acceptance order (rounds in order, each in arrival order).
     virtual std::vector<glm::uvec2> samples() = 0;
+    // The most memory the engine's own arrays held at once: device memory (gpu) or host arrays
+    // (cpu, serial). The process's resident memory adds the program and the Vulkan driver.
+    virtual std::uint64_t peak_bytes() const = 0;
 };
 
 // The error of a run in which a dart's T test went past its bounds (shared/coverage.h).

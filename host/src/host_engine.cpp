@@ -33,9 +33,8 @@ public:
     std::uint64_t start() override {
         const Domain& d = plan_.domain;
         grid_.assign(plan_.base_cells, uvec2(GRID_EMPTY, GRID_EMPTY));
-        // RSA jams at 0.6966 samples per r^2 and a base cell is about r^2 / 2: reserving 0.36 per
-        // base cell avoids the vector doubling past the end (more samples just grow it).
-        out_.reserve(plan_.base_cells * 36 / 100);
+        // Reserving the expected count avoids the vector doubling past the end (more samples grow it).
+        out_.reserve(expected_samples(plan_));
         cells_.resize(plan_.base_cells);
         for (uint y = 0; y < d.cells_y; ++y)
             for (uint x = 0; x < d.cells_x; ++x)
@@ -77,7 +76,11 @@ public:
             }
         });
         std::vector<uint> work;
+        std::uint64_t lists = 0;
+        for (auto& u : undecided) lists += bytes(u);
+        work.reserve(lists / sizeof(uint));
         for (auto& u : undecided) work.insert(work.end(), u.begin(), u.end());
+        note_peak(lists + bytes(work));
         undecided.clear();
         resolve(std::move(work));
 
@@ -98,6 +101,9 @@ public:
                 if (scan_[j]) accepted[w].push_back(std::uint64_t(darts_[j].z) << 32 | j);
             std::sort(accepted[w].begin(), accepted[w].end());
         });
+        std::uint64_t lists_bytes = 0;
+        for (auto& a : accepted) lists_bytes += bytes(a);
+        note_peak(lists_bytes);
         std::vector<std::size_t> next(accepted.size(), 0);
         for (;;) {
             std::size_t best = accepted.size();
@@ -120,7 +126,18 @@ public:
 
     std::vector<uvec2> samples() override { return std::move(out_); }
 
+    std::uint64_t peak_bytes() const override { return peak_; }
+
 private:
+    template <class T> static std::uint64_t bytes(const std::vector<T>& v) { return v.capacity() * sizeof(T); }
+
+    // Records the memory held by the engine's arrays now, plus `extra` bytes held elsewhere.
+    void note_peak(std::uint64_t extra = 0) {
+        const std::uint64_t held = bytes(grid_) + bytes(cells_) + bytes(next_) + bytes(dart_cells_) + bytes(darts_) +
+                                   bytes(scan_) + bytes(masks_) + bytes(out_) + extra;
+        peak_ = std::max(peak_, held);
+    }
+
     Cells cells() { return {cells_.data()}; }
     Darts darts() { return {darts_.data()}; }
     Grid grid() { return {grid_.data()}; }
@@ -232,6 +249,7 @@ private:
         const std::uint64_t kept = exclusive_scan(n);
         next_.reserve(kept);  // exactly: geometric growth would leave up to half again unused
         next_.resize(kept);
+        note_peak();
         pool_.parallel_for(n, [&](std::size_t b, std::size_t e, unsigned) {
             for (std::size_t i = b; i < e; ++i)
                 scatter_children(args, cells(), scan(), Uints{masks_.data()}, Cells{next_.data()}, uint(i));
@@ -250,6 +268,7 @@ private:
     std::vector<uint> scan_;
     std::vector<uint> masks_;
     std::vector<uvec2> out_;  // samples in acceptance order
+    std::uint64_t peak_ = 0;  // see note_peak
 };
 
 }  // namespace

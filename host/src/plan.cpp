@@ -150,6 +150,15 @@ Plan make_plan(const SampleOptions& o, std::uint32_t max_cell_bits) {
     return plan;
 }
 
+std::uint64_t expected_samples(const Plan& plan) {
+    // RSA jams at n r^2 = 0.6966 per unit area; with two radii n Rc^2 rises from there to about
+    // 0.94 at Rc = 2 Rf (section 3). The smaller of the two bounds, over the box's lattice area.
+    const shared::Domain& d = plan.domain;
+    const double area = double(d.lattice_x) * double(d.lattice_y);
+    const double n = std::min(0.70 * area / double(d.radius2), 0.95 * area / double(d.cover2));
+    return std::uint64_t(n) + 64;
+}
+
 std::uint64_t estimated_bytes(const Plan& plan) {
     // Per base cell: grid word 8, two active lists 2 x 8, darts 8 (16 per dart, lambda 0.5),
     // scan and child masks 4 + 4, the samples 3 (8 per sample), working lists and the Vulkan
@@ -159,12 +168,11 @@ std::uint64_t estimated_bytes(const Plan& plan) {
 }
 
 std::uint64_t estimated_device_bytes(const Plan& plan) {
-    // Per base cell: grid word 8, active lists 8 + 16 (the children after level 0's refinement,
-    // about half the cells survive), scan 8, darts 8 and work list 4 at lambda = 0.5, samples
-    // and keys 12 per sample (0.35 samples per base cell). Two radii add a flag and a listed
-    // dart cell per base cell, 4 + 8.
-    const std::uint64_t per_cell = plan.domain.cover2 != plan.domain.radius2 ? 68 : 56;
-    return plan.base_cells * per_cell + (std::uint64_t(16) << 20);
+    // The first round's peak, per base cell: grid word 8, active list 8, the scratch regions
+    // (prefix sums 4, darts 8 and work list 4 at lambda = 0.5; see VulkanEngine::Scratch), the
+    // next active list about 6 and the samples about 3. Measured at r = 0.001: 41 bytes per base
+    // cell (39 with Rc = 2 Rf, whose flags and dart-cell list replace the larger dart counts).
+    return plan.base_cells * 48 + (std::uint64_t(16) << 20);
 }
 
 std::uint64_t host_memory_bytes() {

@@ -23,6 +23,10 @@ Plan make_plan(const SampleOptions& options, std::uint32_t max_cell_bits = 30);
 // Runs the schedule for a plan made from `options`.
 Sampling sample_plan(const SampleOptions& options, const Plan& plan);
 
+// Samples a run is expected to end with, give or take a few percent: the engines reserve room
+// for them up front rather than growing their sample arrays by doubling.
+std::uint64_t expected_samples(const Plan& plan);
+
 // Peak bytes a run is expected to hold (device and host together on a CPU device).
 std::uint64_t estimated_bytes(const Plan& plan);
 

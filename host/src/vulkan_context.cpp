@@ -255,6 +255,11 @@ void VulkanContext::barrier() {
                              0, 1, &mb, 0, nullptr, 0, nullptr);
 }
 
+void VulkanContext::note_allocation(std::int64_t bytes) {
+    allocated_ += std::uint64_t(bytes);
+    peak_allocated_ = std::max(peak_allocated_, allocated_);
+}
+
 void VulkanContext::dispatch(const Kernel& k, const void* push, std::uint32_t groups) {
     if (groups == 0) return;
     vk_.vkCmdBindPipeline(cmd_, VK_PIPELINE_BIND_POINT_COMPUTE, k.pipeline());
@@ -308,6 +313,8 @@ Buffer::Buffer(VulkanContext& ctx, VkDeviceSize size, bool host_visible) : ctx_(
                                 ctx.device_name(), req.size >> 20));
     }
     check(r, "vkAllocateMemory");
+    allocated_ = req.size;
+    ctx.note_allocation(std::int64_t(allocated_));
     check(vk.vkBindBufferMemory(ctx.device(), buffer_, memory_, 0), "vkBindBufferMemory");
     VkBufferDeviceAddressInfo info{VK_STRUCTURE_TYPE_BUFFER_DEVICE_ADDRESS_INFO};
     info.buffer = buffer_;
@@ -322,6 +329,7 @@ Buffer& Buffer::operator=(Buffer&& o) noexcept {
         std::swap(buffer_, o.buffer_);
         std::swap(memory_, o.memory_);
         std::swap(size_, o.size_);
+        std::swap(allocated_, o.allocated_);
         std::swap(address_, o.address_);
         std::swap(mapped_, o.mapped_);
     }
@@ -333,11 +341,15 @@ Buffer::~Buffer() { release(); }
 void Buffer::release() {
     if (!ctx_) return;
     if (buffer_) ctx_->vk().vkDestroyBuffer(ctx_->device(), buffer_, nullptr);
-    if (memory_) ctx_->vk().vkFreeMemory(ctx_->device(), memory_, nullptr);
+    if (memory_) {
+        ctx_->vk().vkFreeMemory(ctx_->device(), memory_, nullptr);
+        ctx_->note_allocation(-std::int64_t(allocated_));
+    }
     buffer_ = VK_NULL_HANDLE;
     memory_ = VK_NULL_HANDLE;
     mapped_ = nullptr;
     size_ = 0;
+    allocated_ = 0;
     address_ = 0;
 }
 

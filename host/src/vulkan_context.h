@@ -45,6 +45,7 @@ private:
     VkBuffer buffer_ = VK_NULL_HANDLE;
     VkDeviceMemory memory_ = VK_NULL_HANDLE;
     VkDeviceSize size_ = 0;
+    VkDeviceSize allocated_ = 0;  // bytes of its memory allocation (size, aligned by the driver)
     std::uint64_t address_ = 0;
     void* mapped_ = nullptr;
 };
@@ -87,6 +88,10 @@ public:
     const std::string& device_name() const { return device_name_; }
     std::uint32_t memory_type(std::uint32_t allowed, bool host_visible) const;
     std::uint64_t device_heap_bytes() const;
+    // Device memory held by vrpd's buffers now, and at most so far (Buffer reports its allocations).
+    void note_allocation(std::int64_t bytes);
+    std::uint64_t allocated_bytes() const { return allocated_; }
+    std::uint64_t peak_allocated_bytes() const { return peak_allocated_; }
 
     // Recording into the one command buffer, and submitting it (waits on a fence).
     VkCommandBuffer begin();
@@ -114,6 +119,8 @@ private:
     VkFence fence_ = VK_NULL_HANDLE;
     std::string device_name_;
     std::vector<std::string> messages_;
+    std::uint64_t allocated_ = 0;
+    std::uint64_t peak_allocated_ = 0;
 
     static VKAPI_ATTR VkBool32 VKAPI_CALL on_message(VkDebugUtilsMessageSeverityFlagBitsEXT,
                                                      VkDebugUtilsMessageTypeFlagsEXT,

@@ -66,12 +66,14 @@ public:
 
     std::uint64_t start() override {
         const std::uint64_t n = plan_.base_cells;
-        ensure(cells_[0], n * sizeof(uvec2));
+        // The samples' buffer starts at the expected count and grows by a quarter if a round overflows it.
+        ensure(samples_, expected_samples(plan_) * sizeof(uvec2));
+        ensure(cells_, n * sizeof(uvec2));
         VkCommandBuffer cmd = ctx_.begin();
         // Every grid word starts empty: (GRID_EMPTY, GRID_EMPTY); no dart has been too complex.
         ctx_.vk().vkCmdFillBuffer(cmd, grid_.handle(), 0, VK_WHOLE_SIZE, GRID_EMPTY);
         ctx_.vk().vkCmdFillBuffer(cmd, counters_.handle(), COUNTER_TOO_COMPLEX * 4, 4, 0);
-        CellArgs a = cell_args(cells_[0], std::uint32_t(n), 0, 0, 0);
+        CellArgs a = cell_args(cells_.address(), {}, std::uint32_t(n), 0, 0, 0);
         ctx_.dispatch(init_cells_, &a, groups(n, WORKGROUP_SIZE));
         ctx_.barrier();  // grid fill and first active list before the first round reads them
         ctx_.submit_and_wait();
@@ -83,33 +85,35 @@ public:
         const bool two = two_radii(plan_.domain);
         // One radius: the darts go to the active cells. Two: to the base cells near them.
         const std::uint32_t n = two ? list_dart_cells(spec) : active_;
-        const Buffer& targets = two ? dart_cells_ : cells_[0];
+        const std::uint64_t targets = two ? dart_cells_.address() : cells_.address();
         const std::uint32_t side = two ? 1u << plan_.domain.cell_bits : spec.side;
-        ensure_scan(std::uint64_t(n) + 1, false);
 
         // Submit 1: dart counts and their prefix sums.
+        const Scratch counts(n, 0, active_);
+        ensure_scratch(counts.darts, false);
+        ensure_block_sums(std::uint64_t(n) + 1);
         ctx_.begin();
-        CellArgs a = cell_args(targets, n, spec.round, side, spec.exp_neg_lambda);
+        CellArgs a = cell_args(targets, counts.in(scratch_), n, spec.round, side, spec.exp_neg_lambda);
         ctx_.dispatch(count_darts_, &a, groups(std::uint64_t(n) + 1, WORKGROUP_SIZE));
         ctx_.barrier();  // counts before the scan
-        scan(scan_, std::uint64_t(n) + 1, COUNTER_DARTS);
+        scan(scratch_.address(), std::uint64_t(n) + 1, COUNTER_DARTS);
         ctx_.submit_and_wait();
         const std::uint32_t darts = counter(COUNTER_DARTS);
         if (darts >= MAX_ROUND_DARTS) throw Error("a round would throw more than 2^30 darts");
 
         // Submit 2..: throw (rejecting darts covered by earlier samples), resolve in arrival order.
-        ensure_scan(std::uint64_t(darts) + 1, true);
-        ensure(darts_, std::uint64_t(darts) * sizeof(uvec4));
-        ensure(work_[0], std::uint64_t(darts) * 4);
-        ensure(work_[1], std::uint64_t(darts) * 4);
+        const Scratch at(n, darts, active_);
+        ensure_scratch(at.end, true);  // keeps the prefix sums
+        const std::uint64_t ranks = scratch_.address() + at.ranks;
+        const std::uint64_t dart_list = scratch_.address() + at.darts;
+        const std::uint64_t work[2] = {scratch_.address() + at.list, ranks};
         VkCommandBuffer cmd = ctx_.begin();
         ctx_.vk().vkCmdFillBuffer(cmd, counters_.handle(), (COUNTER_WORK0 + 3) * 4, 4, 0);
-        a = cell_args(targets, n, spec.round, side, darts);
+        a = cell_args(targets, at.in(scratch_), n, spec.round, side, darts);
         ctx_.dispatch(mark_ranges_, &a, groups(n, WORKGROUP_SIZE));
         ctx_.barrier();  // dart ranges and the empty work list before throw_darts reads and appends
         ctx_.dispatch(throw_darts_, &a, groups(n, WORKGROUP_SIZE));
         ctx_.barrier();  // darts, grid dart ranges and work list before resolution
-        DartArgs d;
         std::uint32_t in = 0;
         for (;;) {
             for (std::uint32_t p = 0; p < kResolvePassesPerSubmit; ++p, in ^= 1) {
@@ -118,9 +122,11 @@ public:
                 WorkArgs w{counters_.address(), in_slot, out_slot};
                 ctx_.dispatch(work_args_, &w, 1);
                 ctx_.barrier();  // indirect command and emptied output list before the pass
-                d = dart_args(darts, in_slot, out_slot, 0);
-                d.work_in = work_[in].address();
-                d.work_out = work_[in ^ 1].address();
+                DartArgs d = dart_args(dart_list, darts, 0);
+                d.work_in = work[in];
+                d.work_out = work[in ^ 1];
+                d.work_in_slot = in_slot;
+                d.work_out_slot = out_slot;
                 ctx_.dispatch_indirect(resolve_darts_, &d, counters_, in_slot * 4);
                 ctx_.barrier();  // decisions before they are applied
                 ctx_.dispatch_indirect(apply_decisions_, &d, counters_, in_slot * 4);
@@ -131,41 +137,59 @@ public:
             ctx_.begin();
         }
 
-        // Last submit: commit, emit the accepted darts as samples, keep or refine the cells.
-        const std::uint32_t active = active_;
-        const std::uint32_t fanout = spec.refine ? 4 : 1;
-        const std::uint64_t slots = std::uint64_t(active) * fanout;
-        if (slots >= GRID_TAG) throw Error("more than 2^31 active cells");
-        ensure_scan(std::uint64_t(std::max(darts, active)) + 1, true);
-        ensure(masks_, std::uint64_t(active) * 4);
-        ensure(samples_, (emitted_ + darts) * sizeof(uvec2), true);
-        ensure(keys_, std::uint64_t(darts) * 4);
-        ensure(cells_[1], slots * sizeof(uvec2));
+        // Commit: grid words become samples or empty again; the accepted darts are flagged and ranked.
+        ensure_block_sums(std::uint64_t(std::max(darts, active_)) + 1);
         ctx_.begin();
         ctx_.dispatch(commit_cells_, &a, groups(n, WORKGROUP_SIZE));
-        ctx_.barrier();  // accepted flags and grid words before the scan and the cover tests
-        scan(scan_, std::uint64_t(darts) + 1, COUNTER_ACCEPTED);
-        d = dart_args(darts, 0, 0, std::uint32_t(emitted_));
-        ctx_.dispatch(emit_samples_, &d, groups(darts, WORKGROUP_SIZE));
-        ctx_.barrier();  // emission has read the flags' ranks before refine overwrites them
-        const std::uint32_t child_side = spec.refine ? spec.side / 2 : spec.side;
-        a = cell_args(cells_[0], active, spec.round, child_side, fanout);
-        ctx_.dispatch(refine_cells_, &a, groups(std::uint64_t(active) + 1, WORKGROUP_SIZE));
-        ctx_.barrier();  // surviving-children counts and masks before their scan
-        scan(scan_, std::uint64_t(active) + 1, COUNTER_ACTIVE);
-        ctx_.dispatch(scatter_cells_, &a, groups(active, WORKGROUP_SIZE));
-        ctx_.barrier();  // the next active list before the next round and the host
+        ctx_.barrier();  // accepted flags and grid words before the scan
+        scan(ranks, std::uint64_t(darts) + 1, COUNTER_ACCEPTED);
         ctx_.submit_and_wait();
         if (counter(COUNTER_TOO_COMPLEX)) throw Error(kTooComplex);
         const std::uint32_t accepted = counter(COUNTER_ACCEPTED);
-        sort_round(accepted);
+
+        // Emit the accepted darts as samples, put them in arrival order, and count the children
+        // of each active cell that stay active.
+        const std::uint64_t need = (emitted_ + accepted) * sizeof(uvec2);
+        if (samples_.size() < need) ensure(samples_, std::max(need, samples_.size() + samples_.size() / 4), true);
+        const std::uint32_t tiles = groups(accepted, SCAN_BLOCK);
+        const std::uint64_t bins = std::uint64_t(SORT_BUCKETS) * tiles;
+        ensure(histogram_, (bins + 1) * 4);
+        ensure_block_sums(bins + 1);
+        ctx_.begin();
+        DartArgs d = dart_args(dart_list, darts, std::uint32_t(emitted_));
+        d.scan = ranks;
+        d.sample_keys = work[0];
+        ctx_.dispatch(emit_samples_, &d, groups(darts, WORKGROUP_SIZE));
+        ctx_.barrier();  // the round's samples and keys before the sort; the ranks are read
+        if (accepted > 1) sort_round(accepted, work[0], dart_list);
+        const std::uint32_t active = active_;
+        const std::uint32_t fanout = spec.refine ? 4 : 1;
+        if (std::uint64_t(active) * fanout >= GRID_TAG) throw Error("more than 2^31 active cells");
+        const std::uint32_t child_side = spec.refine ? spec.side / 2 : spec.side;
+        a = cell_args(cells_.address(), at.in(scratch_), active, spec.round, child_side, fanout);
+        ctx_.dispatch(refine_cells_, &a, groups(std::uint64_t(active) + 1, WORKGROUP_SIZE));
+        ctx_.barrier();  // surviving-children counts and masks before their scan
+        scan(ranks, std::uint64_t(active) + 1, COUNTER_ACTIVE);
+        ctx_.submit_and_wait();
         emitted_ += accepted;
-        active_ = counter(COUNTER_ACTIVE);
-        std::swap(cells_[0], cells_[1]);
+
+        // The next active list, allocated to its exact size, replaces the current one.
+        const std::uint32_t kept = counter(COUNTER_ACTIVE);
+        Buffer next(ctx_, std::uint64_t(kept) * sizeof(uvec2), false);
+        a.cells_out = next.address();
+        ctx_.begin();
+        ctx_.dispatch(scatter_cells_, &a, groups(active, WORKGROUP_SIZE));
+        ctx_.barrier();  // the next active list before the next round and the host
+        ctx_.submit_and_wait();
+        cells_ = std::move(next);
+        active_ = kept;
         return {darts, active_};
     }
 
     std::vector<uvec2> samples() override {
+        // The round's working memory is not needed for the read-back: free it first.
+        scratch_ = Buffer();
+        histogram_ = Buffer();
         std::vector<uvec2> out(emitted_);
         if (emitted_ == 0) return out;
         Buffer staging(ctx_, emitted_ * sizeof(uvec2), true);
@@ -178,54 +202,87 @@ public:
         return out;
     }
 
+    std::uint64_t peak_bytes() const override { return ctx_.peak_allocated_bytes(); }
+
 private:
+    // The device addresses of the scratch regions that the kernels over cells read.
+    struct Regions {
+        std::uint64_t scan = 0, darts = 0, work = 0, masks = 0;
+    };
+    // Where a round's transient arrays lie in the scratch buffer, as byte offsets. Arrays whose
+    // lives do not overlap share a region, in this order:
+    //   ranks: the targets' dart prefix sums (count_darts, throw_darts), work list 1 (resolution),
+    //          the accepted flags and their ranks (commit, emit), the surviving-children counts
+    //          and their ranks (refine, scatter);
+    //   darts: the darts (throw to emit), then the sort's second buffers (sort);
+    //   list:  work list 0 (throw, resolution), the round's sample keys (emit, sort), the child
+    //          masks (refine, scatter).
+    struct Scratch {
+        std::uint64_t ranks = 0, darts, list, end;
+        Scratch(std::uint32_t targets, std::uint32_t dart_count, std::uint32_t active) {
+            const std::uint64_t most = std::max(std::max(targets, dart_count), active);
+            darts = ((most + 1) * 4 + 15) / 16 * 16;
+            list = darts + std::uint64_t(dart_count) * sizeof(uvec4);
+            end = list + std::uint64_t(std::max(dart_count, active)) * 4;
+        }
+        Regions in(const Buffer& b) const {
+            return {b.address() + ranks, b.address() + darts, b.address() + list, b.address() + list};
+        }
+    };
+
     // Two radii: lists the base cells that get darts this round (flag_dart_cells or
-    // flag_free_cells, a scan of the flags, list_dart_cells) and returns their count.
+    // flag_free_cells, a scan of the flags, list_dart_cells) and returns their count. The flags
+    // lie at the start of the scratch buffer; the list gets a buffer of its exact size.
     std::uint32_t list_dart_cells(const RoundSpec& spec) {
         const std::uint64_t bases = plan_.base_cells;
-        ensure(flags_, (bases + 1) * 4);
-        ensure(block_sums_, std::uint64_t(groups(bases + 1, SCAN_BLOCK)) * 4);
-        ensure(dart_cells_, bases * sizeof(uvec2));
+        ensure_scratch((bases + 1) * 4, false);
+        ensure_block_sums(bases + 1);
+        const std::uint64_t flags = scratch_.address();
         VkCommandBuffer cmd = ctx_.begin();
-        CellArgs a = cell_args(cells_[0], active_, spec.round, spec.side, 0);
-        a.scan = flags_.address();
+        CellArgs a = cell_args(cells_.address(), {}, active_, spec.round, spec.side, 0);
+        a.scan = flags;
         if (spec.every_free_cell) {
             a.cell_count = std::uint32_t(bases);
             ctx_.dispatch(flag_free_cells_, &a, groups(bases + 1, WORKGROUP_SIZE));
         } else {
-            ctx_.vk().vkCmdFillBuffer(cmd, flags_.handle(), 0, (bases + 1) * 4, 0);
+            ctx_.vk().vkCmdFillBuffer(cmd, scratch_.handle(), 0, (bases + 1) * 4, 0);
             ctx_.barrier();  // cleared flags before they are set
             ctx_.dispatch(flag_dart_cells_, &a, groups(std::uint64_t(active_) + 1, WORKGROUP_SIZE));
         }
         ctx_.barrier();  // flags before their scan
-        scan(flags_, bases + 1, COUNTER_DART_CELLS);
-        a = cell_args(cells_[0], std::uint32_t(bases), spec.round, spec.side, 0);
-        a.scan = flags_.address();
+        scan(flags, bases + 1, COUNTER_DART_CELLS);
+        ctx_.submit_and_wait();
+        const std::uint32_t count = counter(COUNTER_DART_CELLS);
+        dart_cells_ = Buffer();
+        dart_cells_ = Buffer(ctx_, std::uint64_t(count) * sizeof(uvec2), false);
+        ctx_.begin();
+        a = cell_args(cells_.address(), {}, std::uint32_t(bases), spec.round, spec.side, 0);
+        a.scan = flags;
         a.cells_out = dart_cells_.address();
         ctx_.dispatch(list_dart_cells_, &a, groups(bases, WORKGROUP_SIZE));
         ctx_.barrier();  // the list before the round's kernels read it
         ctx_.submit_and_wait();
-        return counter(COUNTER_DART_CELLS);
+        return count;
     }
 
-    CellArgs cell_args(const Buffer& cells, std::uint32_t n, std::uint32_t round, std::uint32_t side, std::uint32_t param) const {
-        return {plan_.domain, cells.address(), cells_[1].address(), darts_.address(), scan_.address(),
-                grid_.address(), work_[0].address(), counters_.address(), masks_.address(), n, round, side, param};
+    CellArgs cell_args(std::uint64_t cells, const Regions& r, std::uint32_t n, std::uint32_t round,
+                       std::uint32_t side, std::uint32_t param) const {
+        return {plan_.domain, cells, 0, r.darts, r.scan, grid_.address(), r.work, counters_.address(), r.masks,
+                n, round, side, param};
     }
 
-    DartArgs dart_args(std::uint32_t darts, std::uint32_t in_slot, std::uint32_t out_slot, std::uint32_t base) const {
-        return {plan_.domain, darts_.address(), grid_.address(), work_[0].address(), work_[0].address(),
-                counters_.address(), scan_.address(), samples_.address(), keys_.address(), darts, in_slot, out_slot, base};
+    DartArgs dart_args(std::uint64_t darts, std::uint32_t count, std::uint32_t base) const {
+        return {plan_.domain, darts, grid_.address(), 0, 0, counters_.address(), 0, samples_.address(), 0, count, 0, 0, base};
     }
 
     std::uint32_t counter(std::uint32_t slot) const { return static_cast<const std::uint32_t*>(counters_.mapped())[slot]; }
 
-    // Exclusive prefix sum of data[0, count) in place; the total goes to counters[total_slot].
-    void scan(Buffer& data, std::uint64_t count, std::uint32_t total_slot) {
+    // Exclusive prefix sum of the `count` uints at device address `data`, in place; the total
+    // goes to counters[total_slot]. block_sums_ must already hold a sum per block.
+    void scan(std::uint64_t data, std::uint64_t count, std::uint32_t total_slot) {
         const std::uint32_t blocks = groups(count, SCAN_BLOCK);
-        if (data.size() < count * 4 || block_sums_.size() < std::uint64_t(blocks) * 4)
-            throw Error("internal: scan buffers not sized before recording");
-        ScanArgs s{data.address(), block_sums_.address(), counters_.address(), std::uint32_t(count), blocks, total_slot, 0};
+        if (block_sums_.size() < std::uint64_t(blocks) * 4) throw Error("internal: scan buffers not sized before recording");
+        ScanArgs s{data, block_sums_.address(), counters_.address(), std::uint32_t(count), blocks, total_slot, 0};
         ctx_.dispatch(scan_blocks_, &s, blocks);
         ctx_.barrier();  // block scans and sums before the sums are scanned
         ctx_.dispatch(scan_sums_, &s, 1);
@@ -234,44 +291,37 @@ private:
         ctx_.barrier();  // the prefix sums before their readers
     }
 
-    // Puts this round's `count` samples (at emitted_, emitted in spatial order) in arrival order:
-    // a stable radix sort by key on the device, 4 passes of 8 bits, ping-ponging with sort_tmp_.
-    void sort_round(std::uint32_t count) {
-        if (count < 2) return;
+    // Records the sort of this round's `count` samples (at emitted_, emitted in spatial order,
+    // with their keys at `keys`) into arrival order: a stable radix sort by key, 4 passes of 8
+    // bits, ping-ponging with the buffers at `tmp` (count points, then count keys). After the
+    // fourth pass the sorted round is back in the samples' buffer.
+    void sort_round(std::uint32_t count, std::uint64_t keys, std::uint64_t tmp) {
         const std::uint32_t tiles = groups(count, SCAN_BLOCK);
         const std::uint64_t bins = std::uint64_t(SORT_BUCKETS) * tiles;
-        ensure(sort_points_, std::uint64_t(count) * sizeof(uvec2));
-        ensure(sort_keys_, std::uint64_t(count) * 4);
-        ensure(histogram_, (bins + 1) * 4);
-        ensure(block_sums_, std::uint64_t(groups(bins + 1, SCAN_BLOCK)) * 4);
         const std::uint64_t points = samples_.address() + emitted_ * sizeof(uvec2);
-        SortArgs s{points, keys_.address(), sort_points_.address(), sort_keys_.address(), histogram_.address(),
-                   count, 0, tiles, 0};
-        ctx_.begin();
+        SortArgs s{points, keys, tmp, tmp + std::uint64_t(count) * sizeof(uvec2), histogram_.address(), count, 0, tiles, 0};
         for (std::uint32_t pass = 0; pass < 4; ++pass) {
             s.shift = 8 * pass;
             ctx_.dispatch(sort_histogram_, &s, tiles);
             ctx_.barrier();  // digit counts before their scan
-            scan(histogram_, bins, COUNTER_SORT);
+            scan(histogram_.address(), bins, COUNTER_SORT);
             ctx_.dispatch(sort_scatter_, &s, tiles);
             ctx_.barrier();  // this pass's output before the next pass reads it
             std::swap(s.src_points, s.dst_points);
             std::swap(s.src_keys, s.dst_keys);
         }
-        ctx_.submit_and_wait();
     }
 
-    // The scan buffer (kept when it holds prefix sums still to be read) and its block sums.
-    void ensure_scan(std::uint64_t count, bool preserve) {
-        ensure(scan_, count * 4, preserve);
-        ensure(block_sums_, std::uint64_t(groups(count, SCAN_BLOCK)) * 4);
-    }
+    void ensure_scratch(std::uint64_t bytes, bool preserve) { ensure(scratch_, bytes, preserve); }
+    void ensure_block_sums(std::uint64_t count) { ensure(block_sums_, std::uint64_t(groups(count, SCAN_BLOCK)) * 4); }
 
-    // Grows a buffer to at least `bytes` (doubling), optionally keeping its contents. Never called
-    // while recording: a replaced buffer may not be referenced by a pending command buffer.
+    // Grows a buffer to exactly `bytes`, optionally keeping its contents. Buffers only grow, and
+    // the largest round comes first, so a run reallocates a handful of times. Never called while
+    // recording: a replaced buffer may not be referenced by a pending command buffer.
     void ensure(Buffer& b, std::uint64_t bytes, bool preserve = false) {
         if (b.size() >= bytes && b.handle()) return;
-        Buffer bigger(ctx_, std::max<std::uint64_t>(bytes, b.size() * 2), false);
+        if (!preserve) b = Buffer();  // free first: the peak is then the new size, not both
+        Buffer bigger(ctx_, bytes, false);
         if (preserve && b.size() > 0) {
             VkCommandBuffer cmd = ctx_.begin();
             VkBufferCopy all{0, 0, b.size()};
@@ -303,9 +353,12 @@ private:
     Kernel scan_add_{ctx_, words(spirv_scan_add), sizeof(ScanArgs), 64};
     Kernel sort_histogram_{ctx_, words(spirv_sort_histogram), sizeof(SortArgs), 64};
     Kernel sort_scatter_{ctx_, words(spirv_sort_scatter), sizeof(SortArgs), 1};
-    Buffer flags_, dart_cells_;  // two radii: per base cell flags, and the cells that get darts
-    Buffer counters_, grid_, darts_, scan_, block_sums_, masks_, samples_, keys_, sort_points_, sort_keys_, histogram_;
-    std::array<Buffer, 2> cells_, work_;
+    Buffer counters_, grid_;
+    Buffer cells_;       // the active cells, ordered by base cell
+    Buffer dart_cells_;  // two radii: the base cells that get darts this round
+    Buffer samples_;     // all samples so far, in acceptance order
+    Buffer scratch_;     // each round's transient arrays (see Scratch)
+    Buffer block_sums_, histogram_;
     std::uint64_t emitted_ = 0;
     std::uint32_t active_ = 0;
 };

@@ -45,6 +45,9 @@ struct SamplingStats {
     std::uint32_t rounds = 0;    // dart rounds thrown
     std::uint64_t darts = 0;     // darts thrown in all rounds
     double seconds = 0.0;        // wall time of the sampling, setup and read-back included
+    std::uint64_t peak_bytes = 0; // the most memory the sampler's own arrays held at once: device
+                                  // memory (gpu) or host arrays (cpu, serial); the process's
+                                  // resident memory adds the program and the Vulkan driver
 };
 
 // A maximal sampling. Samples lie on an integer lattice of spacing `quantum` (exact predicates on
