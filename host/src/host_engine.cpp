@@ -52,7 +52,7 @@ public:
         CellArgs args{dom, 0, 0, 0, 0, 0, 0, 0, 0, n, spec.round, side, spec.exp_neg_lambda};
         const Cells cells{targets.data()};
 
-        scan_.resize(std::size_t(n) + 1);
+        fit(scan_, std::size_t(n) + 1);
         pool_.parallel_for(n, [&](std::size_t b, std::size_t e, unsigned) {
             for (std::size_t i = b; i < e; ++i)
                 scan_[i] = dart_count(cell_stream(dom.seed, spec.round, targets[i]), spec.exp_neg_lambda);
@@ -64,28 +64,16 @@ public:
             for (std::size_t i = b; i < e; ++i)
                 if (first_in_base_cell(dom, cells, uint(i))) mark_dart_range(args, cells, scan(), grid(), uint(i));
         });
-        // Throw, rejecting darts covered by earlier rounds; collect the undecided per thread.
-        std::vector<std::vector<uint>> undecided(pool_.size());
-        pool_.parallel_for(n, [&](std::size_t b, std::size_t e, unsigned w) {
-            for (std::size_t i = b; i < e; ++i) {
-                if (!first_in_base_cell(dom, cells, uint(i))) continue;
-                if (throw_base_cell(args, cells, scan(), darts(), grid(), uint(i)) == 0) continue;
-                const uvec2 range = grid_[base_of_point(dom, targets[i])];
-                for (uint j = range.x & ~GRID_TAG; j < range.y; ++j)
-                    if (darts_[j].w == DART_UNDECIDED) undecided[w].push_back(j);
-            }
+        // Throw, rejecting darts covered by earlier rounds; then decide the rest.
+        pool_.parallel_for(n, [&](std::size_t b, std::size_t e, unsigned) {
+            for (std::size_t i = b; i < e; ++i)
+                if (first_in_base_cell(dom, cells, uint(i))) throw_base_cell(args, cells, scan(), darts(), grid(), uint(i));
         });
-        std::vector<uint> work;
-        std::uint64_t lists = 0;
-        for (auto& u : undecided) lists += bytes(u);
-        work.reserve(lists / sizeof(uint));
-        for (auto& u : undecided) work.insert(work.end(), u.begin(), u.end());
-        note_peak(lists + bytes(work));
-        undecided.clear();
-        resolve(std::move(work));
+        note_peak();
+        resolve();
 
         // Commit: grid words become samples or empty again; scan_ flags the accepted darts.
-        scan_.resize(total);
+        fit(scan_, total);
         std::array<uint, COUNTER_WORDS> counters{};
         pool_.parallel_for(n, [&](std::size_t b, std::size_t e, unsigned) {
             for (std::size_t i = b; i < e; ++i)
@@ -129,6 +117,17 @@ public:
     std::uint64_t peak_bytes() const override { return peak_; }
 
 private:
+    // Resizes v to n elements (contents not kept), reallocating unless its capacity is within
+    // an eighth above n: the arrays' high-water marks from earlier rounds would otherwise add up
+    // at the peak.
+    template <class T> static void fit(std::vector<T>& v, std::size_t n) {
+        if (v.capacity() < n || v.capacity() > n + n / 8) {
+            std::vector<T>().swap(v);
+            v.reserve(n);
+        }
+        v.resize(n);
+    }
+
     template <class T> static std::uint64_t bytes(const std::vector<T>& v) { return v.capacity() * sizeof(T); }
 
     // Records the memory held by the engine's arrays now, plus `extra` bytes held elsewhere.
@@ -178,34 +177,40 @@ private:
         return sum;
     }
 
-    // Decides the undecided darts in `work` in arrival order.
-    void resolve(std::vector<uint> work) {
+    // Decides the round's undecided darts in arrival order.
+    void resolve() {
         const Domain dom = plan_.domain;
+        const std::size_t total = darts_.size();
         if (resolution_ == Resolution::Serial) {
+            std::vector<uint> work;
+            for (uint j = 0; j < total; ++j)
+                if (darts_[j].w == DART_UNDECIDED) work.push_back(j);
             std::sort(work.begin(), work.end(), [&](uint a, uint b) {
                 return arrives_before(darts_[a].z, a, darts_[b].z, b);
             });
+            note_peak(bytes(work));
             for (uint d : work)
                 darts_[d].w = serial_decision(dom, grid(), darts(), d);
             return;
         }
-        // Each thread decides the darts of its part of the list (spatial order), one at a time:
-        // a dart left undecided waits for an earlier one, which is decided first (depth first;
-        // each wait is for an earlier arrival, so the chains end). A first sweep takes the darts
-        // with nothing to wait for. Each dart's scan runs about once, where the GPU's Jacobi
+        // Each thread decides the undecided darts of its part of the round (spatial order), one at
+        // a time: a dart left undecided waits for an earlier one, which is decided first (depth
+        // first; each wait is for an earlier arrival, so the chains end). A first sweep takes the
+        // darts with nothing to wait for. Each dart's scan runs about once, where the GPU's Jacobi
         // passes scan the undecided again in every pass. Threads may decide the same dart near
         // their parts' border: both reach the same final state. Should another thread decide
         // the dart waited for between the two scans, the dart is simply tried again; only a
         // dart that waits for no dart while none decides (a bug) stops the run.
         std::atomic<bool> stuck = false;
-        pool_.parallel_for(work.size(), [&](std::size_t b, std::size_t e, unsigned) {
-            for (std::size_t i = b; i < e; ++i) {
-                const uint state = resolve_dart(dom, grid(), darts(), work[i]);
-                if (state != DART_UNDECIDED) set_dart_state(darts(), work[i], state);
+        pool_.parallel_for(total, [&](std::size_t b, std::size_t e, unsigned) {
+            for (std::size_t j = b; j < e; ++j) {
+                if (dart_at(darts(), uint(j)).w != DART_UNDECIDED) continue;
+                const uint state = resolve_dart(dom, grid(), darts(), uint(j));
+                if (state != DART_UNDECIDED) set_dart_state(darts(), uint(j), state);
             }
             std::vector<uint> stack;
-            for (std::size_t i = b; i < e; ++i) {
-                stack.push_back(work[i]);
+            for (std::size_t j = b; j < e; ++j) {
+                stack.push_back(uint(j));
                 uint retries = 0;
                 while (!stack.empty()) {
                     const uint t = stack.back();
@@ -238,8 +243,8 @@ private:
         const uint side = spec.refine ? spec.side / 2u : spec.side;
         const uint n = uint(cells_.size());
         if (std::size_t(n) * fanout >= GRID_TAG) throw Error("more than 2^31 active cells");
-        scan_.resize(std::size_t(n) + 1);
-        masks_.resize(n);
+        fit(scan_, std::size_t(n) + 1);
+        fit(masks_, n);
         const CellArgs args{dom, 0, 0, 0, 0, 0, 0, 0, 0, n, spec.round, side, fanout};
         pool_.parallel_for(n, [&](std::size_t b, std::size_t e, unsigned) {
             for (std::size_t i = b; i < e; ++i)
@@ -247,14 +252,15 @@ private:
                     refine_base_cell(args, cells(), scan(), Uints{masks_.data()}, grid(), uint(i));
         });
         const std::uint64_t kept = exclusive_scan(n);
-        next_.reserve(kept);  // exactly: geometric growth would leave up to half again unused
-        next_.resize(kept);
+        fit(next_, kept);
         note_peak();
         pool_.parallel_for(n, [&](std::size_t b, std::size_t e, unsigned) {
             for (std::size_t i = b; i < e; ++i)
                 scatter_children(args, cells(), scan(), Uints{masks_.data()}, Cells{next_.data()}, uint(i));
         });
         cells_.swap(next_);
+        std::vector<uvec2>().swap(next_);
+        std::vector<uint>().swap(masks_);
     }
 
     Plan plan_;
