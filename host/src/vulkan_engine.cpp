@@ -90,10 +90,10 @@ public:
 
         // Submit 1: dart counts and their prefix sums.
         const Scratch counts(n, 0, active_);
-        ensure_scratch(counts.darts, false);
+        ensure_scratch(counts.list, false);
         ensure_block_sums(std::uint64_t(n) + 1);
         ctx_.begin();
-        CellArgs a = cell_args(targets, counts.in(scratch_), n, spec.round, side, spec.exp_neg_lambda);
+        CellArgs a = cell_args(targets, counts.in(scratch_, 0), n, spec.round, side, spec.exp_neg_lambda);
         ctx_.dispatch(count_darts_, &a, groups(std::uint64_t(n) + 1, WORKGROUP_SIZE));
         ctx_.barrier();  // counts before the scan
         scan(scratch_.address(), std::uint64_t(n) + 1, COUNTER_DARTS);
@@ -104,12 +104,15 @@ public:
         // Submit 2..: throw (rejecting darts covered by earlier samples), resolve in arrival order.
         const Scratch at(n, darts, active_);
         ensure_scratch(at.end, true);  // keeps the prefix sums
+        // The darts get a buffer of their own, freed once they are emitted: the next active list
+        // is then allocated in their place.
+        darts_ = Buffer(ctx_, std::uint64_t(darts) * sizeof(uvec4), false);
         const std::uint64_t ranks = scratch_.address() + at.ranks;
-        const std::uint64_t dart_list = scratch_.address() + at.darts;
+        const std::uint64_t dart_list = darts_.address();
         const std::uint64_t work[2] = {scratch_.address() + at.list, ranks};
         VkCommandBuffer cmd = ctx_.begin();
         ctx_.vk().vkCmdFillBuffer(cmd, counters_.handle(), (COUNTER_WORK0 + 3) * 4, 4, 0);
-        a = cell_args(targets, at.in(scratch_), n, spec.round, side, darts);
+        a = cell_args(targets, at.in(scratch_, dart_list), n, spec.round, side, darts);
         ctx_.dispatch(mark_ranges_, &a, groups(n, WORKGROUP_SIZE));
         ctx_.barrier();  // dart ranges and the empty work list before throw_darts reads and appends
         ctx_.dispatch(throw_darts_, &a, groups(n, WORKGROUP_SIZE));
@@ -166,14 +169,15 @@ public:
         const std::uint32_t fanout = spec.refine ? 4 : 1;
         if (std::uint64_t(active) * fanout >= GRID_TAG) throw Error("more than 2^31 active cells");
         const std::uint32_t child_side = spec.refine ? spec.side / 2 : spec.side;
-        a = cell_args(cells_.address(), at.in(scratch_), active, spec.round, child_side, fanout);
+        a = cell_args(cells_.address(), at.in(scratch_, 0), active, spec.round, child_side, fanout);
         ctx_.dispatch(refine_cells_, &a, groups(std::uint64_t(active) + 1, WORKGROUP_SIZE));
         ctx_.barrier();  // surviving-children counts and masks before their scan
         scan(ranks, std::uint64_t(active) + 1, COUNTER_ACTIVE);
         ctx_.submit_and_wait();
         emitted_ += accepted;
 
-        // The next active list, allocated to its exact size, replaces the current one.
+        // The next active list, allocated to its exact size where the darts were, replaces the current one.
+        darts_ = Buffer();
         const std::uint32_t kept = counter(COUNTER_ACTIVE);
         Buffer next(ctx_, std::uint64_t(kept) * sizeof(uvec2), false);
         a.cells_out = next.address();
@@ -190,6 +194,7 @@ public:
         // The round's working memory is not needed for the read-back: free it first.
         scratch_ = Buffer();
         histogram_ = Buffer();
+        darts_ = Buffer();
         std::vector<uvec2> out(emitted_);
         if (emitted_ == 0) return out;
         Buffer staging(ctx_, emitted_ * sizeof(uvec2), true);
@@ -210,23 +215,22 @@ private:
         std::uint64_t scan = 0, darts = 0, work = 0, masks = 0;
     };
     // Where a round's transient arrays lie in the scratch buffer, as byte offsets. Arrays whose
-    // lives do not overlap share a region, in this order:
+    // lives do not overlap share a region:
     //   ranks: the targets' dart prefix sums (count_darts, throw_darts), work list 1 (resolution),
     //          the accepted flags and their ranks (commit, emit), the surviving-children counts
     //          and their ranks (refine, scatter);
-    //   darts: the darts (throw to emit), then the sort's second buffers (sort);
     //   list:  work list 0 (throw, resolution), the round's sample keys (emit, sort), the child
     //          masks (refine, scatter).
+    // The darts have a buffer of their own (darts_), which the sort reuses for its second buffers.
     struct Scratch {
-        std::uint64_t ranks = 0, darts, list, end;
+        std::uint64_t ranks = 0, list, end;
         Scratch(std::uint32_t targets, std::uint32_t dart_count, std::uint32_t active) {
             const std::uint64_t most = std::max(std::max(targets, dart_count), active);
-            darts = ((most + 1) * 4 + 15) / 16 * 16;
-            list = darts + std::uint64_t(dart_count) * sizeof(uvec4);
+            list = ((most + 1) * 4 + 15) / 16 * 16;
             end = list + std::uint64_t(std::max(dart_count, active)) * 4;
         }
-        Regions in(const Buffer& b) const {
-            return {b.address() + ranks, b.address() + darts, b.address() + list, b.address() + list};
+        Regions in(const Buffer& b, std::uint64_t darts) const {
+            return {b.address() + ranks, darts, b.address() + list, b.address() + list};
         }
     };
 
@@ -358,6 +362,7 @@ private:
     Buffer dart_cells_;  // two radii: the base cells that get darts this round
     Buffer samples_;     // all samples so far, in acceptance order
     Buffer scratch_;     // each round's transient arrays (see Scratch)
+    Buffer darts_;       // this round's darts
     Buffer block_sums_, histogram_;
     std::uint64_t emitted_ = 0;
     std::uint32_t active_ = 0;
