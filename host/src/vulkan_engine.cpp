@@ -1,6 +1,6 @@
-// The Vulkan engine: each round of the schedule as three submits of compute dispatches over
-// compacted lists (active cells, darts, undecided darts). The host reads back only counts.
-#include <array>
+// The Vulkan engine: each round of the schedule as a few submits of compute dispatches over
+// compacted lists (active cells, darts, undecided darts). The host reads back only counts, which
+// size the next arrays exactly.
 #include <cstddef>
 #include <cstring>
 
@@ -90,7 +90,7 @@ public:
 
         // Submit 1: dart counts and their prefix sums.
         const Scratch counts(n, 0, active_);
-        ensure_scratch(counts.list, false);
+        ensure(scratch_, counts.list);
         ensure_block_sums(std::uint64_t(n) + 1);
         ctx_.begin();
         CellArgs a = cell_args(targets, counts.in(scratch_, 0), n, spec.round, side, spec.exp_neg_lambda);
@@ -103,7 +103,7 @@ public:
 
         // Submit 2..: throw (rejecting darts covered by earlier samples), resolve in arrival order.
         const Scratch at(n, darts, active_);
-        ensure_scratch(at.end, true);  // keeps the prefix sums
+        ensure(scratch_, at.end, true);  // keeps the prefix sums
         // The darts get a buffer of their own, freed once they are emitted: the next active list
         // is then allocated in their place.
         darts_ = Buffer(ctx_, std::uint64_t(darts) * sizeof(uvec4), false);
@@ -239,7 +239,7 @@ private:
     // lie at the start of the scratch buffer; the list gets a buffer of its exact size.
     std::uint32_t list_dart_cells(const RoundSpec& spec) {
         const std::uint64_t bases = plan_.base_cells;
-        ensure_scratch((bases + 1) * 4, false);
+        ensure(scratch_, (bases + 1) * 4);
         ensure_block_sums(bases + 1);
         const std::uint64_t flags = scratch_.address();
         VkCommandBuffer cmd = ctx_.begin();
@@ -316,7 +316,6 @@ private:
         }
     }
 
-    void ensure_scratch(std::uint64_t bytes, bool preserve) { ensure(scratch_, bytes, preserve); }
     void ensure_block_sums(std::uint64_t count) { ensure(block_sums_, std::uint64_t(groups(count, SCAN_BLOCK)) * 4); }
 
     // Grows a buffer to exactly `bytes`, optionally keeping its contents. Buffers only grow, and
