@@ -14,7 +14,7 @@ void main() {
     uint undecided = throw_base_cell(a, a.cells, a.scan, a.darts, a.grid, e);
     if (undecided == 0u) return;
     uint slot = atomicAdd(a.counters.value[COUNTER_WORK0 + 3u], undecided);
-    uvec2 range = a.grid.word[base_of_point(a.domain, a.cells.cell[e])];
-    for (uint j = range.x & ~GRID_TAG; j < range.y; j++)
+    uvec2 range = grid_darts(a.grid.word[base_of_point(a.domain, a.cells.cell[e])]);
+    for (uint j = range.x; j < range.y; j++)
         if (a.darts.dart[j].w == DART_UNDECIDED) a.work.value[slot++] = j;
 }

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <atomic>
+#include <bit>
 
 #include <fmt/format.h>
 
@@ -23,7 +24,8 @@ constexpr uint kMaxRetries = 1u << 20;
 class HostEngine final : public Engine {
 public:
     HostEngine(const Plan& plan, Resolution resolution, unsigned threads)
-        : plan_(plan), resolution_(resolution), pool_(threads ? threads : std::thread::hardware_concurrency()) {}
+        : plan_(plan), resolution_(resolution), pool_(threads ? threads : std::thread::hardware_concurrency()),
+          masked_(resolution == Resolution::Parallel && !two_radii(plan.domain)) {}
 
     std::string device_name() const override {
         return resolution_ == Resolution::Serial ? "serial (host, one dart at a time)"
@@ -32,9 +34,13 @@ public:
 
     std::uint64_t start() override {
         const Domain& d = plan_.domain;
-        grid_.assign(plan_.base_cells, uvec2(GRID_EMPTY, GRID_EMPTY));
         // Reserving the expected count avoids the vector doubling past the end (more samples grow it).
         out_.reserve(expected_samples(plan_));
+        if (masked_) {
+            grid_.assign(plan_.base_cells, uvec2(GRID_EMPTY, 1u));  // each base cell: its one level-0 cell
+            return plan_.base_cells;
+        }
+        grid_.assign(plan_.base_cells, uvec2(GRID_EMPTY, GRID_EMPTY));
         cells_.resize(plan_.base_cells);
         for (uint y = 0; y < d.cells_y; ++y)
             for (uint x = 0; x < d.cells_x; ++x)
@@ -43,73 +49,16 @@ public:
     }
 
     RoundResult round(const RoundSpec& spec) override {
-        const Domain dom = plan_.domain;
-        // One radius: the darts go to the active cells. Two: to the base cells near them.
-        if (two_radii(dom)) list_dart_cells(spec);
-        std::vector<uvec2>& targets = two_radii(dom) ? dart_cells_ : cells_;
-        const uint n = uint(targets.size());
-        const uint side = two_radii(dom) ? 1u << dom.cell_bits : spec.side;
-        CellArgs args{dom, 0, 0, 0, 0, 0, 0, 0, 0, n, spec.round, side, spec.exp_neg_lambda};
-        const Cells cells{targets.data()};
-
-        fit(scan_, std::size_t(n) + 1);
-        pool_.parallel_for(n, [&](std::size_t b, std::size_t e, unsigned) {
-            for (std::size_t i = b; i < e; ++i)
-                scan_[i] = dart_count(cell_stream(dom.seed, spec.round, targets[i]), spec.exp_neg_lambda);
-        });
-        const std::uint64_t total = exclusive_scan(n);
-        if (total >= MAX_ROUND_DARTS) throw Error("a round would throw more than 2^30 darts");
-        darts_.resize(total);
-        pool_.parallel_for(n, [&](std::size_t b, std::size_t e, unsigned) {
-            for (std::size_t i = b; i < e; ++i)
-                if (first_in_base_cell(dom, cells, uint(i))) mark_dart_range(args, cells, scan(), grid(), uint(i));
-        });
-        // Throw, rejecting darts covered by earlier rounds; then decide the rest.
-        pool_.parallel_for(n, [&](std::size_t b, std::size_t e, unsigned) {
-            for (std::size_t i = b; i < e; ++i)
-                if (first_in_base_cell(dom, cells, uint(i))) throw_base_cell(args, cells, scan(), darts(), grid(), uint(i));
-        });
+        const std::uint64_t total = masked_ ? throw_masked(spec) : throw_listed(spec);
         note_peak();
         resolve();
-
-        // Commit: grid words become samples or empty again; scan_ flags the accepted darts.
-        fit(scan_, total);
-        std::array<uint, COUNTER_WORDS> counters{};
-        pool_.parallel_for(n, [&](std::size_t b, std::size_t e, unsigned) {
-            for (std::size_t i = b; i < e; ++i)
-                if (first_in_base_cell(dom, cells, uint(i)))
-                    commit_base_cell(grid(), darts(), scan(), Uints{counters.data()}, base_of_point(dom, targets[i]));
-        });
-        if (counters[COUNTER_TOO_COMPLEX]) throw Error(kTooComplex);
-        // The round's samples in arrival order: by (key, dart index), dart index being spatial
-        // order; both in one 64-bit word. Each thread sorts its part; their merge goes to out_.
-        std::vector<std::vector<std::uint64_t>> accepted(pool_.size());
-        pool_.parallel_for(total, [&](std::size_t b, std::size_t e, unsigned w) {
-            for (std::size_t j = b; j < e; ++j)
-                if (scan_[j]) accepted[w].push_back(std::uint64_t(darts_[j].z) << 32 | j);
-            std::sort(accepted[w].begin(), accepted[w].end());
-        });
-        std::uint64_t lists_bytes = 0;
-        for (auto& a : accepted) lists_bytes += bytes(a);
-        note_peak(lists_bytes);
-        std::vector<std::size_t> next(accepted.size(), 0);
-        for (;;) {
-            std::size_t best = accepted.size();
-            for (std::size_t w = 0; w < accepted.size(); ++w)
-                if (next[w] < accepted[w].size() &&
-                    (best == accepted.size() || accepted[w][next[w]] < accepted[best][next[best]]))
-                    best = w;
-            if (best == accepted.size()) break;
-            const uvec4& dart = darts_[std::uint32_t(accepted[best][next[best]++])];
-            out_.emplace_back(dart.x, dart.y);
-        }
-        accepted.clear();
-
-        // The darts are spent: give their memory back before refinement, the run's peak.
+        commit();
+        emit();
+        // The darts are spent: give their memory back before refinement.
         std::vector<uvec4>().swap(darts_);
         std::vector<uvec2>().swap(dart_cells_);
-        refine(spec);
-        return {total, cells_.size()};
+        const std::uint64_t active = masked_ ? refine_masked(spec) : refine(spec);
+        return {total, active};
     }
 
     std::vector<uvec2> samples() override { return std::move(out_); }
@@ -135,6 +84,199 @@ private:
         const std::uint64_t held = bytes(grid_) + bytes(cells_) + bytes(next_) + bytes(dart_cells_) + bytes(darts_) +
                                    bytes(scan_) + bytes(masks_) + bytes(out_) + extra;
         peak_ = std::max(peak_, held);
+    }
+
+    // Lists the round's darts for the active cells (one radius) or the base cells near them (two
+    // radii), throws them, and returns their count.
+    std::uint64_t throw_listed(const RoundSpec& spec) {
+        const Domain dom = plan_.domain;
+        if (two_radii(dom)) list_dart_cells(spec);
+        std::vector<uvec2>& targets = two_radii(dom) ? dart_cells_ : cells_;
+        const uint n = uint(targets.size());
+        const uint side = two_radii(dom) ? 1u << dom.cell_bits : spec.side;
+        CellArgs args{dom, 0, 0, 0, 0, 0, 0, 0, 0, n, spec.round, side, spec.exp_neg_lambda};
+        const Cells cells{targets.data()};
+
+        fit(scan_, std::size_t(n) + 1);
+        pool_.parallel_for(n, [&](std::size_t b, std::size_t e, unsigned) {
+            for (std::size_t i = b; i < e; ++i)
+                scan_[i] = dart_count(cell_stream(dom.seed, spec.round, targets[i]), spec.exp_neg_lambda);
+        });
+        const std::uint64_t total = exclusive_scan(n);
+        if (total >= MAX_ROUND_DARTS) throw Error("a round would throw more than 2^30 darts");
+        darts_.resize(total);
+        pool_.parallel_for(n, [&](std::size_t b, std::size_t e, unsigned) {
+            for (std::size_t i = b; i < e; ++i)
+                if (first_in_base_cell(dom, cells, uint(i))) mark_dart_range(args, cells, scan(), grid(), uint(i));
+        });
+        // Throw, rejecting darts covered by earlier rounds.
+        pool_.parallel_for(n, [&](std::size_t b, std::size_t e, unsigned) {
+            for (std::size_t i = b; i < e; ++i)
+                if (first_in_base_cell(dom, cells, uint(i))) throw_base_cell(args, cells, scan(), darts(), grid(), uint(i));
+        });
+        std::vector<uint>().swap(scan_);
+        return total;
+    }
+
+    // Mask mode: counts each base cell's darts into its word, numbers them chunk by chunk in base
+    // cell order (the explicit list's order), throws them, and returns their count.
+    std::uint64_t throw_masked(const RoundSpec& spec) {
+        const Domain dom = plan_.domain;
+        const uint bases = uint(plan_.base_cells);
+        const CellArgs args{dom, 0, 0, 0, 0, 0, 0, 0, 0, bases, spec.round, spec.side, spec.exp_neg_lambda};
+        std::vector<std::uint64_t> first(pool_.size() + 1, 0);
+        std::atomic<bool> crowded = false;
+        pool_.parallel_for(bases, [&](std::size_t b, std::size_t e, unsigned w) {
+            std::uint64_t sum = 0;
+            for (std::size_t i = b; i < e; ++i) {
+                uvec2& word = grid_[i];
+                if (grid_is_sample(word) || (word.y & GRID_MASK_BITS) == 0u) continue;
+                const uint count = masked_dart_count(args, grid(), uint(i));
+                if (count > GRID_MASK_BITS) crowded = true;
+                word.y = count << 16 | (word.y & GRID_MASK_BITS);
+                sum += count;
+            }
+            first[w + 1] = sum;
+        });
+        if (crowded) throw Error("internal: a base cell got more than 65535 darts in one round");
+        for (std::size_t w = 1; w < first.size(); ++w) first[w] += first[w - 1];
+        const std::uint64_t total = first.back();
+        if (total >= MAX_ROUND_DARTS) throw Error("a round would throw more than 2^30 darts");
+        darts_.resize(total);
+        // Numbering is a pass of its own: throwing reads the neighbours' words.
+        pool_.parallel_for(bases, [&](std::size_t b, std::size_t e, unsigned w) {
+            std::uint64_t next = first[w];
+            for (std::size_t i = b; i < e; ++i) {
+                uvec2& word = grid_[i];
+                if (grid_is_sample(word) || (word.y & GRID_MASK_BITS) == 0u) continue;
+                word.x = GRID_TAG | GRID_PACKED | uint(next);
+                next += word.y >> 16;
+            }
+        });
+        pool_.parallel_for(bases, [&](std::size_t b, std::size_t e, unsigned) {
+            for (std::size_t i = b; i < e; ++i)
+                if (grid_is_darts(grid_[i])) throw_masked_base(args, darts(), grid(), uint(i), grid_darts(grid_[i]).x);
+        });
+        return total;
+    }
+
+    // Each base cell with darts keeps its accepted dart as its sample, or is empty again.
+    void commit() {
+        const Domain dom = plan_.domain;
+        if (masked_) {
+            pool_.parallel_for(plan_.base_cells, [&](std::size_t b, std::size_t e, unsigned) {
+                for (std::size_t i = b; i < e; ++i)
+                    if (grid_is_darts(grid_[i])) grid_[i] = committed_word(darts(), grid_[i]);
+            });
+            return;
+        }
+        const Cells listed{(two_radii(dom) ? dart_cells_ : cells_).data()};
+        const std::size_t n = two_radii(dom) ? dart_cells_.size() : cells_.size();
+        pool_.parallel_for(n, [&](std::size_t b, std::size_t e, unsigned) {
+            for (std::size_t i = b; i < e; ++i) {
+                if (!first_in_base_cell(dom, listed, uint(i))) continue;
+                uvec2& w = grid_[base_of_point(dom, listed.cell[i])];
+                w = committed_word(darts(), w);
+            }
+        });
+    }
+
+    // Appends the round's accepted darts to the samples in arrival order: by (key, dart index),
+    // dart index being spatial order, both in one 64-bit word. Each thread sorts its part; their
+    // merge goes to out_. A dart left DART_TOO_COMPLEX (two radii) fails the run.
+    void emit() {
+        const std::size_t total = darts_.size();
+        std::vector<std::vector<std::uint64_t>> accepted(pool_.size());
+        std::atomic<bool> too_complex = false;
+        pool_.parallel_for(total, [&](std::size_t b, std::size_t e, unsigned w) {
+            std::size_t count = 0;
+            for (std::size_t j = b; j < e; ++j) {
+                count += darts_[j].w == DART_ACCEPTED ? 1 : 0;
+                if (darts_[j].w == DART_TOO_COMPLEX) too_complex = true;
+            }
+            accepted[w].reserve(count);
+            for (std::size_t j = b; j < e; ++j)
+                if (darts_[j].w == DART_ACCEPTED) accepted[w].push_back(std::uint64_t(darts_[j].z) << 32 | j);
+            std::sort(accepted[w].begin(), accepted[w].end());
+        });
+        if (too_complex) throw Error(kTooComplex);
+        std::uint64_t lists_bytes = 0;
+        for (auto& a : accepted) lists_bytes += bytes(a);
+        note_peak(lists_bytes);
+        std::vector<std::size_t> next(accepted.size(), 0);
+        for (;;) {
+            std::size_t best = accepted.size();
+            for (std::size_t w = 0; w < accepted.size(); ++w)
+                if (next[w] < accepted[w].size() &&
+                    (best == accepted.size() || accepted[w][next[w]] < accepted[best][next[best]]))
+                    best = w;
+            if (best == accepted.size()) break;
+            const uvec4& dart = darts_[std::uint32_t(accepted[best][next[best]++])];
+            out_.emplace_back(dart.x, dart.y);
+        }
+    }
+
+    // Mask mode: each base cell's word gets the mask of its surviving children (or cells, when
+    // they do not split). Children at level MASK_LEVELS go to an explicit active list instead.
+    // Returns the active count.
+    std::uint64_t refine_masked(const RoundSpec& spec) {
+        const Domain dom = plan_.domain;
+        const uint bases = uint(plan_.base_cells);
+        const uint fanout = spec.refine ? 4u : 1u;
+        const uint side = spec.refine ? spec.side / 2u : spec.side;
+        const uint base_side = 1u << dom.cell_bits;
+        const CellArgs args{dom, 0, 0, 0, 0, 0, 0, 0, 0, bases, spec.round, side, fanout};
+        std::vector<std::uint64_t> first(pool_.size() + 1, 0);
+        if (!spec.refine || (side << MASK_LEVELS) != base_side) {
+            fit(masks_, bases);
+            pool_.parallel_for(bases, [&](std::size_t b, std::size_t e, unsigned w) {
+                std::uint64_t sum = 0;
+                for (std::size_t i = b; i < e; ++i) {
+                    masks_[i] = refine_masked_base(args, grid(), uint(i)).x;
+                    sum += std::popcount(masks_[i]);
+                }
+                first[w + 1] = sum;
+            });
+            note_peak();
+            // A pass of its own: refinement reads the neighbours' words.
+            pool_.parallel_for(bases, [&](std::size_t b, std::size_t e, unsigned) {
+                for (std::size_t i = b; i < e; ++i)
+                    if (!grid_is_sample(grid_[i])) grid_[i].y = masks_[i];
+            });
+            std::vector<uint>().swap(masks_);
+            std::uint64_t active = 0;
+            for (std::uint64_t c : first) active += c;
+            return active;
+        }
+        // Each thread keeps its base cells' nonzero masks, in order, then writes their children.
+        std::vector<std::vector<std::pair<uint, uvec2>>> kept(pool_.size());
+        pool_.parallel_for(bases, [&](std::size_t b, std::size_t e, unsigned w) {
+            std::uint64_t sum = 0;
+            for (std::size_t i = b; i < e; ++i) {
+                const uvec2 mask = refine_masked_base(args, grid(), uint(i));
+                if (mask == uvec2(0u, 0u)) continue;
+                kept[w].emplace_back(uint(i), mask);
+                sum += std::popcount(mask.x) + std::popcount(mask.y);
+            }
+            first[w + 1] = sum;
+        });
+        for (std::size_t w = 1; w < first.size(); ++w) first[w] += first[w - 1];
+        if (first.back() >= GRID_TAG) throw Error("more than 2^31 active cells");
+        fit(cells_, first.back());
+        std::uint64_t lists_bytes = 0;
+        for (auto& k : kept) lists_bytes += bytes(k);
+        note_peak(lists_bytes);
+        pool_.parallel_for(bases, [&](std::size_t, std::size_t, unsigned w) {
+            std::uint64_t next = first[w];
+            for (const auto& [i, mask] : kept[w]) {
+                const uvec2 corner = base_corner(dom, i);
+                for (uint bit = 0; bit < 64; ++bit)
+                    if (((bit < 32 ? mask.x >> bit : mask.y >> (bit - 32)) & 1u) != 0u)
+                        cells_[next++] = subcell_corner(corner, bit, side, base_side);
+            }
+        });
+        masked_ = false;
+        return cells_.size();
     }
 
     Cells cells() { return {cells_.data()}; }
@@ -237,7 +379,8 @@ private:
         if (stuck) throw Error("internal: an undecided dart waits for no earlier dart");
     }
 
-    void refine(const RoundSpec& spec) {
+    // Keeps or splits the active cells of the list; returns their count.
+    std::uint64_t refine(const RoundSpec& spec) {
         const Domain dom = plan_.domain;
         const uint fanout = spec.refine ? 4u : 1u;
         const uint side = spec.refine ? spec.side / 2u : spec.side;
@@ -261,11 +404,15 @@ private:
         cells_.swap(next_);
         std::vector<uvec2>().swap(next_);
         std::vector<uint>().swap(masks_);
+        return cells_.size();
     }
 
     Plan plan_;
     Resolution resolution_;
     ThreadPool pool_;
+    // Mask mode (sampler.h) at levels 0 to MASK_LEVELS - 1, for the cpu backend with one radius;
+    // the serial backend, the oracle, keeps the explicit list that the GPU runs.
+    bool masked_ = false;
     std::vector<uvec2> grid_;
     std::vector<uvec2> cells_;
     std::vector<uvec2> next_;

@@ -127,7 +127,8 @@ VRPD_FN uint gather_accepted(Domain dom, Grid grid, Darts darts, uint d, VRPD_OU
                 disk_at[n++] = offset_to(dom, p, w);
             }
             if (!grid_is_darts(w)) continue;
-            for (uint j = w.x & ~GRID_TAG; j < w.y; j++) {
+            uvec2 range = grid_darts(w);
+            for (uint j = range.x; j < range.y; j++) {
                 uvec4 other = dart_at(darts, j);
                 if (j == d || other.w == DART_REJECTED || !arrives_before(other.z, j, me.z, d)) continue;
                 uint64_t gap2 = distance2(dom, p, uvec2(other.x, other.y));
@@ -197,7 +198,8 @@ VRPD_FN uint census(Domain dom, Grid grid, Darts darts, uint d, uvec2 p, uvec2 c
                 continue;
             }
             if (!grid_is_darts(w)) continue;
-            for (uint j = w.x & ~GRID_TAG; j < w.y; j++) {
+            uvec2 range = grid_darts(w);
+            for (uint j = range.x; j < range.y; j++) {
                 uvec4 other = dart_at(darts, j);
                 if (j == d || other.w == DART_REJECTED || !arrives_before(other.z, j, key, d)) continue;
                 uint64_t g = distance2(dom, uvec2(other.x, other.y), p);
@@ -279,7 +281,8 @@ VRPD_FN uint resolve_dart(Domain global, Grid grid, Darts darts, uint d) {
             if (nb == GRID_EMPTY) continue;
             uvec2 w = grid.word[nb];
             if (!grid_is_darts(w)) continue;
-            for (uint j = w.x & ~GRID_TAG; j < w.y; j++) {
+            uvec2 range = grid_darts(w);
+            for (uint j = range.x; j < range.y; j++) {
                 if (j == d) continue;
                 uvec4 other = dart_at(darts, j);
                 if (other.w == DART_REJECTED || !arrives_before(other.z, j, me.z, d)) continue;
@@ -311,7 +314,8 @@ VRPD_FN uint undecided_before(Domain global, Grid grid, Darts darts, uint d) {
             if (nb == GRID_EMPTY) continue;
             uvec2 w = grid.word[nb];
             if (!grid_is_darts(w)) continue;
-            for (uint j = w.x & ~GRID_TAG; j < w.y; j++) {
+            uvec2 range = grid_darts(w);
+            for (uint j = range.x; j < range.y; j++) {
                 uvec4 other = dart_at(darts, j);
                 if (j != d && other.w == DART_UNDECIDED && arrives_before(other.z, j, me.z, d) &&
                     distance2(dom, p, uvec2(other.x, other.y)) < limit2)
@@ -339,7 +343,8 @@ VRPD_FN uint serial_decision(Domain global, Grid grid, Darts darts, uint d) {
             if (nb == GRID_EMPTY) continue;
             uvec2 w = grid.word[nb];
             if (!grid_is_darts(w)) continue;
-            for (uint j = w.x & ~GRID_TAG; j < w.y; j++) {
+            uvec2 range = grid_darts(w);
+            for (uint j = range.x; j < range.y; j++) {
                 uvec4 other = dart_at(darts, j);
                 if (j != d && other.w == DART_ACCEPTED && in_disk(dom, uvec2(other.x, other.y), p)) return DART_REJECTED;
             }
@@ -348,14 +353,32 @@ VRPD_FN uint serial_decision(Domain global, Grid grid, Darts darts, uint d) {
     return DART_ACCEPTED;
 }
 
+// The word of a base cell whose darts word is w after a round without a sample in it: empty,
+// keeping the mask of its active sub-cells in mask mode.
+VRPD_FN uvec2 empty_after_round(uvec2 w) {
+    return uvec2(GRID_EMPTY, (w.x & GRID_PACKED) != 0u ? (w.y & GRID_MASK_BITS) : GRID_EMPTY);
+}
+
+// The word base cell b keeps after its round (its word is a darts word): the accepted dart, if
+// any (at most one: the base cell's diagonal is shorter than r), else empty_after_round.
+VRPD_FN uvec2 committed_word(Darts darts, uvec2 w) {
+    uvec2 range = grid_darts(w);
+    for (uint j = range.x; j < range.y; j++) {
+        uvec4 dart = darts.dart[j];
+        if (dart.w == DART_ACCEPTED) return uvec2(dart.x, dart.y);
+    }
+    return empty_after_round(w);
+}
+
 // Ends the round for the base cell of active cell e (called for the first active cell of each
-// base cell): the grid word becomes the accepted sample, if any (at most one: the base cell's
-// diagonal is shorter than r), else empty again; flags[j] = 1 marks accepted darts for emission.
+// base cell): the grid word becomes committed_word's; flags[j] = 1 marks accepted darts for
+// emission. (One loop with the flags, not a call of committed_word: each buffer read costs.)
 // A dart left DART_TOO_COMPLEX sets counters[COUNTER_TOO_COMPLEX]: the engine fails the run.
 VRPD_FN void commit_base_cell(Grid grid, Darts darts, Uints flags, Uints counters, uint b) {
     uvec2 w = grid.word[b];
-    uvec2 result = uvec2(GRID_EMPTY, GRID_EMPTY);
-    for (uint j = w.x & ~GRID_TAG; j < w.y; j++) {
+    uvec2 result = empty_after_round(w);
+    uvec2 range = grid_darts(w);
+    for (uint j = range.x; j < range.y; j++) {
         uvec4 dart = darts.dart[j];
         if (dart.w == DART_TOO_COMPLEX) set_flag(counters, COUNTER_TOO_COMPLEX);
         bool accepted = dart.w == DART_ACCEPTED;
@@ -610,6 +633,87 @@ VRPD_FN void scatter_children(CellArgs a, Cells cells, Uints ranks, Uints masks,
     uint rank = ranks.value[i];
     for (uint c = 0u; c < a.param; c++)
         if ((mask & (1u << c)) != 0u) cells_out.cell[rank++] = child_corner(cells.cell[i], a.side, c);
+}
+
+// Mask mode (one radius, levels 0 to MASK_LEVELS - 1): there is no list of active cells. The grid
+// word of a base cell without a sample holds the mask of its active sub-cells at the current
+// level (GRID_MASK_BITS: at most 16 sub-cells, level 2), and the kernels run over base cells.
+// Bit k is the sub-cell the explicit list would hold at that place: k's base-4 digits, most
+// significant first, are the child indices (child_corner) taken at each level, so the darts,
+// their indices and the samples are the explicit mode's, bit for bit.
+const uint MASK_LEVELS = 3u;
+
+// Corner of sub-cell k of side `side` of the base cell at `corner` (of side base_side).
+VRPD_FN uvec2 subcell_corner(uvec2 corner, uint k, uint side, uint base_side) {
+    for (uint s = side; s < base_side; s *= 2u) {
+        corner = child_corner(corner, s, k & 3u);
+        k >>= 2u;
+    }
+    return corner;
+}
+
+VRPD_FN uvec2 base_corner(Domain dom, uint b) {
+    return uvec2((b % dom.cells_x) << dom.cell_bits, (b / dom.cells_x) << dom.cell_bits);
+}
+
+// Mask mode: the darts base cell b gets this round (a.side: the sub-cells' side; a.param:
+// exp(-lambda) as in count_darts).
+VRPD_FN uint masked_dart_count(CellArgs a, Grid grid, uint b) {
+    uvec2 w = grid.word[b];
+    if (grid_is_sample(w)) return 0u;
+    uvec2 corner = base_corner(a.domain, b);
+    uint base_side = 1u << a.domain.cell_bits;
+    uint count = 0u;
+    for (uint mask = w.y & GRID_MASK_BITS, k = 0u; mask != 0u; mask >>= 1u, k++)
+        if ((mask & 1u) != 0u)
+            count += dart_count(cell_stream(a.domain.seed, a.round, subcell_corner(corner, k, a.side, base_side)), a.param);
+    return count;
+}
+
+// Mask mode: writes the darts of base cell b, from `first` on, in the order of its sub-cells, each
+// rejected if it lies in the disk of a sample of an earlier round (as throw_base_cell).
+VRPD_FN void throw_masked_base(CellArgs a, Darts darts, Grid grid, uint b, uint first) {
+    uvec2 w = grid.word[b];
+    uvec2 base = uvec2(b % a.domain.cells_x, b / a.domain.cells_x);
+    Domain dom = local_domain(a.domain, base);
+    uvec2 corner = base_corner(a.domain, b);
+    uint base_side = 1u << a.domain.cell_bits;
+    uint j = first;
+    for (uint mask = w.y & GRID_MASK_BITS, k = 0u; mask != 0u; mask >>= 1u, k++) {
+        if ((mask & 1u) == 0u) continue;
+        uvec2 cc = subcell_corner(corner, k, a.side, base_side);
+        uint stream = cell_stream(a.domain.seed, a.round, cc);
+        uint count = dart_count(stream, a.param);
+        for (uint i = 0u; i < count; i++, j++) {
+            uvec4 dart = make_dart(stream, i, cc, a.side);
+            dart.w = covered_by_sample(dom, grid, base, uvec2(dart.x, dart.y)) ? DART_REJECTED : DART_UNDECIDED;
+            darts.dart[j] = dart;
+        }
+    }
+}
+
+// Mask mode: the surviving children of base cell b's active sub-cells (a.side: the children's
+// side; a.param: 4 children, or 1: the cell itself), sub-cell k's as bits a.param * k + c, up to
+// 16 sub-cells: bits 0-31 in .x and 32-63 in .y, so that level 2's sub-cells may split too.
+VRPD_FN uvec2 refine_masked_base(CellArgs a, Grid grid, uint b) {
+    uvec2 w = grid.word[b];
+    uvec2 kept = uvec2(0u, 0u);
+    if (grid_is_sample(w) || (w.y & GRID_MASK_BITS) == 0u) return kept;
+    uvec2 base = uvec2(b % a.domain.cells_x, b / a.domain.cells_x);
+    Domain dom = local_domain(a.domain, base);
+    uint samples = gather_cell_samples(dom, grid, base);
+    uvec2 corner = base_corner(a.domain, b);
+    uint base_side = 1u << a.domain.cell_bits;
+    uint parent_side = a.param == 4u ? 2u * a.side : a.side;
+    for (uint mask = w.y & GRID_MASK_BITS, k = 0u; mask != 0u; mask >>= 1u, k++) {
+        if ((mask & 1u) == 0u) continue;
+        uvec2 cc = subcell_corner(corner, k, parent_side, base_side);
+        uint children = surviving_children(dom, grid, base, cc, a.side, a.param, samples);
+        uint bit = a.param * k;
+        if (bit < 32u) kept.x |= children << bit;
+        else kept.y |= children << (bit - 32u);
+    }
+    return kept;
 }
 
 VRPD_END
