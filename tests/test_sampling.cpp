@@ -155,7 +155,7 @@ TEST_CASE("parity holds on a large first round (many darts per resolution pass)"
 }
 
 // The memory check before a run (plan.cpp) counts 48 bytes of arrays per base cell; measured at
-// r = 0.001: 35 on lavapipe, 20 for cpu, 32 for serial. Every engine must stay within it, or a run the check lets
+// r = 0.001: 25 on lavapipe, 20 for cpu, 32 for serial. Every engine must stay within it, or a run the check lets
 // through could still run out of memory; the lower bound is the grid and the samples themselves.
 TEST_CASE("the engines' arrays stay within the memory estimate checked before a run", "[sampling][gpu]") {
     for (double rc : {0.0, 0.008}) {
@@ -167,8 +167,10 @@ TEST_CASE("the engines' arrays stay within the memory estimate checked before a 
             INFO("backend " << int(b) << " Rc " << rc << " base cells " << plan.base_cells << " peak " << s.stats.peak_bytes);
             CHECK(s.stats.peak_bytes >= plan.base_cells * 8 + s.size() * 8);
             CHECK(s.stats.peak_bytes <= plan.base_cells * 48 + (1u << 20));
-            // The issue's goal, met by the cpu backend's mask mode (measured: 58 bytes per sample).
+            // Mask mode: the issue's goal of 64 bytes per sample, met by the cpu backend (measured:
+            // 58); the gpu's arrays hold the work list and the dart counts besides (measured: 72).
             if (b == Backend::Cpu && rc == 0.0) CHECK(s.stats.peak_bytes <= 64 * s.size());
+            if (b == Backend::Gpu && rc == 0.0) CHECK(s.stats.peak_bytes <= 80 * s.size());
         }
     }
 }

@@ -130,10 +130,10 @@ private:
             std::uint64_t sum = 0;
             for (std::size_t i = b; i < e; ++i) {
                 uvec2& word = grid_[i];
-                if (grid_is_sample(word) || (word.y & GRID_MASK_BITS) == 0u) continue;
-                const uint count = masked_dart_count(args, grid(), uint(i));
+                if (!masked_active(word)) continue;
+                const uint count = masked_dart_count(args, word, uint(i));
                 if (count > GRID_MASK_BITS) crowded = true;
-                word.y = count << 16 | (word.y & GRID_MASK_BITS);
+                word = counted_word(word, count);
                 sum += count;
             }
             first[w + 1] = sum;
@@ -148,8 +148,8 @@ private:
             std::uint64_t next = first[w];
             for (std::size_t i = b; i < e; ++i) {
                 uvec2& word = grid_[i];
-                if (grid_is_sample(word) || (word.y & GRID_MASK_BITS) == 0u) continue;
-                word.x = GRID_TAG | GRID_PACKED | uint(next);
+                if (!masked_active(word)) continue;
+                word = numbered_word(word, uint(next));
                 next += word.y >> 16;
             }
         });
@@ -224,10 +224,9 @@ private:
         const uint bases = uint(plan_.base_cells);
         const uint fanout = spec.refine ? 4u : 1u;
         const uint side = spec.refine ? spec.side / 2u : spec.side;
-        const uint base_side = 1u << dom.cell_bits;
         const CellArgs args{dom, 0, 0, 0, 0, 0, 0, 0, 0, bases, spec.round, side, fanout};
         std::vector<std::uint64_t> first(pool_.size() + 1, 0);
-        if (!spec.refine || (side << MASK_LEVELS) != base_side) {
+        if (!masked_leaves(args)) {
             fit(masks_, bases);
             pool_.parallel_for(bases, [&](std::size_t b, std::size_t e, unsigned w) {
                 std::uint64_t sum = 0;
@@ -269,10 +268,8 @@ private:
         pool_.parallel_for(bases, [&](std::size_t, std::size_t, unsigned w) {
             std::uint64_t next = first[w];
             for (const auto& [i, mask] : kept[w]) {
-                const uvec2 corner = base_corner(dom, i);
-                for (uint bit = 0; bit < 64; ++bit)
-                    if (((bit < 32 ? mask.x >> bit : mask.y >> (bit - 32)) & 1u) != 0u)
-                        cells_[next++] = subcell_corner(corner, bit, side, base_side);
+                scatter_subcells(dom, Cells{cells_.data()}, uint(next), mask, i, side);
+                next += std::popcount(mask.x) + std::popcount(mask.y);
             }
         });
         masked_ = false;

@@ -161,17 +161,17 @@ std::uint64_t expected_samples(const Plan& plan) {
 
 std::uint64_t estimated_bytes(const Plan& plan) {
     // The engines' arrays stay within 48 bytes per base cell (estimated_device_bytes; a test
-    // holds every engine to it; measured at r = 0.001: cpu 20, serial 32, lavapipe 35).
+    // holds every engine to it; measured at r = 0.001: cpu 20, serial 32, lavapipe 25).
     // On a CPU Vulkan device those arrays are host memory too, beside the driver's own (about
     // 155 MiB for lavapipe with LLVM) and the program.
     return plan.base_cells * 48 + (std::uint64_t(256) << 20);
 }
 
 std::uint64_t estimated_device_bytes(const Plan& plan) {
-    // The first round's peak, per base cell: grid word 8, active list 8, the scratch regions
-    // (prefix sums 4, work list 0 and then the child masks 4; see VulkanEngine::Scratch), the
-    // darts 8 at lambda = 0.5, and the samples about 3. Measured at r = 0.001: 35 bytes per base
-    // cell, 37 with Rc = 2 Rf.
+    // The first round's peak, per base cell: grid word 8, the scratch regions (prefix sums 4,
+    // work list 2 at lambda = 0.5; see VulkanEngine::Scratch), the darts 8 and the samples about
+    // 3; mask mode keeps no active list there. Measured at r = 0.001: 25 bytes per base cell; 37
+    // with Rc = 2 Rf, which keeps the lists.
     return plan.base_cells * 48 + (std::uint64_t(16) << 20);
 }
 

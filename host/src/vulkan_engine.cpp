@@ -11,23 +11,30 @@
 #include "vulkan_context.h"
 
 #include "apply_decisions.h"
+#include "apply_masks.h"
 #include "commit_cells.h"
+#include "commit_masked.h"
 #include "count_darts.h"
+#include "count_masked.h"
 #include "emit_samples.h"
 #include "flag_dart_cells.h"
 #include "flag_free_cells.h"
 #include "init_cells.h"
 #include "list_dart_cells.h"
+#include "mark_masked.h"
 #include "mark_ranges.h"
 #include "refine_cells.h"
+#include "refine_masked.h"
 #include "resolve_darts.h"
 #include "scan_add.h"
 #include "scan_blocks.h"
 #include "scan_sums.h"
 #include "scatter_cells.h"
+#include "scatter_masked.h"
 #include "sort_histogram.h"
 #include "sort_scatter.h"
 #include "throw_darts.h"
+#include "throw_masked.h"
 #include "work_args.h"
 
 namespace vrpd::detail {
@@ -53,7 +60,8 @@ template <std::size_t N> std::span<const std::uint32_t> words(const std::uint32_
 
 class VulkanEngine final : public Engine {
 public:
-    VulkanEngine(const Plan& plan, const std::string& selector) : plan_(plan), ctx_(selector) {
+    VulkanEngine(const Plan& plan, const std::string& selector)
+        : plan_(plan), ctx_(selector), masked_(!two_radii(plan.domain)) {
         if (estimated_device_bytes(plan) > ctx_.device_heap_bytes())
             throw Error(fmt::format("the run needs about {:.1f} GiB but {} has {:.1f} GiB of device memory",
                                     double(estimated_device_bytes(plan)) / (1 << 30), ctx_.device_name(),
@@ -68,14 +76,24 @@ public:
         const std::uint64_t n = plan_.base_cells;
         // The samples' buffer starts at the expected count and grows by a quarter if a round overflows it.
         ensure(samples_, expected_samples(plan_) * sizeof(uvec2));
-        ensure(cells_, n * sizeof(uvec2));
+        if (!masked_) ensure(cells_, n * sizeof(uvec2));
+        if (masked_) ensure(scratch_, n * 4);
         VkCommandBuffer cmd = ctx_.begin();
-        // Every grid word starts empty: (GRID_EMPTY, GRID_EMPTY); no dart has been too complex.
+        // Every grid word starts empty: (GRID_EMPTY, GRID_EMPTY); no dart has been too complex, and
+        // no base cell crowded.
         ctx_.vk().vkCmdFillBuffer(cmd, grid_.handle(), 0, VK_WHOLE_SIZE, GRID_EMPTY);
-        ctx_.vk().vkCmdFillBuffer(cmd, counters_.handle(), COUNTER_TOO_COMPLEX * 4, 4, 0);
-        CellArgs a = cell_args(cells_.address(), {}, std::uint32_t(n), 0, 0, 0);
-        ctx_.dispatch(init_cells_, &a, groups(n, WORKGROUP_SIZE));
-        ctx_.barrier();  // grid fill and first active list before the first round reads them
+        ctx_.vk().vkCmdFillBuffer(cmd, counters_.handle(), COUNTER_TOO_COMPLEX * 4, 8, 0);
+        if (masked_) {
+            // Mask mode: every base cell's mask is 1, its one level-0 cell.
+            ctx_.vk().vkCmdFillBuffer(cmd, scratch_.handle(), 0, n * 4, 1u);
+            ctx_.barrier();  // the fills before apply_masks reads and writes them
+            CellArgs a = cell_args(0, Regions{0, 0, 0, scratch_.address()}, std::uint32_t(n), 0, 0, 0);
+            ctx_.dispatch(apply_masks_, &a, groups(n, WORKGROUP_SIZE));
+        } else {
+            CellArgs a = cell_args(cells_.address(), {}, std::uint32_t(n), 0, 0, 0);
+            ctx_.dispatch(init_cells_, &a, groups(n, WORKGROUP_SIZE));
+        }
+        ctx_.barrier();  // grid words and first active list before the first round reads them
         ctx_.submit_and_wait();
         active_ = std::uint32_t(n);
         return n;
@@ -83,39 +101,50 @@ public:
 
     RoundResult round(const RoundSpec& spec) override {
         const bool two = two_radii(plan_.domain);
-        // One radius: the darts go to the active cells. Two: to the base cells near them.
-        const std::uint32_t n = two ? list_dart_cells(spec) : active_;
-        const std::uint64_t targets = two ? dart_cells_.address() : cells_.address();
+        const bool masked = masked_;
+        // One radius: the darts go to the active cells, or in mask mode to the base cells' active
+        // sub-cells. Two radii: to the base cells near the active cells.
+        const std::uint32_t bases = std::uint32_t(plan_.base_cells);
+        const std::uint32_t n = masked ? bases : (two ? list_dart_cells(spec) : active_);
+        const std::uint64_t targets = masked ? 0 : (two ? dart_cells_.address() : cells_.address());
         const std::uint32_t side = two ? 1u << plan_.domain.cell_bits : spec.side;
+        // Cells whose children refinement counts: the list's, or in mask mode none (the masks go
+        // to the ranks region, over the base cells).
+        const std::uint32_t listed = masked ? 0 : active_;
 
         // Submit 1: dart counts and their prefix sums.
-        const Scratch counts(n, 0, active_);
+        const Scratch counts(n, 0, listed);
         ensure(scratch_, counts.list);
         ensure_block_sums(std::uint64_t(n) + 1);
         ctx_.begin();
         CellArgs a = cell_args(targets, counts.in(scratch_, 0), n, spec.round, side, spec.exp_neg_lambda);
-        ctx_.dispatch(count_darts_, &a, groups(std::uint64_t(n) + 1, WORKGROUP_SIZE));
+        ctx_.dispatch(masked ? count_masked_ : count_darts_, &a, groups(std::uint64_t(n) + 1, WORKGROUP_SIZE));
         ctx_.barrier();  // counts before the scan
         scan(scratch_.address(), std::uint64_t(n) + 1, COUNTER_DARTS);
         ctx_.submit_and_wait();
+        if (counter(COUNTER_CROWDED)) throw Error("internal: a base cell got more than 65535 darts in one round");
         const std::uint32_t darts = counter(COUNTER_DARTS);
         if (darts >= MAX_ROUND_DARTS) throw Error("a round would throw more than 2^30 darts");
 
         // Submit 2..: throw (rejecting darts covered by earlier samples), resolve in arrival order.
-        const Scratch at(n, darts, active_);
+        const Scratch at(n, darts, listed);
         ensure(scratch_, at.end, true);  // keeps the prefix sums
         // The darts get a buffer of their own, freed once they are emitted: the next active list
-        // is then allocated in their place.
-        darts_ = Buffer(ctx_, std::uint64_t(darts) * sizeof(uvec4), false);
+        // is then allocated in their place. When mask mode ends, refine_masked parks half of each
+        // base cell's 64-bit mask there too.
+        const bool leaves = masked && spec.refine && ((spec.side / 2) << MASK_LEVELS) == (1u << plan_.domain.cell_bits);
+        darts_ = Buffer(ctx_, std::max<std::uint64_t>(std::uint64_t(darts) * sizeof(uvec4), leaves ? std::uint64_t(bases) * 4 : 0), false);
         const std::uint64_t ranks = scratch_.address() + at.ranks;
         const std::uint64_t dart_list = darts_.address();
         const std::uint64_t work[2] = {scratch_.address() + at.list, ranks};
         VkCommandBuffer cmd = ctx_.begin();
         ctx_.vk().vkCmdFillBuffer(cmd, counters_.handle(), (COUNTER_WORK0 + 3) * 4, 4, 0);
-        a = cell_args(targets, at.in(scratch_, dart_list), n, spec.round, side, darts);
-        ctx_.dispatch(mark_ranges_, &a, groups(n, WORKGROUP_SIZE));
+        ctx_.vk().vkCmdFillBuffer(cmd, counters_.handle(), COUNTER_ACTIVE * 4, 4, 0);  // refine_masked's sum
+        // param: exp(-lambda) for throw_masked, which counts its darts again.
+        a = cell_args(targets, at.in(scratch_, dart_list), n, spec.round, side, spec.exp_neg_lambda);
+        ctx_.dispatch(masked ? mark_masked_ : mark_ranges_, &a, groups(n, WORKGROUP_SIZE));
         ctx_.barrier();  // dart ranges and the empty work list before throw_darts reads and appends
-        ctx_.dispatch(throw_darts_, &a, groups(n, WORKGROUP_SIZE));
+        ctx_.dispatch(masked ? throw_masked_ : throw_darts_, &a, groups(n, WORKGROUP_SIZE));
         ctx_.barrier();  // darts, grid dart ranges and work list before resolution
         std::uint32_t in = 0;
         for (;;) {
@@ -143,7 +172,8 @@ public:
         // Commit: grid words become samples or empty again; the accepted darts are flagged and ranked.
         ensure_block_sums(std::uint64_t(std::max(darts, active_)) + 1);
         ctx_.begin();
-        ctx_.dispatch(commit_cells_, &a, groups(n, WORKGROUP_SIZE));
+        a.param = darts;  // the commit kernels end the flags with a 0 at flags[darts]
+        ctx_.dispatch(masked ? commit_masked_ : commit_cells_, &a, groups(n, WORKGROUP_SIZE));
         ctx_.barrier();  // accepted flags and grid words before the scan
         scan(ranks, std::uint64_t(darts) + 1, COUNTER_ACCEPTED);
         ctx_.submit_and_wait();
@@ -165,28 +195,11 @@ public:
         ctx_.dispatch(emit_samples_, &d, groups(darts, WORKGROUP_SIZE));
         ctx_.barrier();  // the round's samples and keys before the sort; the ranks are read
         if (accepted > 1) sort_round(accepted, work[0], dart_list);
-        const std::uint32_t active = active_;
-        const std::uint32_t fanout = spec.refine ? 4 : 1;
-        if (std::uint64_t(active) * fanout >= GRID_TAG) throw Error("more than 2^31 active cells");
-        const std::uint32_t child_side = spec.refine ? spec.side / 2 : spec.side;
-        a = cell_args(cells_.address(), at.in(scratch_, 0), active, spec.round, child_side, fanout);
-        ctx_.dispatch(refine_cells_, &a, groups(std::uint64_t(active) + 1, WORKGROUP_SIZE));
-        ctx_.barrier();  // surviving-children counts and masks before their scan
-        scan(ranks, std::uint64_t(active) + 1, COUNTER_ACTIVE);
-        ctx_.submit_and_wait();
         emitted_ += accepted;
-
-        // The next active list, allocated to its exact size where the darts were, replaces the current one.
-        darts_ = Buffer();
-        const std::uint32_t kept = counter(COUNTER_ACTIVE);
-        Buffer next(ctx_, std::uint64_t(kept) * sizeof(uvec2), false);
-        a.cells_out = next.address();
-        ctx_.begin();
-        ctx_.dispatch(scatter_cells_, &a, groups(active, WORKGROUP_SIZE));
-        ctx_.barrier();  // the next active list before the next round and the host
-        ctx_.submit_and_wait();
-        cells_ = std::move(next);
-        active_ = kept;
+        const std::uint32_t fanout = spec.refine ? 4 : 1;
+        const std::uint32_t child_side = spec.refine ? spec.side / 2 : spec.side;
+        active_ = masked ? refine_masked(spec, ranks, child_side, fanout)
+                         : refine_listed(spec, at.in(scratch_, 0), ranks, child_side, fanout);
         return {darts, active_};
     }
 
@@ -233,6 +246,58 @@ private:
             return {b.address() + ranks, darts, b.address() + list, b.address() + list};
         }
     };
+
+    // Ends the round's last submit (begun by round, with the emission and the sort recorded) with
+    // the count of each active cell's surviving children; then allocates the next active list to
+    // its exact size, in the place of the spent darts, and writes it. Returns its length.
+    std::uint32_t refine_listed(const RoundSpec& spec, const Regions& r, std::uint64_t ranks, std::uint32_t child_side,
+                                std::uint32_t fanout) {
+        const std::uint32_t active = active_;
+        if (std::uint64_t(active) * fanout >= GRID_TAG) throw Error("more than 2^31 active cells");
+        CellArgs a = cell_args(cells_.address(), r, active, spec.round, child_side, fanout);
+        ctx_.dispatch(refine_cells_, &a, groups(std::uint64_t(active) + 1, WORKGROUP_SIZE));
+        ctx_.barrier();  // surviving-children counts and masks before their scan
+        scan(ranks, std::uint64_t(active) + 1, COUNTER_ACTIVE);
+        ctx_.submit_and_wait();
+        darts_ = Buffer();
+        const std::uint32_t kept = counter(COUNTER_ACTIVE);
+        Buffer next(ctx_, std::uint64_t(kept) * sizeof(uvec2), false);
+        a.cells_out = next.address();
+        ctx_.begin();
+        ctx_.dispatch(scatter_cells_, &a, groups(active, WORKGROUP_SIZE));
+        ctx_.barrier();  // the next active list before the next round and the host
+        ctx_.submit_and_wait();
+        cells_ = std::move(next);
+        return kept;
+    }
+
+    // Mask mode's counterpart: the base cells' new masks go to the ranks region and then to their
+    // words. At the last mask-mode level the children go to an explicit active list instead: their
+    // 64-bit masks pass through the ranks region and the spent darts' buffer (see round) to the
+    // words, their counts are ranked, and mask mode ends. Returns the active count.
+    std::uint32_t refine_masked(const RoundSpec& spec, std::uint64_t ranks, std::uint32_t child_side, std::uint32_t fanout) {
+        const std::uint32_t bases = std::uint32_t(plan_.base_cells);
+        CellArgs a = cell_args(0, Regions{ranks, 0, darts_.address(), ranks}, bases, spec.round, child_side, fanout);
+        const bool leaves = masked_leaves(a);
+        ctx_.dispatch(refine_masked_, &a, groups(std::uint64_t(bases) + 1, WORKGROUP_SIZE));
+        ctx_.barrier();  // the new masks (and the active sum) before they reach the words
+        ctx_.dispatch(apply_masks_, &a, groups(bases, WORKGROUP_SIZE));
+        ctx_.barrier();  // the words (and the counts) before the next round, or the scan
+        if (leaves) scan(ranks, std::uint64_t(bases) + 1, COUNTER_ACTIVE);
+        ctx_.submit_and_wait();
+        darts_ = Buffer();
+        const std::uint32_t kept = counter(COUNTER_ACTIVE);
+        if (!leaves) return kept;
+        if (kept >= GRID_TAG) throw Error("more than 2^31 active cells");
+        cells_ = Buffer(ctx_, std::uint64_t(kept) * sizeof(uvec2), false);
+        a.cells_out = cells_.address();
+        ctx_.begin();
+        ctx_.dispatch(scatter_masked_, &a, groups(bases, WORKGROUP_SIZE));
+        ctx_.barrier();  // the active list and the emptied words before the next round
+        ctx_.submit_and_wait();
+        masked_ = false;
+        return kept;
+    }
 
     // Two radii: lists the base cells that get darts this round (flag_dart_cells or
     // flag_free_cells, a scan of the flags, list_dart_cells) and returns their count. The flags
@@ -351,6 +416,13 @@ private:
     Kernel emit_samples_{ctx_, words(spirv_emit_samples), sizeof(DartArgs), WORKGROUP_SIZE};
     Kernel refine_cells_{ctx_, words(spirv_refine_cells), sizeof(CellArgs), WORKGROUP_SIZE};
     Kernel scatter_cells_{ctx_, words(spirv_scatter_cells), sizeof(CellArgs), WORKGROUP_SIZE};
+    Kernel count_masked_{ctx_, words(spirv_count_masked), sizeof(CellArgs), WORKGROUP_SIZE};
+    Kernel mark_masked_{ctx_, words(spirv_mark_masked), sizeof(CellArgs), WORKGROUP_SIZE};
+    Kernel throw_masked_{ctx_, words(spirv_throw_masked), sizeof(CellArgs), WORKGROUP_SIZE};
+    Kernel commit_masked_{ctx_, words(spirv_commit_masked), sizeof(CellArgs), WORKGROUP_SIZE};
+    Kernel refine_masked_{ctx_, words(spirv_refine_masked), sizeof(CellArgs), WORKGROUP_SIZE};
+    Kernel apply_masks_{ctx_, words(spirv_apply_masks), sizeof(CellArgs), WORKGROUP_SIZE};
+    Kernel scatter_masked_{ctx_, words(spirv_scatter_masked), sizeof(CellArgs), WORKGROUP_SIZE};
     Kernel scan_blocks_{ctx_, words(spirv_scan_blocks), sizeof(ScanArgs), 64};
     Kernel scan_sums_{ctx_, words(spirv_scan_sums), sizeof(ScanArgs), 64};
     Kernel scan_add_{ctx_, words(spirv_scan_add), sizeof(ScanArgs), 64};
@@ -365,6 +437,8 @@ private:
     Buffer block_sums_, histogram_;
     std::uint64_t emitted_ = 0;
     std::uint32_t active_ = 0;
+    // Mask mode (sampler.h) at levels 0 to MASK_LEVELS - 1, with one radius: no active list there.
+    bool masked_ = false;
 };
 
 }  // namespace

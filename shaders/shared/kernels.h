@@ -54,11 +54,14 @@ const uint COUNTER_ACTIVE = 10u;   // cells active for the next round,
 const uint COUNTER_SORT = 11u;     // the sort's histogram
 const uint COUNTER_DART_CELLS = 12u;  // two radii: base cells that get darts this round
 const uint COUNTER_TOO_COMPLEX = 13u; // two radii: 1 if a dart's T test went past its bounds
-const uint COUNTER_WORDS = 14u;
+const uint COUNTER_CROWDED = 14u;     // mask mode: 1 if a base cell got 2^16 darts or more in a round
+const uint COUNTER_WORDS = 15u;
 
 // Kernels over the active cells: init_cells, count_darts, mark_ranges, throw_darts, commit_cells,
 // refine_cells, scatter_cells; with two radii flag_dart_cells and list_dart_cells, which make the
 // list of base cells the darts go to (the kernels from count_darts to commit_cells run over it).
+// In mask mode (sampler.h) their counterparts run over all base cells: count_masked, mark_masked,
+// throw_masked, commit_masked, refine_masked, apply_masks, scatter_masked.
 struct CellArgs {
     Domain domain;
     VRPD_BUFFER(Cells) cells;      // active cells (lattice corners), ordered by base cell
@@ -75,6 +78,11 @@ struct CellArgs {
     uint param;                    // count_darts: exp(-lambda) in 2^-32 units; commit_cells: darts
                                    // thrown; refine/scatter: 1 or 4 children
 };
+
+// Mask mode (sampler.h) runs levels 0 to MASK_LEVELS - 1 and ends at children of level
+// MASK_LEVELS: is this refinement (a.side: the children's) that one?
+const uint MASK_LEVELS = 3u;
+VRPD_FN bool masked_leaves(CellArgs a) { return a.param == 4u && (a.side << MASK_LEVELS) == (1u << a.domain.cell_bits); }
 
 // Kernels over darts: resolve_darts, apply_decisions, emit_samples. A resolution pass keeps each
 // decision in its work-list slot: dart index | state << DECISION_SHIFT (rounds hold < 2^30 darts).

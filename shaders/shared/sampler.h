@@ -640,8 +640,7 @@ VRPD_FN void scatter_children(CellArgs a, Cells cells, Uints ranks, Uints masks,
 // level (GRID_MASK_BITS: at most 16 sub-cells, level 2), and the kernels run over base cells.
 // Bit k is the sub-cell the explicit list would hold at that place: k's base-4 digits, most
 // significant first, are the child indices (child_corner) taken at each level, so the darts,
-// their indices and the samples are the explicit mode's, bit for bit.
-const uint MASK_LEVELS = 3u;
+// their indices and the samples are the explicit mode's, bit for bit. (MASK_LEVELS: kernels.h.)
 
 // Corner of sub-cell k of side `side` of the base cell at `corner` (of side base_side).
 VRPD_FN uvec2 subcell_corner(uvec2 corner, uint k, uint side, uint base_side) {
@@ -656,11 +655,11 @@ VRPD_FN uvec2 base_corner(Domain dom, uint b) {
     return uvec2((b % dom.cells_x) << dom.cell_bits, (b / dom.cells_x) << dom.cell_bits);
 }
 
-// Mask mode: the darts base cell b gets this round (a.side: the sub-cells' side; a.param:
-// exp(-lambda) as in count_darts).
-VRPD_FN uint masked_dart_count(CellArgs a, Grid grid, uint b) {
-    uvec2 w = grid.word[b];
-    if (grid_is_sample(w)) return 0u;
+VRPD_FN bool masked_active(uvec2 w) { return !grid_is_sample(w) && (w.y & GRID_MASK_BITS) != 0u; }
+
+// Mask mode: the darts of base cell b (word w, active) this round (a.side: the sub-cells' side;
+// a.param: exp(-lambda) as in count_darts).
+VRPD_FN uint masked_dart_count(CellArgs a, uvec2 w, uint b) {
     uvec2 corner = base_corner(a.domain, b);
     uint base_side = 1u << a.domain.cell_bits;
     uint count = 0u;
@@ -670,15 +669,22 @@ VRPD_FN uint masked_dart_count(CellArgs a, Grid grid, uint b) {
     return count;
 }
 
+// Mask mode: an active word with its round's dart count (< 2^16; the engines check), then with
+// the index of its first dart: a packed darts word (domain.h).
+VRPD_FN uvec2 counted_word(uvec2 w, uint count) { return uvec2(w.x, (count << 16u) | (w.y & GRID_MASK_BITS)); }
+VRPD_FN uvec2 numbered_word(uvec2 w, uint first) { return uvec2(GRID_TAG | GRID_PACKED | first, w.y); }
+
 // Mask mode: writes the darts of base cell b, from `first` on, in the order of its sub-cells, each
-// rejected if it lies in the disk of a sample of an earlier round (as throw_base_cell).
-VRPD_FN void throw_masked_base(CellArgs a, Darts darts, Grid grid, uint b, uint first) {
+// rejected if it lies in the disk of a sample of an earlier round (as throw_base_cell). Returns
+// how many are still undecided.
+VRPD_FN uint throw_masked_base(CellArgs a, Darts darts, Grid grid, uint b, uint first) {
     uvec2 w = grid.word[b];
     uvec2 base = uvec2(b % a.domain.cells_x, b / a.domain.cells_x);
     Domain dom = local_domain(a.domain, base);
     uvec2 corner = base_corner(a.domain, b);
     uint base_side = 1u << a.domain.cell_bits;
     uint j = first;
+    uint undecided = 0u;
     for (uint mask = w.y & GRID_MASK_BITS, k = 0u; mask != 0u; mask >>= 1u, k++) {
         if ((mask & 1u) == 0u) continue;
         uvec2 cc = subcell_corner(corner, k, a.side, base_side);
@@ -686,10 +692,13 @@ VRPD_FN void throw_masked_base(CellArgs a, Darts darts, Grid grid, uint b, uint 
         uint count = dart_count(stream, a.param);
         for (uint i = 0u; i < count; i++, j++) {
             uvec4 dart = make_dart(stream, i, cc, a.side);
-            dart.w = covered_by_sample(dom, grid, base, uvec2(dart.x, dart.y)) ? DART_REJECTED : DART_UNDECIDED;
+            bool rejected = covered_by_sample(dom, grid, base, uvec2(dart.x, dart.y));
+            dart.w = rejected ? DART_REJECTED : DART_UNDECIDED;
+            undecided += rejected ? 0u : 1u;
             darts.dart[j] = dart;
         }
     }
+    return undecided;
 }
 
 // Mask mode: the surviving children of base cell b's active sub-cells (a.side: the children's
@@ -714,6 +723,15 @@ VRPD_FN uvec2 refine_masked_base(CellArgs a, Grid grid, uint b) {
         else kept.y |= children << (bit - 32u);
     }
     return kept;
+}
+
+// Writes the children in `kept` (refine_masked_base, children of side `side`) of base cell b to
+// an explicit active list, from `rank` on, in the explicit list's order.
+VRPD_FN void scatter_subcells(Domain dom, Cells cells_out, uint rank, uvec2 kept, uint b, uint side) {
+    uvec2 corner = base_corner(dom, b);
+    for (uint bit = 0u; bit < 64u; bit++)
+        if ((((bit < 32u) ? kept.x >> bit : kept.y >> (bit - 32u)) & 1u) != 0u)
+            cells_out.cell[rank++] = subcell_corner(corner, bit, side, 1u << dom.cell_bits);
 }
 
 VRPD_END

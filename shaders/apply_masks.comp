@@ -1,0 +1,23 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+#include "common.glsl"
+#include "shared/sampler.h"
+layout(local_size_x_id = 0) in;
+// Mask mode, per base cell without a sample: its word takes its new mask of active sub-cells. A
+// pass of its own: refine_masked reads the neighbours' words. At the last mask-mode level, a base
+// cell with surviving children parks their 64-bit mask in its word until scatter_masked, and
+// masks[b] becomes their count, for the scan that ranks them in the explicit list.
+layout(push_constant) uniform Push { CellArgs a; };
+
+void main() {
+    uint b = gl_GlobalInvocationID.x;
+    if (b >= a.cell_count) return;
+    if (masked_leaves(a)) {
+        uvec2 kept = uvec2(a.masks.value[b], a.work.value[b]);
+        uint n = uint(bitCount(kept.x) + bitCount(kept.y));
+        if (n != 0u) a.grid.word[b] = kept;
+        a.masks.value[b] = n;
+    } else if (!grid_is_sample(a.grid.word[b])) {
+        a.grid.word[b] = uvec2(GRID_EMPTY, a.masks.value[b]);
+    }
+}
