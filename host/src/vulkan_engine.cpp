@@ -113,8 +113,8 @@ public:
         const std::uint32_t listed = masked ? 0 : active_;
 
         // Submit 1: dart counts and their prefix sums.
-        const Scratch counts(n, 0, listed);
-        ensure(scratch_, counts.list);
+        const Scratch counts(n, 0, listed, masked);
+        ensure(scratch_, counts.end);
         ensure_block_sums(std::uint64_t(n) + 1);
         ctx_.begin();
         CellArgs a = cell_args(targets, counts.in(scratch_, 0), n, spec.round, side, spec.exp_neg_lambda);
@@ -127,7 +127,7 @@ public:
         if (darts >= MAX_ROUND_DARTS) throw Error("a round would throw more than 2^30 darts");
 
         // Submit 2..: throw (rejecting darts covered by earlier samples), resolve in arrival order.
-        const Scratch at(n, darts, listed);
+        const Scratch at(n, darts, listed, masked);
         ensure(scratch_, at.end, true);  // keeps the prefix sums
         // The darts get a buffer of their own, freed once they are emitted: the next active list
         // is then allocated in their place. When mask mode ends, refine_masked parks half of each
@@ -136,7 +136,7 @@ public:
         darts_ = Buffer(ctx_, std::max<std::uint64_t>(std::uint64_t(darts) * sizeof(uvec4), leaves ? std::uint64_t(bases) * 4 : 0), false);
         const std::uint64_t ranks = scratch_.address() + at.ranks;
         const std::uint64_t dart_list = darts_.address();
-        const std::uint64_t work[2] = {scratch_.address() + at.list, ranks};
+        const std::uint64_t work[2] = {scratch_.address() + at.work0, scratch_.address() + at.work1};
         VkCommandBuffer cmd = ctx_.begin();
         ctx_.vk().vkCmdFillBuffer(cmd, counters_.handle(), (COUNTER_WORK0 + 3) * 4, 4, 0);
         ctx_.vk().vkCmdFillBuffer(cmd, counters_.handle(), COUNTER_ACTIVE * 4, 4, 0);  // refine_masked's sum
@@ -191,10 +191,10 @@ public:
         ctx_.begin();
         DartArgs d = dart_args(dart_list, darts, std::uint32_t(emitted_));
         d.scan = ranks;
-        d.sample_keys = work[0];
+        d.sample_keys = scratch_.address() + at.keys;
         ctx_.dispatch(emit_samples_, &d, groups(darts, WORKGROUP_SIZE));
         ctx_.barrier();  // the round's samples and keys before the sort; the ranks are read
-        if (accepted > 1) sort_round(accepted, work[0], dart_list);
+        if (accepted > 1) sort_round(accepted, d.sample_keys, dart_list);
         emitted_ += accepted;
         const std::uint32_t fanout = spec.refine ? 4 : 1;
         const std::uint32_t child_side = spec.refine ? spec.side / 2 : spec.side;
@@ -234,16 +234,29 @@ private:
     //          and their ranks (refine, scatter);
     //   list:  work list 0 (throw, resolution), the round's sample keys (emit, sort), the child
     //          masks (refine, scatter).
+    // In mask mode throwing does not read the prefix sums, so everything shares the ranks region:
+    // work lists 0 and 1 at [0, D) and [D, 2 D), then the flags at [0, D] and the keys after
+    // them, then the base cells' new masks.
     // The darts have a buffer of their own (darts_), which the sort reuses for its second buffers.
     struct Scratch {
-        std::uint64_t ranks = 0, list, end;
-        Scratch(std::uint32_t targets, std::uint32_t dart_count, std::uint32_t active) {
+        std::uint64_t ranks = 0, work0, work1, keys, masks, end;
+        Scratch(std::uint32_t targets, std::uint32_t dart_count, std::uint32_t active, bool masked) {
+            const std::uint64_t d = dart_count;
+            if (masked) {
+                work0 = 0;
+                work1 = d * 4;
+                keys = (d + 1) * 4;
+                masks = 0;
+                end = std::max<std::uint64_t>(targets, 2 * d) * 4 + 4;
+                return;
+            }
             const std::uint64_t most = std::max(std::max(targets, dart_count), active);
-            list = ((most + 1) * 4 + 15) / 16 * 16;
-            end = list + std::uint64_t(std::max(dart_count, active)) * 4;
+            work0 = keys = masks = ((most + 1) * 4 + 15) / 16 * 16;
+            work1 = 0;
+            end = work0 + std::max<std::uint64_t>(d, active) * 4;
         }
         Regions in(const Buffer& b, std::uint64_t darts) const {
-            return {b.address() + ranks, darts, b.address() + list, b.address() + list};
+            return {b.address() + ranks, darts, b.address() + work0, b.address() + masks};
         }
     };
 
