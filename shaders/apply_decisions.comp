@@ -11,5 +11,5 @@ void main() {
     if (i >= a.counters.value[a.work_in_slot + 3u]) return;
     uint v = a.work_in.value[i];
     uint state = v >> DECISION_SHIFT;
-    if (state != DART_UNDECIDED) a.darts.dart[v & (MAX_ROUND_DARTS - 1u)].w = state;
+    set_dart_state(a.darts, v & (MAX_ROUND_DARTS - 1u), state);
 }

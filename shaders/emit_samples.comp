@@ -12,7 +12,7 @@ void main() {
     if (d >= a.dart_count) return;
     uint rank = a.scan.value[d];
     if (a.scan.value[d + 1u] == rank) return;
-    uvec4 dart = a.darts.dart[d];
+    uvec4 dart = dart_at(a.darts, d);
     a.samples.point[a.sample_base + rank] = uvec2(dart.x, dart.y);
     a.sample_keys.value[rank] = dart.z;
 }

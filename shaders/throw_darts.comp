@@ -16,5 +16,5 @@ void main() {
     uint slot = atomicAdd(a.counters.value[COUNTER_WORK0 + 3u], undecided);
     uvec2 range = grid_darts(a.grid.word[base_of_point(a.domain, a.cells.cell[e])]);
     for (uint j = range.x; j < range.y; j++)
-        if (a.darts.dart[j].w == DART_UNDECIDED) a.work.value[slot++] = j;
+        if (dart_at(a.darts, j).w == DART_UNDECIDED) a.work.value[slot++] = j;
 }

@@ -18,5 +18,5 @@ void main() {
     if (undecided == 0u) return;
     uint slot = atomicAdd(a.counters.value[COUNTER_WORK0 + 3u], undecided);
     for (uint j = range.x; j < range.y; j++)
-        if (a.darts.dart[j].w == DART_UNDECIDED) a.work.value[slot++] = j;
+        if (dart_at(a.darts, j).w == DART_UNDECIDED) a.work.value[slot++] = j;
 }

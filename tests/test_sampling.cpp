@@ -167,10 +167,9 @@ TEST_CASE("the engines' arrays stay within the memory estimate checked before a 
             INFO("backend " << int(b) << " Rc " << rc << " base cells " << plan.base_cells << " peak " << s.stats.peak_bytes);
             CHECK(s.stats.peak_bytes >= plan.base_cells * 8 + s.size() * 8);
             CHECK(s.stats.peak_bytes <= plan.base_cells * 48 + (1u << 20));
-            // Mask mode: the issue's goal of 64 bytes per sample, met by the cpu backend (measured:
-            // 58); the gpu's arrays hold the work list and the dart counts besides (measured: 72).
-            if (b == Backend::Cpu && rc == 0.0) CHECK(s.stats.peak_bytes <= 64 * s.size());
-            if (b == Backend::Gpu && rc == 0.0) CHECK(s.stats.peak_bytes <= 80 * s.size());
+            // Mask mode and 12-byte darts: the issue's goal of 64 bytes per sample (measured here:
+            // cpu 56, gpu 60; the serial oracle keeps the explicit lists).
+            if (b != Backend::Serial && rc == 0.0) CHECK(s.stats.peak_bytes <= 64 * s.size());
         }
     }
 }

@@ -396,7 +396,8 @@ TEST_CASE("two radii: the device's resolution passes give the host's decisions",
     const uint n = uint(darts.size());
     detail::VulkanContext ctx("");
     detail::Kernel probe(ctx, {spirv_resolve_probe, std::size(spirv_resolve_probe)}, 80, 64);
-    detail::Buffer dart_buffer(ctx, n * sizeof(uvec4), true);
+    std::vector<uint> stored(dart_words(n));  // the darts as the kernels store them (darts.h)
+    detail::Buffer dart_buffer(ctx, stored.size() * 4, true);
     detail::Buffer grid_buffer(ctx, grid.size() * sizeof(uvec2), true);
     detail::Buffer decisions(ctx, n * 4, true);
     std::memcpy(grid_buffer.mapped(), grid.data(), grid.size() * sizeof(uvec2));
@@ -408,7 +409,9 @@ TEST_CASE("two radii: the device's resolution passes give the host's decisions",
     std::vector<uint> host(n);
     int passes = 0;
     for (bool undecided = true; undecided; ++passes) {
-        std::memcpy(dart_buffer.mapped(), darts.data(), n * sizeof(uvec4));
+        std::fill(stored.begin(), stored.end(), 0u);
+        for (uint d = 0; d < n; ++d) store_dart(Darts{stored.data()}, d, darts[d]);
+        std::memcpy(dart_buffer.mapped(), stored.data(), stored.size() * 4);
         ctx.begin();
         ctx.dispatch(probe, &push, (n + 63) / 64);
         ctx.barrier();  // decisions before the host reads them
@@ -417,7 +420,7 @@ TEST_CASE("two radii: the device's resolution passes give the host's decisions",
         const auto* device = static_cast<const uint*>(decisions.mapped());
         undecided = false;
         for (uint d = 0; d < n; ++d) {
-            host[d] = darts[d].w == DART_UNDECIDED ? resolve_dart(dom, Grid{grid.data()}, Darts{darts.data()}, d) : darts[d].w;
+            host[d] = darts[d].w == DART_UNDECIDED ? resolve_dart(dom, Grid{grid.data()}, Darts{stored.data()}, d) : darts[d].w;
             INFO("pass " << passes << " dart " << d << " at " << darts[d].x << "," << darts[d].y);
             REQUIRE(device[d] == host[d]);
         }

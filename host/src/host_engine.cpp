@@ -55,7 +55,8 @@ public:
         commit();
         emit();
         // The darts are spent: give their memory back before refinement.
-        std::vector<uvec4>().swap(darts_);
+        std::vector<uint>().swap(darts_);
+        dart_count_ = 0;
         std::vector<uvec2>().swap(dart_cells_);
         const std::uint64_t active = masked_ ? refine_masked(spec) : refine(spec);
         return {total, active};
@@ -104,7 +105,8 @@ private:
         });
         const std::uint64_t total = exclusive_scan(n);
         if (total >= MAX_ROUND_DARTS) throw Error("a round would throw more than 2^30 darts");
-        darts_.resize(total);
+        darts_.resize(dart_words(total));
+        dart_count_ = total;
         pool_.parallel_for(n, [&](std::size_t b, std::size_t e, unsigned) {
             for (std::size_t i = b; i < e; ++i)
                 if (first_in_base_cell(dom, cells, uint(i))) mark_dart_range(args, cells, scan(), grid(), uint(i));
@@ -142,7 +144,8 @@ private:
         for (std::size_t w = 1; w < first.size(); ++w) first[w] += first[w - 1];
         const std::uint64_t total = first.back();
         if (total >= MAX_ROUND_DARTS) throw Error("a round would throw more than 2^30 darts");
-        darts_.resize(total);
+        darts_.resize(dart_words(total));
+        dart_count_ = total;
         // Numbering is a pass of its own: throwing reads the neighbours' words.
         pool_.parallel_for(bases, [&](std::size_t b, std::size_t e, unsigned w) {
             std::uint64_t next = first[w];
@@ -185,18 +188,21 @@ private:
     // dart index being spatial order, both in one 64-bit word. Each thread sorts its part; their
     // merge goes to out_. A dart left DART_TOO_COMPLEX (two radii) fails the run.
     void emit() {
-        const std::size_t total = darts_.size();
+        const std::size_t total = dart_count_;
         std::vector<std::vector<std::uint64_t>> accepted(pool_.size());
         std::atomic<bool> too_complex = false;
         pool_.parallel_for(total, [&](std::size_t b, std::size_t e, unsigned w) {
             std::size_t count = 0;
             for (std::size_t j = b; j < e; ++j) {
-                count += darts_[j].w == DART_ACCEPTED ? 1 : 0;
-                if (darts_[j].w == DART_TOO_COMPLEX) too_complex = true;
+                const uint state = dart_at(darts(), uint(j)).w;
+                count += state == DART_ACCEPTED ? 1 : 0;
+                if (state == DART_TOO_COMPLEX) too_complex = true;
             }
             accepted[w].reserve(count);
-            for (std::size_t j = b; j < e; ++j)
-                if (darts_[j].w == DART_ACCEPTED) accepted[w].push_back(std::uint64_t(darts_[j].z) << 32 | j);
+            for (std::size_t j = b; j < e; ++j) {
+                const uvec4 dart = dart_at(darts(), uint(j));
+                if (dart.w == DART_ACCEPTED) accepted[w].push_back(std::uint64_t(dart.z) << 32 | j);
+            }
             std::sort(accepted[w].begin(), accepted[w].end());
         });
         if (too_complex) throw Error(kTooComplex);
@@ -211,7 +217,7 @@ private:
                     (best == accepted.size() || accepted[w][next[w]] < accepted[best][next[best]]))
                     best = w;
             if (best == accepted.size()) break;
-            const uvec4& dart = darts_[std::uint32_t(accepted[best][next[best]++])];
+            const uvec4 dart = dart_at(darts(), std::uint32_t(accepted[best][next[best]++]));
             out_.emplace_back(dart.x, dart.y);
         }
     }
@@ -319,17 +325,17 @@ private:
     // Decides the round's undecided darts in arrival order.
     void resolve() {
         const Domain dom = plan_.domain;
-        const std::size_t total = darts_.size();
+        const std::size_t total = dart_count_;
         if (resolution_ == Resolution::Serial) {
             std::vector<uint> work;
             for (uint j = 0; j < total; ++j)
-                if (darts_[j].w == DART_UNDECIDED) work.push_back(j);
+                if (dart_at(darts(), j).w == DART_UNDECIDED) work.push_back(j);
             std::sort(work.begin(), work.end(), [&](uint a, uint b) {
-                return arrives_before(darts_[a].z, a, darts_[b].z, b);
+                return arrives_before(dart_at(darts(), a).z, a, dart_at(darts(), b).z, b);
             });
             note_peak(bytes(work));
             for (uint d : work)
-                darts_[d].w = serial_decision(dom, grid(), darts(), d);
+                set_dart_state(darts(), d, serial_decision(dom, grid(), darts(), d));
             return;
         }
         // Each thread decides the undecided darts of its part of the round (spatial order), one at
@@ -414,7 +420,8 @@ private:
     std::vector<uvec2> cells_;
     std::vector<uvec2> next_;
     std::vector<uvec2> dart_cells_;  // two radii: the base cells that get darts this round
-    std::vector<uvec4> darts_;
+    std::vector<uint> darts_;        // this round's darts, stored as darts.h says
+    std::uint64_t dart_count_ = 0;
     std::vector<uint> scan_;
     std::vector<uint> masks_;
     std::vector<uvec2> out_;  // samples in acceptance order

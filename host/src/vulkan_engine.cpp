@@ -133,11 +133,12 @@ public:
         // is then allocated in their place. When mask mode ends, refine_masked parks half of each
         // base cell's 64-bit mask there too.
         const bool leaves = masked && spec.refine && ((spec.side / 2) << MASK_LEVELS) == (1u << plan_.domain.cell_bits);
-        darts_ = Buffer(ctx_, std::max<std::uint64_t>(std::uint64_t(darts) * sizeof(uvec4), leaves ? std::uint64_t(bases) * 4 : 0), false);
+        darts_ = Buffer(ctx_, std::max<std::uint64_t>(dart_words(darts) * 4, leaves ? std::uint64_t(bases) * 4 : 0), false);
         const std::uint64_t ranks = scratch_.address() + at.ranks;
         const std::uint64_t dart_list = darts_.address();
         const std::uint64_t work[2] = {scratch_.address() + at.work0, scratch_.address() + at.work1};
         VkCommandBuffer cmd = ctx_.begin();
+        ctx_.vk().vkCmdFillBuffer(cmd, darts_.handle(), 0, VK_WHOLE_SIZE, 0);  // the darts' states start undecided
         ctx_.vk().vkCmdFillBuffer(cmd, counters_.handle(), (COUNTER_WORK0 + 3) * 4, 4, 0);
         ctx_.vk().vkCmdFillBuffer(cmd, counters_.handle(), COUNTER_ACTIVE * 4, 4, 0);  // refine_masked's sum
         // param: exp(-lambda) for throw_masked, which counts its darts again.

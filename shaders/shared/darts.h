@@ -55,6 +55,16 @@ VRPD_FN bool arrives_before(uint key_a, uint index_a, uint key_b, uint index_b) 
     return key_a < key_b || (key_a == key_b && index_a < index_b);
 }
 
+// Storage of a round's darts (kernels.h reads and writes them as uvec4 (x, y, key, state)): in
+// blocks of 16, 16 records of three words (x, y, key), then one word of their 2-bit states, 12.25
+// bytes a dart. States only change from undecided (0) to final, so they are set by an atomic or.
+const uint DART_BLOCK_WORDS = 49u;
+VRPD_FN uint dart_record(uint j) { return (j >> 4u) * DART_BLOCK_WORDS + (j & 15u) * 3u; }
+VRPD_FN uint dart_state_word(uint j) { return (j >> 4u) * DART_BLOCK_WORDS + 48u; }
+VRPD_FN uint dart_state_shift(uint j) { return (j & 15u) * 2u; }
+// Words that hold n darts (n < 2^30, so indices stay below 2^32).
+VRPD_FN uint64_t dart_words(uint64_t n) { return (n + 15u) / 16u * uint64_t(DART_BLOCK_WORDS); }
+
 // Dart states (the .w of a dart record).
 const uint DART_UNDECIDED = 0u;
 const uint DART_ACCEPTED = 1u;

@@ -3,38 +3,74 @@
 #ifndef VRPD_KERNELS_H
 #define VRPD_KERNELS_H
 #include "bridge.h"
+#include "darts.h"
 #include "domain.h"
 
 #ifndef __cplusplus
 layout(buffer_reference, std430, buffer_reference_align = 8) buffer Cells { uvec2 cell[]; };
 layout(buffer_reference, std430, buffer_reference_align = 8) buffer Grid { uvec2 word[]; };
-layout(buffer_reference, std430, buffer_reference_align = 16) buffer Darts { uvec4 dart[]; };
+layout(buffer_reference, std430, buffer_reference_align = 4) buffer Darts { uint word[]; };
 layout(buffer_reference, std430, buffer_reference_align = 4) buffer Uints { uint value[]; };
 layout(buffer_reference, std430, buffer_reference_align = 8) buffer Points { uvec2 point[]; };
 // Sets flag i to 1. Invocations that write it concurrently all write 1: the result is the same.
 void set_flag(Uints flags, uint i) { flags.value[i] = 1u; }
-// Dart j (.xy position, .z arrival key, .w state; see darts.h), read during its round's resolution.
-uvec4 dart_at(Darts darts, uint j) { return darts.dart[j]; }
+// Dart j (.xy position, .z arrival key, .w state; storage in darts.h).
+uvec4 dart_at(Darts darts, uint j) {
+    uint r = dart_record(j);
+    return uvec4(darts.word[r], darts.word[r + 1u], darts.word[r + 2u],
+                 (darts.word[dart_state_word(j)] >> dart_state_shift(j)) & 3u);
+}
+// Ors state bits into state word w (dart_state_word), for the darts whose states they set.
+void or_dart_states(Darts darts, uint w, uint bits) {
+    if (bits != 0u) atomicOr(darts.word[w], bits);
+}
+void set_dart_state(Darts darts, uint j, uint state) { or_dart_states(darts, dart_state_word(j), state << dart_state_shift(j)); }
+// Writes dart j's position and key; its state stays as it is (undecided in a zeroed buffer).
+void store_dart_record(Darts darts, uint j, uvec4 dart) {
+    uint r = dart_record(j);
+    darts.word[r] = dart.x;
+    darts.word[r + 1u] = dart.y;
+    darts.word[r + 2u] = dart.z;
+}
+void store_dart(Darts darts, uint j, uvec4 dart) {
+    store_dart_record(darts, j, dart);
+    set_dart_state(darts, j, dart.w);
+}
 #else
 #include <atomic>
 namespace vrpd::shared {
 // Host views of the same buffers, so the kernel bodies in sampler.h compile unchanged in C++.
 struct Cells { uvec2* cell; };
 struct Grid { uvec2* word; };
-struct Darts { uvec4* dart; };
+struct Darts { uint* word; };
 struct Uints { uint* value; };
 struct Points { uvec2* point; };
 // Host threads may write one flag concurrently (all write 1): an atomic store keeps that defined.
 inline void set_flag(Uints flags, uint i) { std::atomic_ref<uint>(flags.value[i]).store(1u, std::memory_order_relaxed); }
 // The cpu backend's resolution decides darts while other threads read their states (see
-// HostEngine::resolve): states are read and written atomically, and only ever change from
-// undecided to final, so a reader sees either. Position and key do not change in a round.
+// HostEngine::resolve), and a block's state word is shared by darts that different threads
+// write: state words are read and or-ed atomically. States only change from undecided to final,
+// so a reader sees either. Position and key do not change in a round.
 inline uvec4 dart_at(Darts darts, uint j) {
-    uvec4& d = darts.dart[j];
-    return uvec4(d.x, d.y, d.z, std::atomic_ref<uint>(d.w).load(std::memory_order_relaxed));
+    const uint r = dart_record(j);
+    const uint states = std::atomic_ref<uint>(darts.word[dart_state_word(j)]).load(std::memory_order_relaxed);
+    return uvec4(darts.word[r], darts.word[r + 1], darts.word[r + 2], (states >> dart_state_shift(j)) & 3u);
+}
+inline void or_dart_states(Darts darts, uint w, uint bits) {
+    if (bits != 0u) std::atomic_ref<uint>(darts.word[w]).fetch_or(bits, std::memory_order_relaxed);
 }
 inline void set_dart_state(Darts darts, uint j, uint state) {
-    std::atomic_ref<uint>(darts.dart[j].w).store(state, std::memory_order_relaxed);
+    or_dart_states(darts, dart_state_word(j), state << dart_state_shift(j));
+}
+inline void store_dart_record(Darts darts, uint j, uvec4 dart) {
+    const uint r = dart_record(j);
+    darts.word[r] = dart.x;
+    darts.word[r + 1] = dart.y;
+    darts.word[r + 2] = dart.z;
+}
+inline void store_dart(Darts darts, uint j, uvec4 dart) {
+    store_dart_record(darts, j, dart);
+    set_dart_state(darts, j, dart.w);
 }
 }  // namespace vrpd::shared
 #endif

@@ -148,6 +148,28 @@ VRPD_FN uint gather_accepted(Domain dom, Grid grid, Darts darts, uint d, VRPD_OU
     return n;
 }
 
+// Throwing writes a base cell's darts in index order; their states are or-ed into their blocks'
+// state words (darts.h) once per word, not once per dart: each atomic costs.
+struct StateBits {
+    uint word;
+    uint bits;
+};
+VRPD_FN StateBits no_state_bits(uint j) {
+    StateBits s;
+    s.word = dart_state_word(j);
+    s.bits = 0u;
+    return s;
+}
+// Adds dart j's state, first or-ing the bits gathered for an earlier block.
+VRPD_FN StateBits add_state(Darts darts, StateBits s, uint j, uint state) {
+    if (dart_state_word(j) != s.word) {
+        or_dart_states(darts, s.word, s.bits);
+        s = no_state_bits(j);
+    }
+    s.bits |= state << dart_state_shift(j);
+    return s;
+}
+
 // For the first active cell e of a base cell: writes the darts of all active cells of that base
 // cell (cell i's at scan[i] .. scan[i+1]), each rejected if it lies off the domain or in the disk
 // of a sample of an earlier round (with two radii, membership in T is left to the resolution,
@@ -158,6 +180,7 @@ VRPD_FN uint throw_base_cell(CellArgs a, Cells cells, Uints scan, Darts darts, G
     uvec2 base = base_cell_of(a.domain, cells.cell[e]);
     Domain dom = local_domain(a.domain, base);
     uint undecided = 0u;
+    StateBits states = no_state_bits(scan.value[e]);
     for (uint i = e; i < end_cell; i++) {
         uint cell_first = scan.value[i];
         uint cell_end = scan.value[i + 1u];
@@ -167,11 +190,12 @@ VRPD_FN uint throw_base_cell(CellArgs a, Cells cells, Uints scan, Darts darts, G
         for (uint j = cell_first; j < cell_end; j++) {
             uvec4 dart = make_dart(stream, j - cell_first, corner, a.side);
             bool rejected = covered_by_sample(dom, grid, base, uvec2(dart.x, dart.y));
-            dart.w = rejected ? DART_REJECTED : DART_UNDECIDED;
             undecided += rejected ? 0u : 1u;
-            darts.dart[j] = dart;
+            store_dart_record(darts, j, dart);
+            states = add_state(darts, states, j, rejected ? DART_REJECTED : DART_UNDECIDED);
         }
     }
+    or_dart_states(darts, states.word, states.bits);
     return undecided;
 }
 
@@ -364,7 +388,7 @@ VRPD_FN uvec2 empty_after_round(uvec2 w) {
 VRPD_FN uvec2 committed_word(Darts darts, uvec2 w) {
     uvec2 range = grid_darts(w);
     for (uint j = range.x; j < range.y; j++) {
-        uvec4 dart = darts.dart[j];
+        uvec4 dart = dart_at(darts, j);
         if (dart.w == DART_ACCEPTED) return uvec2(dart.x, dart.y);
     }
     return empty_after_round(w);
@@ -379,7 +403,7 @@ VRPD_FN void commit_base_cell(Grid grid, Darts darts, Uints flags, Uints counter
     uvec2 result = empty_after_round(w);
     uvec2 range = grid_darts(w);
     for (uint j = range.x; j < range.y; j++) {
-        uvec4 dart = darts.dart[j];
+        uvec4 dart = dart_at(darts, j);
         if (dart.w == DART_TOO_COMPLEX) set_flag(counters, COUNTER_TOO_COMPLEX);
         bool accepted = dart.w == DART_ACCEPTED;
         flags.value[j] = accepted ? 1u : 0u;
@@ -685,6 +709,7 @@ VRPD_FN uint throw_masked_base(CellArgs a, Darts darts, Grid grid, uint b, uint 
     uint base_side = 1u << a.domain.cell_bits;
     uint j = first;
     uint undecided = 0u;
+    StateBits states = no_state_bits(first);
     for (uint mask = w.y & GRID_MASK_BITS, k = 0u; mask != 0u; mask >>= 1u, k++) {
         if ((mask & 1u) == 0u) continue;
         uvec2 cc = subcell_corner(corner, k, a.side, base_side);
@@ -693,11 +718,12 @@ VRPD_FN uint throw_masked_base(CellArgs a, Darts darts, Grid grid, uint b, uint 
         for (uint i = 0u; i < count; i++, j++) {
             uvec4 dart = make_dart(stream, i, cc, a.side);
             bool rejected = covered_by_sample(dom, grid, base, uvec2(dart.x, dart.y));
-            dart.w = rejected ? DART_REJECTED : DART_UNDECIDED;
             undecided += rejected ? 0u : 1u;
-            darts.dart[j] = dart;
+            store_dart_record(darts, j, dart);
+            states = add_state(darts, states, j, rejected ? DART_REJECTED : DART_UNDECIDED);
         }
     }
+    or_dart_states(darts, states.word, states.bits);
     return undecided;
 }
 

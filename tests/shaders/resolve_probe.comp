@@ -10,5 +10,6 @@ layout(push_constant) uniform Push { Domain domain; Darts darts; Grid grid; Uint
 void main() {
     uint d = gl_GlobalInvocationID.x;
     if (d >= count) return;
-    decisions.value[d] = darts.dart[d].w == DART_UNDECIDED ? resolve_dart(domain, grid, darts, d) : darts.dart[d].w;
+    uint state = dart_at(darts, d).w;
+    decisions.value[d] = state == DART_UNDECIDED ? resolve_dart(domain, grid, darts, d) : state;
 }
