@@ -1,8 +1,8 @@
 // The host engines: `cpu` runs the GPU's kernel bodies (shaders/shared/sampler.h) over a thread
-// pool with the same parallel arrival-order resolution; `serial` accepts the same darts one at a
-// time in arrival order, the textbook definition of the process, kept simple as the oracle.
+// pool, in mask mode at levels 0-2 as the GPU does, and decides each dart once (see resolve);
+// `serial` accepts the same darts one at a time in arrival order, the textbook definition of the
+// process, over explicit active lists at every level: kept simple as the oracle.
 #include <algorithm>
-#include <array>
 #include <atomic>
 #include <bit>
 

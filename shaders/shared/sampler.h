@@ -170,6 +170,20 @@ VRPD_FN StateBits add_state(Darts darts, StateBits s, uint j, uint state) {
     return s;
 }
 
+// Writes the `count` darts of the cell at `corner` (side `side`, random stream `stream`) from
+// index `first` on, each rejected if it lies off the domain or in the disk of a sample of an
+// earlier round; gathers their states in `states` and counts the undecided ones.
+VRPD_FN void throw_cell(Domain dom, Grid grid, uvec2 base, Darts darts, uint stream, uvec2 corner, uint side, uint first,
+                        uint count, VRPD_INOUT(StateBits) states, VRPD_INOUT(uint) undecided) {
+    for (uint i = 0u; i < count; i++) {
+        uvec4 dart = make_dart(stream, i, corner, side);
+        bool rejected = covered_by_sample(dom, grid, base, uvec2(dart.x, dart.y));
+        undecided += rejected ? 0u : 1u;
+        store_dart_record(darts, first + i, dart);
+        states = add_state(darts, states, first + i, rejected ? DART_REJECTED : DART_UNDECIDED);
+    }
+}
+
 // For the first active cell e of a base cell: writes the darts of all active cells of that base
 // cell (cell i's at scan[i] .. scan[i+1]), each rejected if it lies off the domain or in the disk
 // of a sample of an earlier round (with two radii, membership in T is left to the resolution,
@@ -187,13 +201,7 @@ VRPD_FN uint throw_base_cell(CellArgs a, Cells cells, Uints scan, Darts darts, G
         if (cell_first == cell_end) continue;
         uvec2 corner = cells.cell[i];
         uint stream = cell_stream(a.domain.seed, a.round, corner);
-        for (uint j = cell_first; j < cell_end; j++) {
-            uvec4 dart = make_dart(stream, j - cell_first, corner, a.side);
-            bool rejected = covered_by_sample(dom, grid, base, uvec2(dart.x, dart.y));
-            undecided += rejected ? 0u : 1u;
-            store_dart_record(darts, j, dart);
-            states = add_state(darts, states, j, rejected ? DART_REJECTED : DART_UNDECIDED);
-        }
+        throw_cell(dom, grid, base, darts, stream, corner, a.side, cell_first, cell_end - cell_first, states, undecided);
     }
     or_dart_states(darts, states.word, states.bits);
     return undecided;
@@ -715,13 +723,8 @@ VRPD_FN uint throw_masked_base(CellArgs a, Darts darts, Grid grid, uint b, uint 
         uvec2 cc = subcell_corner(corner, k, a.side, base_side);
         uint stream = cell_stream(a.domain.seed, a.round, cc);
         uint count = dart_count(stream, a.param);
-        for (uint i = 0u; i < count; i++, j++) {
-            uvec4 dart = make_dart(stream, i, cc, a.side);
-            bool rejected = covered_by_sample(dom, grid, base, uvec2(dart.x, dart.y));
-            undecided += rejected ? 0u : 1u;
-            store_dart_record(darts, j, dart);
-            states = add_state(darts, states, j, rejected ? DART_REJECTED : DART_UNDECIDED);
-        }
+        throw_cell(dom, grid, base, darts, stream, cc, a.side, j, count, states, undecided);
+        j += count;
     }
     or_dart_states(darts, states.word, states.bits);
     return undecided;
