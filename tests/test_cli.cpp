@@ -143,6 +143,22 @@ TEST_CASE("check: 0 for a maximal set, 1 when a sample is missing, 2 for bad inp
     CHECK(r.err.find(":3:") != std::string::npos);  // names the line
     CHECK(cli("check " + (scratch() / "missing.csv").string() + " --radius 0.05").code == 2);
     CHECK(cli("check " + good.string() + " --rf 0.05 --rc 0.01").code == 2);
+    CHECK(cli("check " + good.string() + " --radius 0.05 --tolerance 0.06").code == 2);
+}
+
+// vrpd's files hold lattice points, written with 9 significant digits: their largest empty circle
+// may exceed r by half a lattice step plus the rounding. In this run it is 0.00300000012 (found
+// by comparing the backends' output and checking it over 14 boxes and radii): the default
+// tolerance passes it, a strict check does not, and a missing sample fails either way.
+TEST_CASE("check: vrpd's own files pass at the resolution they are written with", "[cli]") {
+    const fs::path edge = scratch() / "edge.csv", holed = scratch() / "edge_holed.csv";
+    REQUIRE(cli("sample --radius 0.003 --seed 4 --device cpu -o " + edge.string()).code == 0);
+    CHECK(cli("check " + edge.string() + " --radius 0.003").code == 0);
+    CHECK(cli("check " + edge.string() + " --radius 0.003 --tolerance 0").code == 1);
+    std::string text = slurp(edge);
+    text.erase(text.find('\n') + 1, text.find('\n', text.find('\n') + 1) - text.find('\n'));  // drop sample 1
+    std::ofstream(holed) << text;
+    CHECK(cli("check " + holed.string() + " --radius 0.003").code == 1);
 }
 
 TEST_CASE("bench and check write JSON that says what they measured", "[cli]") {

@@ -53,8 +53,15 @@ void parse_extent(const std::string& text, Box& box) {
 struct CheckOptions {
     std::string file;
     double radius = 0, rf = 0, rc = 0;
+    double tolerance = -1;  // negative: kDefaultTolerance
     std::string extent = "1,1", boundary = "periodic", json;
 };
+
+// The resolution of vrpd's own files, relative to the box's longer side: CSV coordinates carry 9
+// significant digits (5e-9 of the side at worst, so distances move by up to 1.5e-8), and the
+// samples lie on a lattice of at most 2^30 steps across it (the largest empty circle may exceed
+// r by half a step's diagonal).
+constexpr double kDefaultTolerance = 2e-8;
 
 // `vrpd check`: 0 pass, 1 conflicts or not maximal, 2 bad input.
 int run_check(const CheckOptions& o) {
@@ -64,6 +71,7 @@ int run_check(const CheckOptions& o) {
     Radii radii{o.radius, o.radius};
     if (o.radius > 0 && (o.rf > 0 || o.rc > 0)) throw Error("give either --radius or --rf and --rc");
     if (o.radius <= 0) radii = {o.rf, o.rc > 0 ? o.rc : o.rf};
+    radii.tolerance = o.tolerance >= 0 ? o.tolerance : kDefaultTolerance * std::max(box.width, box.height);
     if (!o.json.empty()) check_writable(o.json);
     const bool tty = isatty(2);
     if (tty) std::cerr << "vrpd check: reading " << o.file << "\r" << std::flush;
@@ -72,7 +80,8 @@ int run_check(const CheckOptions& o) {
     const Report r = verify(points, radii, box);
     if (tty) std::cerr << std::string(60, ' ') << "\r";
     std::cout << fmt::format("{} points, n*Rf^2/area {:.5f}\n", r.points, r.density);
-    std::cout << fmt::format("minimum distance {:.9g} (Rf {}): {} conflicting pairs\n", r.min_distance, radii.inhibition, r.conflicts);
+    std::cout << fmt::format("minimum distance {:.9g} (Rf {}, tolerance {:.3g}): {} conflicting pairs\n", r.min_distance,
+                             radii.inhibition, radii.tolerance, r.conflicts);
     std::cout << fmt::format("largest empty circle radius {:.9g} at ({:.9g}, {:.9g}); Rc {}: {}\n", r.largest_empty_radius,
                              r.largest_empty_centre.x, r.largest_empty_centre.y, radii.coverage,
                              r.maximal ? "maximal" : "NOT maximal");
@@ -86,6 +95,7 @@ int run_check(const CheckOptions& o) {
     std::cout << (r.passed() ? "PASS" : "FAIL") << "\n";
     if (!o.json.empty()) {
         nlohmann::json j{{"points", r.points}, {"density", r.density}, {"rf", radii.inhibition}, {"rc", radii.coverage},
+                         {"tolerance", radii.tolerance},
                          {"min_distance", r.min_distance}, {"conflicts", r.conflicts},
                          {"largest_empty_radius", r.largest_empty_radius},
                          {"largest_empty_centre", {r.largest_empty_centre.x, r.largest_empty_centre.y}},
@@ -138,6 +148,9 @@ int main(int argc, char** argv) {
     check_cmd->add_option("--rc", check.rc, "coverage radius Rc (default Rf)");
     check_cmd->add_option("--extent", check.extent, "box W,H (default 1,1)");
     check_cmd->add_option("--boundary", check.boundary, "periodic (default) or free");
+    check_cmd->add_option("--tolerance", check.tolerance,
+                          "points' resolution: conflict below Rf - T, maximal below Rc + T (default 2e-8 of the "
+                          "box's longer side: vrpd's CSV digits and lattice)");
     check_cmd->add_option("--json", check.json, "also write the report as JSON to FILE");
 #endif
 

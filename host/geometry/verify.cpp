@@ -27,6 +27,8 @@ void validate_input(const std::vector<glm::dvec2>& pts, Radii radii, const Box& 
     if (!(std::isfinite(radii.inhibition) && radii.inhibition > 0 && std::isfinite(radii.coverage) &&
           radii.coverage >= radii.inhibition))
         throw Error(fmt::format("radii must satisfy 0 < Rf <= Rc (got Rf = {}, Rc = {})", radii.inhibition, radii.coverage));
+    if (!(radii.tolerance >= 0 && radii.tolerance < radii.inhibition))
+        throw Error(fmt::format("the tolerance must satisfy 0 <= tolerance < Rf (got {})", radii.tolerance));
     if (!(std::isfinite(box.width) && box.width > 0 && std::isfinite(box.height) && box.height > 0))
         throw Error("extent must be two finite numbers > 0");
     if (pts.size() < 3) throw Error(fmt::format("need at least 3 points to triangulate (got {})", pts.size()));
@@ -181,7 +183,7 @@ Report verify(const std::vector<glm::dvec2>& pts, Radii radii, const Box& box) {
     Report r;
     r.points = pts.size();
     r.density = double(pts.size()) * radii.inhibition * radii.inhibition / (box.width * box.height);
-    r.conflicts = count_conflicts(pts, radii.inhibition, box);
+    r.conflicts = count_conflicts(pts, radii.inhibition - radii.tolerance, box);
 
     // A margin of 3 Rc holds every empty circle of radius < 1.5 Rc whose centre is in the box;
     // if a larger one shows up (a far from maximal set), triangulate again with all 8 images.
@@ -204,7 +206,7 @@ Report verify(const std::vector<glm::dvec2>& pts, Radii radii, const Box& box) {
         dt = triangulate(pts, box, margin);
     }
     if (!periodic) boundary_circles(dt, box, r);
-    r.maximal = r.largest_empty_radius < radii.coverage;
+    r.maximal = r.largest_empty_radius < radii.coverage + radii.tolerance;
 
     r.min_distance = INFINITY;
     for (auto e = dt.finite_edges_begin(); e != dt.finite_edges_end(); ++e) {

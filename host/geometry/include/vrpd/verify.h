@@ -15,6 +15,8 @@ namespace vrpd {
 struct Radii {
     double inhibition;  // Rf: samples closer than this conflict
     double coverage;    // Rc: maximal iff every point of the box is within Rc of a sample
+    double tolerance = 0;  // the points' resolution: pairs conflict if closer than Rf - tolerance,
+                           // and the set is maximal if every empty circle is smaller than Rc + tolerance
 };
 
 struct Histogram {
@@ -26,10 +28,10 @@ struct Report {
     std::size_t points = 0;
     double density = 0;                 // n Rf^2 / area
     double min_distance = 0;            // over all pairs (periodic: shortest way round)
-    std::uint64_t conflicts = 0;        // pairs closer than Rf
+    std::uint64_t conflicts = 0;        // pairs closer than Rf - tolerance
     double largest_empty_radius = 0;    // radius of the largest empty circle centred in the box
     glm::dvec2 largest_empty_centre{0, 0};
-    bool maximal = false;               // largest_empty_radius < Rc
+    bool maximal = false;               // largest_empty_radius < Rc + tolerance
     // Delaunay triangles counted: periodic, each triangle once; free boundary, only triangles
     // whose circumcentre lies in the box (the hull's slivers are outside the paper's theory).
     std::uint64_t triangles = 0;
@@ -42,7 +44,7 @@ struct Report {
 };
 
 // Throws Error (with the index of the offending point) for NaN or inf, points outside the box,
-// duplicate points, fewer than 3 points, or radii that are not 0 < Rf <= Rc.
+// duplicate points, fewer than 3 points, or radii that are not 0 < Rf <= Rc with 0 <= tolerance < Rf.
 Report verify(const std::vector<glm::dvec2>& points, Radii radii, const Box& box);
 
 }  // namespace vrpd
