@@ -83,6 +83,10 @@ Plan make_plan(const SampleOptions& o, std::uint32_t max_cell_bits) {
         ny = std::uint64_t(std::ceil(o.box.height / side));
     }
     const std::uint64_t cells_per_row = std::max(nx, ny);
+    // Base cells are numbered, and active lists counted, in 31 bits (the grid tag bit).
+    if (nx * ny >= (std::uint64_t(1) << 31))
+        throw Error(fmt::format("the box is {:.3g} radii across: {} base cells, more than the 2^31 the kernels index",
+                                std::max(o.box.width, o.box.height) / r, nx * ny));
     if (cells_per_row > (kLatticeLimit >> kMinCellBits))
         throw Error(fmt::format("the box is {:.3g} radii across: at most {} base cells per side fit the 31-bit lattice",
                                 std::max(o.box.width, o.box.height) / r, kLatticeLimit >> kMinCellBits));
