@@ -12,7 +12,7 @@ layout(push_constant) uniform Push { CellArgs a; };
 void main() {
     uint b = gl_GlobalInvocationID.x;
     if (b >= a.cell_count) return;
-    if (masked_leaves(a)) {
+    if (masked_leaves(a.domain, a.side, a.param)) {
         uvec2 kept = uvec2(a.masks.value[b], a.work.value[b]);
         uint n = uint(bitCount(kept.x) + bitCount(kept.y));
         if (n != 0u) a.grid.word[b] = kept;

@@ -14,7 +14,7 @@ void main() {
     if (b < a.cell_count) {
         uvec2 kept = refine_masked_base(a, a.grid, b);
         a.masks.value[b] = kept.x;
-        if (masked_leaves(a)) {
+        if (masked_leaves(a.domain, a.side, a.param)) {
             a.work.value[b] = kept.y;
         } else {
             uint n = uint(bitCount(kept.x));

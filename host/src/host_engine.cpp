@@ -232,7 +232,7 @@ private:
         const uint side = spec.refine ? spec.side / 2u : spec.side;
         const CellArgs args{dom, 0, 0, 0, 0, 0, 0, 0, 0, bases, spec.round, side, fanout};
         std::vector<std::uint64_t> first(pool_.size() + 1, 0);
-        if (!masked_leaves(args)) {
+        if (!masked_leaves(dom, side, fanout)) {
             fit(masks_, bases);
             pool_.parallel_for(bases, [&](std::size_t b, std::size_t e, unsigned w) {
                 std::uint64_t sum = 0;

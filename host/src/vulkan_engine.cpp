@@ -132,7 +132,7 @@ public:
         // The darts get a buffer of their own, freed once they are emitted: the next active list
         // is then allocated in their place. When mask mode ends, refine_masked parks half of each
         // base cell's 64-bit mask there too.
-        const bool leaves = masked && spec.refine && ((spec.side / 2) << MASK_LEVELS) == (1u << plan_.domain.cell_bits);
+        const bool leaves = masked && masked_leaves(plan_.domain, spec.side / 2, spec.refine ? 4u : 1u);
         darts_ = Buffer(ctx_, std::max<std::uint64_t>(dart_words(darts) * 4, leaves ? std::uint64_t(bases) * 4 : 0), false);
         const std::uint64_t ranks = scratch_.address() + at.ranks;
         const std::uint64_t dart_list = darts_.address();
@@ -292,7 +292,7 @@ private:
     std::uint32_t refine_masked(const RoundSpec& spec, std::uint64_t ranks, std::uint32_t child_side, std::uint32_t fanout) {
         const std::uint32_t bases = std::uint32_t(plan_.base_cells);
         CellArgs a = cell_args(0, Regions{ranks, 0, darts_.address(), ranks}, bases, spec.round, child_side, fanout);
-        const bool leaves = masked_leaves(a);
+        const bool leaves = masked_leaves(plan_.domain, child_side, fanout);
         ctx_.dispatch(refine_masked_, &a, groups(std::uint64_t(bases) + 1, WORKGROUP_SIZE));
         ctx_.barrier();  // the new masks (and the active sum) before they reach the words
         ctx_.dispatch(apply_masks_, &a, groups(bases, WORKGROUP_SIZE));

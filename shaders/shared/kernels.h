@@ -116,9 +116,11 @@ struct CellArgs {
 };
 
 // Mask mode (sampler.h) runs levels 0 to MASK_LEVELS - 1 and ends at children of level
-// MASK_LEVELS: is this refinement (a.side: the children's) that one?
+// MASK_LEVELS: is the refinement into `fanout` children of side `side` that one?
 const uint MASK_LEVELS = 3u;
-VRPD_FN bool masked_leaves(CellArgs a) { return a.param == 4u && (a.side << MASK_LEVELS) == (1u << a.domain.cell_bits); }
+VRPD_FN bool masked_leaves(Domain dom, uint side, uint fanout) {
+    return fanout == 4u && (side << MASK_LEVELS) == (1u << dom.cell_bits);
+}
 
 // Kernels over darts: resolve_darts, apply_decisions, emit_samples. A resolution pass keeps each
 // decision in its work-list slot: dart index | state << DECISION_SHIFT (rounds hold < 2^30 darts).
