@@ -14,10 +14,10 @@ void main() {
     if (b >= a.cell_count) return;
     if (masked_leaves(a.domain, a.side, a.param)) {
         uvec2 kept = uvec2(a.masks.value[b], a.work.value[b]);
-        uint n = uint(bitCount(kept.x) + bitCount(kept.y));
+        uint n = subcell_count(kept);
         if (n != 0u) a.grid.word[b] = kept;
         a.masks.value[b] = n;
-    } else if (!grid_is_sample(a.grid.word[b])) {
-        a.grid.word[b] = uvec2(GRID_EMPTY, a.masks.value[b]);
+    } else {
+        a.grid.word[b] = masked_word(a.grid.word[b], a.masks.value[b]);
     }
 }

@@ -4,7 +4,6 @@
 // process, over explicit active lists at every level: kept simple as the oracle.
 #include <algorithm>
 #include <atomic>
-#include <bit>
 
 #include <fmt/format.h>
 
@@ -78,6 +77,13 @@ private:
         v.resize(n);
     }
 
+    // Per-chunk counts in first[w + 1] (chunk w of a parallel_for over base cells) become each
+    // chunk's first index, in base cell order; returns the total.
+    static std::uint64_t chunk_offsets(std::vector<std::uint64_t>& first) {
+        for (std::size_t w = 1; w < first.size(); ++w) first[w] += first[w - 1];
+        return first.back();
+    }
+
     template <class T> static std::uint64_t bytes(const std::vector<T>& v) { return v.capacity() * sizeof(T); }
 
     // Records the memory held by the engine's arrays now, plus `extra` bytes held elsewhere.
@@ -141,8 +147,7 @@ private:
             first[w + 1] = sum;
         });
         if (crowded) throw Error("internal: a base cell got more than 65535 darts in one round");
-        for (std::size_t w = 1; w < first.size(); ++w) first[w] += first[w - 1];
-        const std::uint64_t total = first.back();
+        const std::uint64_t total = chunk_offsets(first);
         if (total >= MAX_ROUND_DARTS) throw Error("a round would throw more than 2^30 darts");
         darts_.resize(dart_words(total));
         dart_count_ = total;
@@ -238,7 +243,7 @@ private:
                 std::uint64_t sum = 0;
                 for (std::size_t i = b; i < e; ++i) {
                     masks_[i] = refine_masked_base(args, grid(), uint(i)).x;
-                    sum += std::popcount(masks_[i]);
+                    sum += uint(bitCount(masks_[i]));
                 }
                 first[w + 1] = sum;
             });
@@ -246,12 +251,10 @@ private:
             // A pass of its own: refinement reads the neighbours' words.
             pool_.parallel_for(bases, [&](std::size_t b, std::size_t e, unsigned) {
                 for (std::size_t i = b; i < e; ++i)
-                    if (!grid_is_sample(grid_[i])) grid_[i].y = masks_[i];
+                    grid_[i] = masked_word(grid_[i], masks_[i]);
             });
             std::vector<uint>().swap(masks_);
-            std::uint64_t active = 0;
-            for (std::uint64_t c : first) active += c;
-            return active;
+            return chunk_offsets(first);
         }
         // Each thread keeps its base cells' nonzero masks, in order, then writes their children.
         std::vector<std::vector<std::pair<uint, uvec2>>> kept(pool_.size());
@@ -261,12 +264,11 @@ private:
                 const uvec2 mask = refine_masked_base(args, grid(), uint(i));
                 if (mask == uvec2(0u, 0u)) continue;
                 kept[w].emplace_back(uint(i), mask);
-                sum += std::popcount(mask.x) + std::popcount(mask.y);
+                sum += subcell_count(mask);
             }
             first[w + 1] = sum;
         });
-        for (std::size_t w = 1; w < first.size(); ++w) first[w] += first[w - 1];
-        if (first.back() >= GRID_TAG) throw Error("more than 2^31 active cells");
+        if (chunk_offsets(first) >= GRID_TAG) throw Error("more than 2^31 active cells");
         fit(cells_, first.back());
         std::uint64_t lists_bytes = 0;
         for (auto& k : kept) lists_bytes += bytes(k);
@@ -275,7 +277,7 @@ private:
             std::uint64_t next = first[w];
             for (const auto& [i, mask] : kept[w]) {
                 scatter_subcells(dom, Cells{cells_.data()}, uint(next), mask, i, side);
-                next += std::popcount(mask.x) + std::popcount(mask.y);
+                next += subcell_count(mask);
             }
         });
         masked_ = false;

@@ -5,6 +5,7 @@
 #define VRPD_BRIDGE_H
 
 #ifdef __cplusplus
+#include <bit>
 #include <cstdint>
 #include <glm/common.hpp>
 #include <glm/vec2.hpp>
@@ -17,6 +18,7 @@ using uint = std::uint32_t;
 using ivec2 = glm::ivec2;
 using uvec2 = glm::uvec2;
 using uvec4 = glm::uvec4;
+inline int bitCount(std::uint32_t v) { return std::popcount(v); }
 using std::int64_t;
 using std::uint64_t;
 }  // namespace vrpd::shared

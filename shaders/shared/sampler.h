@@ -470,7 +470,6 @@ VRPD_FN uvec2 child_corner(uvec2 corner, uint side, uint c) {
     return uvec2(corner.x + (c & 1u) * side, corner.y + (c >> 1u) * side);
 }
 
-VRPD_FN uint bit_count4(uint m) { return (m & 1u) + ((m >> 1u) & 1u) + ((m >> 2u) & 1u) + ((m >> 3u) & 1u); }
 
 // Clamps the last lattice coordinate of an interval to a free boundary's last lattice point.
 VRPD_FN uint clip_hi(uint hi, uint extent, uint periodic) { return periodic != 0u || hi < extent ? hi : extent - 1u; }
@@ -655,7 +654,7 @@ VRPD_FN void refine_base_cell(CellArgs a, Cells cells, Uints counts, Uints masks
     for (uint i = e; i < end_cell; i++) {
         uint mask = occupied ? 0u : surviving_children(dom, grid, base, cells.cell[i], a.side, a.param, samples);
         masks.value[i] = mask;
-        counts.value[i] = bit_count4(mask);
+        counts.value[i] = uint(bitCount(mask));
     }
 }
 
@@ -753,6 +752,12 @@ VRPD_FN uvec2 refine_masked_base(CellArgs a, Grid grid, uint b) {
     }
     return kept;
 }
+
+// The number of sub-cells in a mask of refine_masked_base.
+VRPD_FN uint subcell_count(uvec2 kept) { return uint(bitCount(kept.x) + bitCount(kept.y)); }
+
+// A base cell's word with its new mask of active sub-cells (a sample's word stays).
+VRPD_FN uvec2 masked_word(uvec2 w, uint mask) { return grid_is_sample(w) ? w : uvec2(GRID_EMPTY, mask); }
 
 // Writes the children in `kept` (refine_masked_base, children of side `side`) of base cell b to
 // an explicit active list, from `rank` on, in the explicit list's order.
