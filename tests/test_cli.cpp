@@ -6,7 +6,9 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <stdexcept>
 #include <string>
+#include <system_error>
 #include <sys/wait.h>
 
 #include <nlohmann/json.hpp>
@@ -22,13 +24,25 @@ struct Run {
     std::string err;
 };
 
+// A fresh directory per test process, removed at exit. (A directory named by the pid outlived
+// its run and was found again when the pid came round: a file left there failed a check that
+// the CLI wrote nothing.)
+struct ScratchDir {
+    fs::path path;
+    ScratchDir() {
+        std::string name = (fs::temp_directory_path() / "vrpd_cli_test_XXXXXX").string();
+        if (!::mkdtemp(name.data())) throw std::runtime_error("cannot create a scratch directory");
+        path = name;
+    }
+    ~ScratchDir() {
+        std::error_code ignored;
+        fs::remove_all(path, ignored);
+    }
+};
+
 fs::path scratch() {
-    static const fs::path dir = [] {
-        fs::path d = fs::temp_directory_path() / ("vrpd_cli_test_" + std::to_string(::getpid()));
-        fs::create_directories(d);
-        return d;
-    }();
-    return dir;
+    static const ScratchDir dir;
+    return dir.path;
 }
 
 Run cli(const std::string& args) {
