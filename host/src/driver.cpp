@@ -22,7 +22,11 @@ struct LevelSchedule {
 // Chosen by measurement (cpu, r = 0.001, seed 1): lambda 0.5 with 2 rounds at level 0, then one
 // round per level, took 3.1 s and 6.2 darts/sample; lambda 1 (2 rounds, then 1) took 4.3 s and
 // 9.3; lambda 0.5 with 3 or 4 rounds at level 0, 3.3-3.7 s; lambda 2 at level 0, 6.3 s.
-// Per-cell work (counts, scans, cover tests), not darts, dominates the time.
+// Per-cell work (counts, scans, cover tests), not darts, dominates the time. Rechecked once the
+// rounds between splits stopped testing cover (sampler.h, cover_tested), in instructions at
+// r = 0.002 (callgrind, one thread): 0.5 x 2 then 0.5, 4.34 G; 0.5 x 3, 4.49 G; 0.7 x 2, 4.50 G;
+// 0.35 x 3, 4.44 G; 0.7 or 0.35 past level 0, 4.32 G and 4.43 G (each schedule draws other
+// darts, so part of these differences is chance).
 //
 // Two radii (share = (Rf / Rc)^2): darts go to whole base cells, of which a sample fills about
 // 4 share / 0.94 at the end, and a dart that lands where T is already empty costs a full T test;
