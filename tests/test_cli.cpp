@@ -174,6 +174,12 @@ TEST_CASE("check: vrpd's own files pass at the resolution they are written with"
     text.erase(text.find('\n') + 1, text.find('\n', text.find('\n') + 1) - text.find('\n'));  // drop sample 1
     std::ofstream(holed) << text;
     CHECK(cli("check " + holed.string() + " --radius 0.003").code == 1);
+    // A radius near the box's side leaves one or a few samples; check judges them too.
+    for (const char* radius : {"0.9", "0.6"}) {
+        const fs::path few = scratch() / "few.csv";
+        REQUIRE(cli(std::string("sample --boundary free --device cpu --radius ") + radius + " -o " + few.string()).code == 0);
+        CHECK(cli("check " + few.string() + " --boundary free --radius " + radius).code == 0);
+    }
 }
 
 TEST_CASE("bench and check write JSON that says what they measured", "[cli]") {

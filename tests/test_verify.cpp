@@ -78,9 +78,38 @@ TEST_CASE("free boundary: empty circles centred on the sides and corners count",
     CHECK_FALSE(r.maximal);
 }
 
+// Sets too small or too straight to triangulate: a large radius leaves one or two samples. The
+// largest empty circle is then centred at a corner, or where a bisector meets a side (free box),
+// or at the far side of the torus.
+TEST_CASE("one, two or collinear points: the largest empty circle is still found", "[verify]") {
+    const Box free{1, 1, Boundary::Free};
+    const Box torus{};
+    struct Known {
+        std::vector<glm::dvec2> points;
+        Box box;
+        double radius;  // of the largest empty circle
+    };
+    const Known known[] = {
+        {{{0.5, 0.5}}, free, std::sqrt(0.5)},                                        // at a corner
+        {{{0.3, 0.5}}, free, std::hypot(0.7, 0.5)},                                  // the far corners
+        {{{0.25, 0.5}, {0.75, 0.5}}, free, std::hypot(0.25, 0.5)},                   // corners, and x = 0.5 on the sides
+        {{{0.5, 0.2}, {0.5, 0.9}}, free, std::hypot(0.5, 0.35)},                    // the bisector y = 0.55 on the sides
+        {{{0.2, 0.5}, {0.5, 0.5}, {0.8, 0.5}}, free, std::hypot(0.2, 0.5)},         // on one line
+        {{{0.5, 0.5}}, torus, std::sqrt(0.5)},                                       // the torus's far point
+        {{{0.25, 0.25}, {0.75, 0.75}}, torus, 0.5},                                  // a square lattice of side sqrt(1/2)
+    };
+    for (const Known& k : known) {
+        INFO(k.points.size() << " points, " << (k.box.boundary == Boundary::Free ? "free" : "periodic"));
+        const Report below = verify(k.points, {0.1, k.radius * (1 - 1e-6)}, k.box);
+        CHECK(below.largest_empty_radius == Approx(k.radius).epsilon(1e-9));
+        CHECK_FALSE(below.maximal);
+        CHECK(verify(k.points, {0.1, k.radius * (1 + 1e-6)}, k.box).maximal);
+    }
+}
+
 TEST_CASE("bad point sets are refused with the offending point", "[verify]") {
     const Box box{};
-    CHECK_THROWS_WITH(verify({{0.1, 0.1}, {0.2, 0.2}}, {0.1, 0.1}, box), Catch::Contains("at least 3"));
+    CHECK_THROWS_WITH(verify({}, {0.1, 0.1}, box), Catch::Contains("no points"));
     CHECK_THROWS_WITH(verify({{0.1, 0.1}, {0.2, 0.2}, {0.1, 0.1}}, {0.1, 0.1}, box), Catch::Contains("same point"));
     CHECK_THROWS_WITH(verify({{0.1, 0.1}, {0.2, 0.2}, {1.5, 0.1}}, {0.1, 0.1}, box), Catch::Contains("point 3"));
     CHECK_THROWS_WITH(verify({{0.1, 0.1}, {0.2, NAN}, {0.3, 0.1}}, {0.1, 0.1}, box), Catch::Contains("not finite"));

@@ -88,10 +88,13 @@ int run_check(const CheckOptions& o) {
     std::string edges_rc;
     if (radii.coverage != radii.inhibition)
         edges_rc = fmt::format(" = {:.4f}..{:.4f} Rc", r.min_edge / radii.coverage, r.max_edge / radii.coverage);
-    std::cout << fmt::format("Delaunay{}: {} triangles, angles {:.3f}..{:.3f} deg, edges {:.4f}..{:.4f} Rf{}\n",
-                             box.boundary == Boundary::Free ? " (circumcentre in the box)" : "", r.triangles,
-                             r.min_angle_degrees, r.max_angle_degrees, r.min_edge / radii.inhibition,
-                             r.max_edge / radii.inhibition, edges_rc);
+    const char* counted = box.boundary == Boundary::Free ? " (circumcentre in the box)" : "";
+    if (r.triangles == 0)
+        std::cout << fmt::format("Delaunay{}: no triangle counted\n", counted);
+    else
+        std::cout << fmt::format("Delaunay{}: {} triangles, angles {:.3f}..{:.3f} deg, edges {:.4f}..{:.4f} Rf{}\n",
+                                 counted, r.triangles, r.min_angle_degrees, r.max_angle_degrees,
+                                 r.min_edge / radii.inhibition, r.max_edge / radii.inhibition, edges_rc);
     std::cout << (r.passed() ? "PASS" : "FAIL") << "\n";
     if (!o.json.empty()) {
         nlohmann::json j{{"points", r.points}, {"density", r.density}, {"rf", radii.inhibition}, {"rc", radii.coverage},

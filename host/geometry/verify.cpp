@@ -31,7 +31,7 @@ void validate_input(const std::vector<glm::dvec2>& pts, Radii radii, const Box& 
         throw Error(fmt::format("the tolerance must satisfy 0 <= tolerance < Rf (got {})", radii.tolerance));
     if (!(std::isfinite(box.width) && box.width > 0 && std::isfinite(box.height) && box.height > 0))
         throw Error("extent must be two finite numbers > 0");
-    if (pts.size() < 3) throw Error(fmt::format("need at least 3 points to triangulate (got {})", pts.size()));
+    if (pts.empty()) throw Error("no points: an empty set covers nothing");
     for (std::size_t i = 0; i < pts.size(); ++i) {
         const glm::dvec2 p = pts[i];
         if (!std::isfinite(p.x) || !std::isfinite(p.y)) throw Error(fmt::format("point {} is not finite", i + 1));
@@ -187,9 +187,17 @@ Report verify(const std::vector<glm::dvec2>& pts, Radii radii, const Box& box) {
 
     // A margin of 3 Rc holds every empty circle of radius < 1.5 Rc whose centre is in the box;
     // if a larger one shows up (a far from maximal set), triangulate again with all 8 images.
-    double margin = periodic ? std::min(3.0 * radii.coverage, std::max(box.width, box.height)) : 0.0;
+    // So do images that leave the triangulation without a triangle (fewer than 3 points, or on
+    // one line): all 8 images of a point span the plane.
+    const double whole = std::max(box.width, box.height);
+    double margin = periodic ? std::min(3.0 * radii.coverage, whole) : 0.0;
     Delaunay dt = triangulate(pts, box, margin);
     for (;;) {
+        if (periodic && dt.dimension() < 2 && margin < whole) {
+            margin = whole;
+            dt = triangulate(pts, box, margin);
+            continue;
+        }
         r.largest_empty_radius = 0;
         r.triangles = 0;
         for (auto f = dt.finite_faces_begin(); f != dt.finite_faces_end(); ++f) {
@@ -201,8 +209,8 @@ Report verify(const std::vector<glm::dvec2>& pts, Radii radii, const Box& box) {
                 r.largest_empty_centre = {c.x(), c.y()};
             }
         }
-        if (!periodic || r.largest_empty_radius * 2 < margin || margin >= std::max(box.width, box.height)) break;
-        margin = std::max(box.width, box.height);
+        if (!periodic || r.largest_empty_radius * 2 < margin || margin >= whole) break;
+        margin = whole;
         dt = triangulate(pts, box, margin);
     }
     if (!periodic) boundary_circles(dt, box, r);
@@ -234,7 +242,10 @@ Report verify(const std::vector<glm::dvec2>& pts, Radii radii, const Box& box) {
             add(r.edges, len / radii.inhibition);
         }
     }
-    if (r.triangles == 0) throw Error("no Delaunay triangle has its circumcentre in the box (collinear points?)");
+    // A free box may have no triangle to count: fewer than 3 points, points on one line, or
+    // no circumcentre in the box. Its Voronoi edges and the corners (boundary_circles) still
+    // hold the largest empty circle; the quality figures are then 0.
+    if (r.triangles == 0) r.min_angle_degrees = r.min_edge = 0;
     return r;
 }
 

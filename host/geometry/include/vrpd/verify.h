@@ -44,7 +44,8 @@ struct Report {
 };
 
 // Throws Error (with the index of the offending point) for NaN or inf, points outside the box,
-// duplicate points, fewer than 3 points, or radii that are not 0 < Rf <= Rc with 0 <= tolerance < Rf.
+// duplicate points, no points, or radii that are not 0 < Rf <= Rc with 0 <= tolerance < Rf.
+// Any nonempty set is judged, down to one point; min_distance is infinite without a pair.
 Report verify(const std::vector<glm::dvec2>& points, Radii radii, const Box& box);
 
 }  // namespace vrpd
