@@ -28,3 +28,10 @@ TEST_CASE("device selection refuses an unknown device", "[gpu][vulkan]") {
     REQUIRE_FALSE(devices.empty());
     CHECK(detail::VulkanContext("0").device_name().find(devices[0].name) == 0);
 }
+
+TEST_CASE("a buffer larger than the device holds is refused as out of memory", "[gpu][vulkan]") {
+    detail::VulkanContext ctx("");
+    CHECK_THROWS_WITH(detail::Buffer(ctx, VkDeviceSize(1) << 46, false), Catch::Contains("out of memory on"));
+    CHECK(ctx.peak_allocated_bytes() == 0);
+    CHECK_NOTHROW(ctx.check_validation());
+}

@@ -298,7 +298,18 @@ Buffer::Buffer(VulkanContext& ctx, VkDeviceSize size, bool host_visible) : ctx_(
     bi.size = std::max<VkDeviceSize>(size, 16);
     bi.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT |
                VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
-    check(vk.vkCreateBuffer(ctx.device(), &bi, nullptr, &buffer_), "vkCreateBuffer");
+    // A driver may refuse an allocation when the buffer is created (lavapipe does) or when its
+    // memory is allocated: either way the user hears what ran out.
+    auto refuse_if_out_of_memory = [&](VkResult r, VkDeviceSize bytes) {
+        if (r != VK_ERROR_OUT_OF_DEVICE_MEMORY && r != VK_ERROR_OUT_OF_HOST_MEMORY) return;
+        release();
+        throw Error(fmt::format("out of memory on {} allocating {} MiB; try a larger radius or --device cpu",
+                                ctx.device_name(), bytes >> 20));
+    };
+    VkResult created = vk.vkCreateBuffer(ctx.device(), &bi, nullptr, &buffer_);
+    if (created != VK_SUCCESS) buffer_ = VK_NULL_HANDLE;  // undefined after a failure
+    refuse_if_out_of_memory(created, bi.size);
+    check(created, "vkCreateBuffer");
     VkMemoryRequirements req;
     vk.vkGetBufferMemoryRequirements(ctx.device(), buffer_, &req);
     VkMemoryAllocateFlagsInfo flags{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_FLAGS_INFO};
@@ -307,11 +318,8 @@ Buffer::Buffer(VulkanContext& ctx, VkDeviceSize size, bool host_visible) : ctx_(
     ai.allocationSize = req.size;
     ai.memoryTypeIndex = ctx.memory_type(req.memoryTypeBits, host_visible);
     VkResult r = vk.vkAllocateMemory(ctx.device(), &ai, nullptr, &memory_);
-    if (r == VK_ERROR_OUT_OF_DEVICE_MEMORY || r == VK_ERROR_OUT_OF_HOST_MEMORY) {
-        release();
-        throw Error(fmt::format("out of memory on {} allocating {} MiB; try a larger radius or --device cpu",
-                                ctx.device_name(), req.size >> 20));
-    }
+    if (r != VK_SUCCESS) memory_ = VK_NULL_HANDLE;
+    refuse_if_out_of_memory(r, req.size);
     check(r, "vkAllocateMemory");
     allocated_ = req.size;
     ctx.note_allocation(std::int64_t(allocated_));
