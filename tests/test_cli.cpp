@@ -79,6 +79,8 @@ TEST_CASE("bad input: one line on stderr, non-zero exit, no output file", "[cli]
         "sample --radius 1e-9 --boundary free",
         "sample --radius 0.00001",  // fits the lattice, not the 2^31 base cells the kernels index
         "sample --radius 0.00005",  // fits both, not this machine's memory: refused before allocating
+        "sample --radius 1e-300",   // cell counts beyond any integer: refused before converting
+        "sample --radius 0.1 --extent 1e300,1 --boundary free",
         "sample --radius 0.01 --seed -1",
         "sample --radius 0.01 --bogus",
         "sample",

@@ -68,6 +68,11 @@ Plan make_plan(const SampleOptions& o, std::uint32_t max_cell_bits) {
     validate(o);
     const double r = o.radius;
     const double max_side = r / std::sqrt(2.0);
+    // Checked in doubles first: a box 10^300 radii across does not convert to an integer count.
+    const double longest = std::max(o.box.width, o.box.height);
+    if (longest / max_side > double(kLatticeLimit >> kMinCellBits))
+        throw Error(fmt::format("the box is {:.3g} radii across: at most {} base cells per side fit the 31-bit lattice",
+                                longest / r, kLatticeLimit >> kMinCellBits));
     std::uint64_t nx = 0, ny = 0;
     double side = max_side;
     if (o.box.boundary == Boundary::Periodic) {
