@@ -161,6 +161,8 @@ TEST_CASE("check: 0 for a maximal set, 1 when a sample is missing, 2 for bad inp
     CHECK(cli("check " + (scratch() / "missing.csv").string() + " --radius 0.05").code == 2);
     CHECK(cli("check " + good.string() + " --rf 0.05 --rc 0.01").code == 2);
     CHECK(cli("check " + good.string() + " --radius 0.05 --tolerance 0.06").code == 2);
+    CHECK(cli("check " + good.string() + " --radius 0.05 --tolerance -1").code == 2);
+    CHECK(cli("check " + scratch().string() + " --radius 0.05").code == 2);  // a directory
 }
 
 // vrpd's files hold lattice points, written with 9 significant digits: their largest empty circle

@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
@@ -53,7 +54,7 @@ void parse_extent(const std::string& text, Box& box) {
 struct CheckOptions {
     std::string file;
     double radius = 0, rf = 0, rc = 0;
-    double tolerance = -1;  // negative: kDefaultTolerance
+    std::optional<double> tolerance;  // default: kDefaultTolerance
     std::string extent = "1,1", boundary = "periodic", json;
 };
 
@@ -71,7 +72,8 @@ int run_check(const CheckOptions& o) {
     Radii radii{o.radius, o.radius};
     if (o.radius > 0 && (o.rf > 0 || o.rc > 0)) throw Error("give either --radius or --rf and --rc");
     if (o.radius <= 0) radii = {o.rf, o.rc > 0 ? o.rc : o.rf};
-    radii.tolerance = o.tolerance >= 0 ? o.tolerance : kDefaultTolerance * std::max(box.width, box.height);
+    if (o.tolerance && !(*o.tolerance >= 0)) throw Error(fmt::format("--tolerance must be >= 0 (got {})", *o.tolerance));
+    radii.tolerance = o.tolerance ? *o.tolerance : kDefaultTolerance * std::max(box.width, box.height);
     if (!o.json.empty()) check_writable(o.json);
     const bool tty = isatty(2);
     if (tty) std::cerr << "vrpd check: reading " << o.file << "\r" << std::flush;
@@ -220,6 +222,9 @@ int main(int argc, char** argv) {
         return 2;
     } catch (const std::bad_alloc&) {
         std::cerr << "vrpd: error: out of host memory\n";
+        return 2;
+    } catch (const std::exception& e) {  // from the standard library (I/O, filesystem): still one line
+        std::cerr << "vrpd: error: " << e.what() << "\n";
         return 2;
     }
     return 0;

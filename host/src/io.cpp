@@ -163,6 +163,8 @@ void write_points(const Sampling& s, const std::string& path) {
 }
 
 std::vector<glm::dvec2> read_points(const std::string& path) {
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec)) throw Error(path + ": is a directory");
     std::ifstream in(path, std::ios::binary);
     if (!in) throw Error(fmt::format("cannot read {}: {}", path, std::strerror(errno)));
     std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
