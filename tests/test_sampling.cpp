@@ -29,6 +29,9 @@ TEST_CASE("bad options are refused with a reason", "[options]") {
     refuses(options(0.1, 0, Backend::Cpu, {0.0, 1.0, Boundary::Free}), "extent");
     refuses(options(0.1, 0, Backend::Cpu, {1.0, -2.0, Boundary::Periodic}), "extent");
     refuses(options(0.1, 0, Backend::Cpu, {INFINITY, 1.0, Boundary::Free}), "extent");
+    SampleOptions crowd = options(0.1, 0, Backend::Cpu);
+    crowd.threads = 1u << 20;
+    refuses(crowd, "threads");
     CHECK_NOTHROW(validate(options(0.4, 0, Backend::Cpu, {1.0, 1.0, Boundary::Free})));
 }
 

@@ -16,6 +16,7 @@ constexpr std::uint32_t kLatticeLimit = 0x7FFFFFFFu;  // coordinates stay below 
 constexpr std::uint32_t kMinCellBits = 10;            // >= 1024 lattice steps per base cell side
 
 constexpr double kMaxCoverageRatio = 4.0;
+constexpr unsigned kMaxThreads = 1024;  // a host thread each: far above any machine's cores, below its limits
 
 bool finite_positive(double v) { return std::isfinite(v) && v > 0.0; }
 
@@ -46,6 +47,8 @@ void validate(const SampleOptions& o) {
     if (o.radius <= 0.0) throw Error(fmt::format("radius must be > 0 (got {})", o.radius));
     if (!detail::finite_positive(o.box.width) || !detail::finite_positive(o.box.height))
         throw Error(fmt::format("extent must be two finite numbers > 0 (got {},{})", o.box.width, o.box.height));
+    if (o.threads > detail::kMaxThreads)
+        throw Error(fmt::format("threads must be at most {} (got {})", detail::kMaxThreads, o.threads));
     double short_side = std::min(o.box.width, o.box.height);
     if (o.box.boundary == Boundary::Periodic && o.radius >= short_side / 2.0)
         throw Error(fmt::format("radius {} is too large for a periodic box of {} x {}: it must be < {} (half the shorter side)",
