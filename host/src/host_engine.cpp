@@ -397,7 +397,8 @@ private:
         pool_.parallel_for(n, [&](std::size_t b, std::size_t e, unsigned) {
             for (std::size_t i = b; i < e; ++i)
                 if (first_in_base_cell(dom, cells(), uint(i)))
-                    refine_base_cell(args, cells(), scan(), Uints{masks_.data()}, grid(), uint(i));
+                    refine_cells_of_base(args, cells(), scan(), Uints{masks_.data()}, grid(), uint(i),
+                                         group_end(dom, cells(), uint(i), n));
         });
         const std::uint64_t kept = exclusive_scan(n);
         fit(next_, kept);

@@ -654,16 +654,19 @@ VRPD_FN uint surviving_children(Domain dom, Grid grid, uvec2 base, uvec2 corner,
     return mask;
 }
 
-// For the first active cell e of a base cell: masks[i] has bit c set for the children c of every
-// active cell i of that base cell that stay active (none if the base cell holds a sample), and
-// counts[i] their number, for the scan that places them in the next active list.
-VRPD_FN void refine_base_cell(CellArgs a, Cells cells, Uints counts, Uints masks, Grid grid, uint e) {
-    uint end_cell = group_end(a.domain, cells, e, a.cell_count);
-    uvec2 base = base_cell_of(a.domain, cells.cell[e]);
+// For the active cells [first, end) of one base cell: masks[i] has bit c set for the children c
+// of cell i that stay active (none if the base cell holds a sample), and counts[i] their number,
+// for the scan that places them in the next active list. The samples near the base cell are
+// gathered once for the range. The host passes each base cell's whole group (group_end), the
+// Vulkan kernel one cell per invocation: with two radii a base cell may hold hundreds of active
+// cells (driver.cpp, kCrowded), and llvmpipe ends a loop once 65 535 iterations have run in one
+// SIMD batch, which a group's T tests in one invocation passed, leaving cells unrefined.
+VRPD_FN void refine_cells_of_base(CellArgs a, Cells cells, Uints counts, Uints masks, Grid grid, uint first, uint end) {
+    uvec2 base = base_cell_of(a.domain, cells.cell[first]);
     Domain dom = local_domain(a.domain, base);
     bool occupied = grid_is_sample(grid.word[base_index(dom, base)]);
     uint samples = occupied || !cover_tested(dom, a.param, a.side) ? 0u : gather_cell_samples(dom, grid, base);
-    for (uint i = e; i < end_cell; i++) {
+    for (uint i = first; i < end; i++) {
         uint mask = occupied ? 0u : surviving_children(dom, grid, base, cells.cell[i], a.side, a.param, samples);
         masks.value[i] = mask;
         counts.value[i] = uint(bitCount(mask));
