@@ -160,8 +160,10 @@ TEST_CASE("parity holds on a large first round (many darts per resolution pass)"
 // The memory check before a run (plan.cpp) counts 48 bytes of arrays per base cell; measured at
 // r = 0.001: 25 on lavapipe, 20 for cpu, 32 for serial. Every engine must stay within it, or a run the check lets
 // through could still run out of memory; the lower bound is the grid and the samples themselves.
+// Rc = 1.1 Rf, the nearest two radii allowed, once multiplied its active cells by 3-4 a level
+// and ran out of memory (driver.cpp, kCrowded).
 TEST_CASE("the engines' arrays stay within the memory estimate checked before a run", "[sampling][gpu]") {
-    for (double rc : {0.0, 0.008}) {
+    for (double rc : {0.0, 0.008, 0.0044}) {
         for (Backend b : {Backend::Gpu, Backend::Cpu, Backend::Serial}) {
             SampleOptions o = options(0.004, 2, b);
             o.coverage = rc;

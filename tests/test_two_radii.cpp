@@ -272,7 +272,9 @@ TEST_CASE("two-radii options are refused with a reason", "[two-radii][options]")
     refuses(two_radii(0.01, std::nan(""), 0, Backend::Cpu), ">= the inhibition radius");
     refuses(two_radii(0.01, 0.0401, 0, Backend::Cpu), "above the supported 4");
     refuses(two_radii(0.1, 0.26, 0, Backend::Cpu), "a quarter of the shorter side");
-    refuses(two_radii(0.01, 0.01 * (1 + 1e-9), 0, Backend::Cpu), "less than one lattice step");
+    refuses(two_radii(0.01, 0.01 * (1 + 1e-9), 0, Backend::Cpu), "below the supported 1.1");
+    refuses(two_radii(0.01, 0.0109, 0, Backend::Cpu), "below the supported 1.1");
+    CHECK_NOTHROW(detail::make_plan(two_radii(0.01, 0.011, 0, Backend::Cpu)));
     CHECK_NOTHROW(detail::make_plan(two_radii(0.01, 0.04, 0, Backend::Cpu)));
     CHECK_NOTHROW(detail::make_plan(two_radii(0.1, 0.26, 0, Backend::Cpu, {1, 1, Boundary::Free})));
     // Rc = Rf is the one-radius sampler.
