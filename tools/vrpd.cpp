@@ -133,7 +133,7 @@ int main(int argc, char** argv) {
     double rf = 0, rc = 0;
     auto* radius_opt = sample_cmd->add_option("--radius,-r", opt.radius, "disk radius r (Rf = Rc = r)");
     auto* rf_opt = sample_cmd->add_option("--rf", rf, "inhibition radius Rf: no two samples closer (paper section 3)");
-    auto* rc_opt = sample_cmd->add_option("--rc", rc, "coverage radius Rc, Rf <= Rc <= 4 Rf: every point within Rc of a sample");
+    auto* rc_opt = sample_cmd->add_option("--rc", rc, "coverage radius Rc, 1.1 Rf <= Rc <= 4 Rf: every point within Rc of a sample");
     sample_cmd->add_option("--extent", extent, "box W,H (default 1,1)");
     sample_cmd->add_option("--boundary", boundary, "periodic (default) or free");
     sample_cmd->add_option("--seed", opt.seed, "random seed (default 0)");
