@@ -294,6 +294,10 @@ const TwoCase kTwoCases[] = {
     {0.01, 0.04, {1, 1, Boundary::Periodic}, 30},
     {0.02, 0.04, {1.5, 0.7, Boundary::Free}, 30},
     {0.01, 0.04, {1, 1, Boundary::Free}, 30},
+    // Rc = 1.1 Rf: 24-57 rounds wait to split (driver.cpp, kCrowded), with many active cells per
+    // base cell (the Vulkan engine refines them one an invocation).
+    {0.02, 0.022, {1, 1, Boundary::Periodic}, 30},
+    {0.03, 0.033, {1, 0.6, Boundary::Free}, 30},
     // A coarse lattice (16 steps per base cell): the exact tests with few bits. (Unlike one radius,
     // runs need not reach the deepest level: cells are dropped exactly once U leaves them.)
     {0.03, 0.06, {1, 1, Boundary::Periodic}, 4},
