@@ -39,7 +39,8 @@ struct LevelSchedule {
 // base cells, so a gap of U fills no faster for its cells being small, while the cells covering
 // it multiply by up to 4 a split. Splitting after every round, as one radius does, took
 // Rf = 0.01, Rc = 1.1 Rf from 20 k cells at level 4 to 1.6 G at level 14, where it failed after
-// 90 s and 19 GB; waiting, it takes 0.08 s (Rc = 1.5-4 Rf never wait: their runs are unchanged).
+// 90 s and 19 GB; waiting, it takes 0.08 s. At Rc = 1.5, 2 and 4 Rf no round waited in the runs
+// measured (Rf = 0.002; Rf = 0.001 with Rc = 2 Rf, the bench case): their darts are unchanged.
 constexpr double kCrowded = 8;
 
 LevelSchedule schedule_for(std::uint32_t level, double share) {

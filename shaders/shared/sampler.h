@@ -592,9 +592,10 @@ VRPD_FN bool cover_tested(Domain dom, uint fanout, uint side) { return fanout ==
 
 // Which of the `fanout` children (4, or 1: the cell itself) of the active cell at `corner` stay
 // active, as a bit mask. A child is dropped if it lies off the domain or (cover_tested) one
-// sample's disk covers it wholly (exact corner test, see far2). Children covered only by a union of disks stay,
-// and are split until they are single lattice points, where the test is exact. A child's x and
-// y intervals are shared in pairs: 2 + 2 far offsets per sample rather than 4 corner tests.
+// sample's disk covers it wholly (exact corner test, see far2). Children covered only by a union
+// of disks stay, and are split until they are single lattice points, where the test is exact.
+// A child's x and y intervals are shared in pairs: 2 + 2 far offsets per sample rather than 4
+// corner tests.
 // `samples` is gather_cell_samples's count for the base cell (past MAX_CELL_SAMPLES: scan the grid).
 //
 // Two radii: a cell is the closed square [corner, corner + side]^2 (continuous: T's test is), and
