@@ -79,11 +79,15 @@ Plan make_plan(const SampleOptions& o, std::uint32_t max_cell_bits) {
     validate(o);
     const double r = o.radius;
     const double max_side = r / std::sqrt(2.0);
-    // Checked in doubles first: a box 10^300 radii across does not convert to an integer count.
     const double longest = std::max(o.box.width, o.box.height);
-    if (longest / max_side > double(kLatticeLimit >> kMinCellBits))
-        throw Error(fmt::format("the box is {:.3g} radii across: at most {} base cells per side fit the 31-bit lattice",
-                                longest / r, kLatticeLimit >> kMinCellBits));
+    constexpr std::uint64_t max_cells_per_row = kLatticeLimit >> kMinCellBits;
+    auto too_wide = [&] {
+        return Error(fmt::format("the box is {:.3g} radii across: at most {} base cells per side fit the 31-bit lattice",
+                                 longest / r, max_cells_per_row));
+    };
+    // Checked in doubles first: a box 10^300 radii across does not convert to an integer count.
+    // The tiling may make cells smaller than max_side, so the count is checked again below.
+    if (longest / max_side > double(max_cells_per_row)) throw too_wide();
     std::uint64_t nx = 0, ny = 0;
     double side = max_side;
     if (o.box.boundary == Boundary::Periodic) {
@@ -102,10 +106,8 @@ Plan make_plan(const SampleOptions& o, std::uint32_t max_cell_bits) {
     // Base cells are numbered, and active lists counted, in 31 bits (the grid tag bit).
     if (nx * ny >= (std::uint64_t(1) << 31))
         throw Error(fmt::format("the box is {:.3g} radii across: {} base cells, more than the 2^31 the kernels index",
-                                std::max(o.box.width, o.box.height) / r, nx * ny));
-    if (cells_per_row > (kLatticeLimit >> kMinCellBits))
-        throw Error(fmt::format("the box is {:.3g} radii across: at most {} base cells per side fit the 31-bit lattice",
-                                std::max(o.box.width, o.box.height) / r, kLatticeLimit >> kMinCellBits));
+                                longest / r, nx * ny));
+    if (cells_per_row > max_cells_per_row) throw too_wide();
     // Two radii: Rc is at most 2^19 lattice units, the bound under which coverage.h's exact
     // circle-intersection tests fit 128-bit products.
     const bool two = o.coverage != 0.0 && o.coverage != o.radius;
