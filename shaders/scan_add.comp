@@ -3,7 +3,7 @@
 #include "common.glsl"
 #include "shared/kernels.h"
 // Exclusive prefix sum, pass 3: adds each block's offset to its elements.
-layout(local_size_x = 64) in;
+layout(local_size_x_id = 0) in;
 layout(push_constant) uniform Push { ScanArgs a; };
 
 void main() {

@@ -28,7 +28,7 @@ public:
 
     std::string device_name() const override {
         return resolution_ == Resolution::Serial ? "serial (host, one dart at a time)"
-                                                 : fmt::format("cpu (host, {} threads)", pool_.size());
+                                                 : fmt::format("cpu (host, {} thread{})", pool_.size(), pool_.size() == 1 ? "" : "s");
     }
 
     std::uint64_t start() override {

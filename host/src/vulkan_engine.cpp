@@ -439,7 +439,7 @@ private:
     Kernel scatter_masked_{ctx_, words(spirv_scatter_masked), sizeof(CellArgs), WORKGROUP_SIZE};
     Kernel scan_blocks_{ctx_, words(spirv_scan_blocks), sizeof(ScanArgs), 64};
     Kernel scan_sums_{ctx_, words(spirv_scan_sums), sizeof(ScanArgs), 64};
-    Kernel scan_add_{ctx_, words(spirv_scan_add), sizeof(ScanArgs), 64};
+    Kernel scan_add_{ctx_, words(spirv_scan_add), sizeof(ScanArgs), WORKGROUP_SIZE};
     Kernel sort_histogram_{ctx_, words(spirv_sort_histogram), sizeof(SortArgs), 64};
     Kernel sort_scatter_{ctx_, words(spirv_sort_scatter), sizeof(SortArgs), 1};
     Buffer counters_, grid_;
