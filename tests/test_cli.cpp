@@ -146,6 +146,18 @@ TEST_CASE("a good run's CSV parses, and devices give byte-identical files", "[cl
     CHECK(slurp(cpu).rfind("x,y\n", 0) == 0);
 }
 
+TEST_CASE("sample --profile adds a table of phases to the summary, and the same file", "[cli][gpu]") {
+    const fs::path plain = scratch() / "plain.csv", timed = scratch() / "timed.csv";
+    for (const std::string device : {"cpu", "gpu"}) {
+        REQUIRE(cli("sample --radius 0.02 --seed 3 --device " + device + " -o " + plain.string()).code == 0);
+        const Run run = cli("sample --radius 0.02 --seed 3 --profile --device " + device + " -o " + timed.string());
+        REQUIRE(run.code == 0);
+        CHECK(slurp(plain) == slurp(timed));
+        CHECK_THAT(run.err, Catch::Contains("vrpd: profile, ") && Catch::Contains("(outside phases)"));
+        CHECK_THAT(run.err, Catch::Contains(device == "cpu" ? "  resolve " : "  resolve_darts "));
+    }
+}
+
 TEST_CASE("check: 0 for a maximal set, 1 when a sample is missing, 2 for bad input", "[cli]") {
     const fs::path good = scratch() / "good.csv", holed = scratch() / "holed.csv", junk = scratch() / "junk.csv";
     REQUIRE(cli("sample --radius 0.05 --seed 2 --device cpu -o " + good.string()).code == 0);

@@ -2,6 +2,7 @@
 // determinism, gpu = cpu = serial parity (on lavapipe in CI) and the RSA density (bias).
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <numeric>
 #include <random>
@@ -147,6 +148,39 @@ TEST_CASE("gpu, cpu and serial give identical samples in identical order", "[sam
             CHECK(gpu.lattice == serial.lattice);
             CHECK(gpu.stats.darts == serial.stats.darts);
         }
+    }
+}
+
+// The profile (SampleOptions::profile) is for finding where the time goes: it must name the
+// phases that ran, account for no more than the run's wall time, and leave the points alone.
+TEST_CASE("profiling names the phases that ran, within the run's time, and changes no point", "[sampling][gpu]") {
+    for (Backend b : {Backend::Serial, Backend::Cpu, Backend::Gpu}) {
+        INFO("backend " << int(b));
+        SampleOptions o = options(0.01, 9, b);
+        const Sampling plain = sample(o);
+        CHECK(plain.stats.profile.empty());
+        o.profile = true;
+        const Sampling timed = sample(o);
+        CHECK(timed.lattice == plain.lattice);
+        std::vector<std::string> names;
+        double sum = 0.0;
+        for (const PhaseTime& p : timed.stats.profile) {
+            names.push_back(p.name);
+            CHECK(p.seconds >= 0.0);
+            CHECK(p.calls > 0);
+            // Host phases run once a round; kernels at least once a round that reaches them.
+            if (b != Backend::Gpu) CHECK(p.calls == timed.stats.rounds);
+            sum += p.seconds;
+        }
+        // Device timestamps and the host clock differ by their rates: allow 1 %.
+        CHECK(sum <= timed.stats.seconds * 1.01);
+        CHECK(sum > 0.0);
+        const std::vector<std::string> expected =
+            b == Backend::Gpu ? std::vector<std::string>{"count_masked", "throw_masked", "resolve_darts", "refine_masked",
+                                                         "throw_darts", "refine_cells", "emit_samples"}
+                              : std::vector<std::string>{"throw", "resolve", "commit", "emit", "refine"};
+        for (const std::string& e : expected) CHECK(std::count(names.begin(), names.end(), e) == 1);
+        if (b != Backend::Gpu) CHECK(names == expected);  // in the order they first ran
     }
 }
 

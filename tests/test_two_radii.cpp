@@ -228,7 +228,7 @@ TEST_CASE("T membership: the device gives the host's answer on every configurati
                     }
     constexpr std::size_t kWords = 68;  // PROBE_WORDS of coverage_probe.comp
     detail::VulkanContext ctx("");
-    detail::Kernel probe(ctx, {spirv_coverage_probe, std::size(spirv_coverage_probe)}, 20, 64);
+    detail::Kernel probe(ctx, "coverage_probe", {spirv_coverage_probe, std::size(spirv_coverage_probe)}, 20, 64);
     detail::Buffer in(ctx, configs.size() * kWords * sizeof(glm::ivec2), true);
     detail::Buffer out(ctx, configs.size() * 4, true);
     auto* words = static_cast<glm::ivec2*>(in.mapped());
@@ -401,7 +401,7 @@ TEST_CASE("two radii: the device's resolution passes give the host's decisions",
         }
     const uint n = uint(darts.size());
     detail::VulkanContext ctx("");
-    detail::Kernel probe(ctx, {spirv_resolve_probe, std::size(spirv_resolve_probe)}, 80, 64);
+    detail::Kernel probe(ctx, "resolve_probe", {spirv_resolve_probe, std::size(spirv_resolve_probe)}, 80, 64);
     std::vector<uint> stored(dart_words(n));  // the darts as the kernels store them (darts.h)
     detail::Buffer dart_buffer(ctx, stored.size() * 4, true);
     detail::Buffer grid_buffer(ctx, grid.size() * sizeof(uvec2), true);

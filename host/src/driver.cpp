@@ -74,6 +74,7 @@ Sampling detail::sample_plan(const SampleOptions& options, const Plan& plan) {
                                 options.radius, double(need) / (1 << 30), plan.base_cells, double(have) / (1 << 30)));
 
     std::unique_ptr<Engine> engine = make_engine(options, plan);
+    if (options.profile) engine->start_profile();
     Sampling result;
     std::uint64_t active = engine->start();
     std::uint32_t level = 0, round = 0;
@@ -100,6 +101,7 @@ Sampling detail::sample_plan(const SampleOptions& options, const Plan& plan) {
 
     result.lattice = engine->samples();
     result.stats.peak_bytes = engine->peak_bytes();
+    result.stats.profile = engine->profile();
     result.quantum = plan.quantum;
     result.radius = options.radius;
     result.coverage = options.coverage == 0.0 ? options.radius : options.coverage;

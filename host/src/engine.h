@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "phase_times.h"
 #include "plan.h"
 
 namespace vrpd::detail {
@@ -40,7 +41,12 @@ public:
     // The most memory the engine's own arrays held at once: device memory (gpu) or host arrays
     // (cpu, serial). The process's resident memory adds the program and the Vulkan driver.
     virtual std::uint64_t peak_bytes() const = 0;
+    // Times the phases (host) or kernels (Vulkan) from now on; throws Error if the device cannot.
+    virtual void start_profile() = 0;
+    // The times so far, in the order the phases first ran; empty unless start_profile was called.
+    virtual std::vector<PhaseTime> profile() const = 0;
 };
+
 
 // The error of a run in which a dart's T test went past its bounds (shared/coverage.h).
 inline constexpr const char* kTooComplex =

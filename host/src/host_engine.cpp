@@ -4,6 +4,8 @@
 // process, over explicit active lists at every level: kept simple as the oracle.
 #include <algorithm>
 #include <atomic>
+#include <chrono>
+#include <type_traits>
 
 #include <fmt/format.h>
 
@@ -48,16 +50,16 @@ public:
     }
 
     RoundResult round(const RoundSpec& spec) override {
-        const std::uint64_t total = masked_ ? throw_masked(spec) : throw_listed(spec);
+        const std::uint64_t total = timed("throw", [&] { return masked_ ? throw_masked(spec) : throw_listed(spec); });
         note_peak();
-        resolve();
-        commit();
-        emit();
+        timed("resolve", [&] { resolve(); });
+        timed("commit", [&] { commit(); });
+        timed("emit", [&] { emit(); });
         // The darts are spent: give their memory back before refinement.
         std::vector<uint>().swap(darts_);
         dart_count_ = 0;
         std::vector<uvec2>().swap(dart_cells_);
-        const std::uint64_t active = masked_ ? refine_masked(spec) : refine(spec);
+        const std::uint64_t active = timed("refine", [&] { return masked_ ? refine_masked(spec) : refine(spec); });
         return {total, active};
     }
 
@@ -65,7 +67,23 @@ public:
 
     std::uint64_t peak_bytes() const override { return peak_; }
 
+    void start_profile() override { profiling_ = true; }
+    std::vector<PhaseTime> profile() const override { return times_.phases(); }
+
 private:
+    // Runs f, adding its wall time to phase `name` when profiling.
+    template <class F> std::invoke_result_t<F> timed(const char* name, F&& f) {
+        if (!profiling_) return f();
+        const auto t0 = std::chrono::steady_clock::now();
+        struct Stop {
+            PhaseTimes& times;
+            const char* name;
+            std::chrono::steady_clock::time_point t0;
+            ~Stop() { times.add(name, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()); }
+        } stop{times_, name, t0};
+        return f();
+    }
+
     // Resizes v to n elements (contents not kept), reallocating unless its capacity is within
     // an eighth above n: the arrays' high-water marks from earlier rounds would otherwise add up
     // at the peak.
@@ -429,6 +447,8 @@ private:
     std::vector<uint> masks_;
     std::vector<uvec2> out_;  // samples in acceptance order
     std::uint64_t peak_ = 0;  // see note_peak
+    bool profiling_ = false;
+    PhaseTimes times_;
 };
 
 }  // namespace

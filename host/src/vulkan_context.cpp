@@ -106,6 +106,7 @@ VulkanContext::VulkanContext() {
 
 VulkanContext::~VulkanContext() {
     if (device_) {
+        if (queries_) vk_.vkDestroyQueryPool(device_, queries_, nullptr);
         if (fence_) vk_.vkDestroyFence(device_, fence_, nullptr);
         if (pool_) vk_.vkDestroyCommandPool(device_, pool_, nullptr);
         vk_.vkDestroyDevice(device_, nullptr);
@@ -241,7 +242,51 @@ VkCommandBuffer VulkanContext::begin() {
     VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
     bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
     check(vk_.vkBeginCommandBuffer(cmd_, &bi), "vkBeginCommandBuffer");
+    if (queries_) {
+        timed_.clear();
+        vk_.vkCmdResetQueryPool(cmd_, queries_, 0, kQueries);
+        vk_.vkCmdWriteTimestamp(cmd_, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries_, 0);
+    }
     return cmd_;
+}
+
+void VulkanContext::start_profile() {
+    if (queries_) return;
+    VkPhysicalDeviceProperties props;
+    vk_.vkGetPhysicalDeviceProperties(physical_, &props);
+    std::uint32_t n = 0;
+    vk_.vkGetPhysicalDeviceQueueFamilyProperties(physical_, &n, nullptr);
+    std::vector<VkQueueFamilyProperties> families(n);
+    vk_.vkGetPhysicalDeviceQueueFamilyProperties(physical_, &n, families.data());
+    timestamp_bits_ = families[queue_family_].timestampValidBits;
+    timestamp_ns_ = props.limits.timestampPeriod;
+    if (timestamp_bits_ == 0 || timestamp_ns_ <= 0.0)
+        throw Error(fmt::format("{} has no timestamps on its compute queue, which profiling needs; try --device cpu",
+                                device_name_));
+    VkQueryPoolCreateInfo qi{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
+    qi.queryType = VK_QUERY_TYPE_TIMESTAMP;
+    qi.queryCount = kQueries;
+    check(vk_.vkCreateQueryPool(device_, &qi, nullptr, &queries_), "vkCreateQueryPool");
+}
+
+// Adds the timestamps of the submit just finished to the kernels' times.
+void VulkanContext::read_timestamps() {
+    if (!queries_ || timed_.empty()) return;
+    std::vector<std::uint64_t> ticks(timed_.size() + 1);
+    check(vk_.vkGetQueryPoolResults(device_, queries_, 0, std::uint32_t(ticks.size()), ticks.size() * sizeof(std::uint64_t),
+                                    ticks.data(), sizeof(std::uint64_t), VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT),
+          "vkGetQueryPoolResults");
+    const std::uint64_t mask = timestamp_bits_ >= 64 ? ~std::uint64_t(0) : (std::uint64_t(1) << timestamp_bits_) - 1;
+    for (std::size_t i = 0; i < timed_.size(); ++i)
+        times_.add(timed_[i]->name(), double((ticks[i + 1] - ticks[i]) & mask) * timestamp_ns_ * 1e-9);
+    timed_.clear();
+}
+
+void VulkanContext::write_timestamp(const Kernel& k) {
+    if (!queries_) return;
+    if (timed_.size() + 1 >= kQueries) throw Error("internal: more dispatches in one submit than profiling has timestamps");
+    timed_.push_back(&k);
+    vk_.vkCmdWriteTimestamp(cmd_, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries_, std::uint32_t(timed_.size()));
 }
 
 void VulkanContext::barrier() {
@@ -265,12 +310,14 @@ void VulkanContext::dispatch(const Kernel& k, const void* push, std::uint32_t gr
     vk_.vkCmdBindPipeline(cmd_, VK_PIPELINE_BIND_POINT_COMPUTE, k.pipeline());
     vk_.vkCmdPushConstants(cmd_, k.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, k.push_size(), push);
     vk_.vkCmdDispatch(cmd_, groups, 1, 1);
+    write_timestamp(k);
 }
 
 void VulkanContext::dispatch_indirect(const Kernel& k, const void* push, const Buffer& args, VkDeviceSize offset) {
     vk_.vkCmdBindPipeline(cmd_, VK_PIPELINE_BIND_POINT_COMPUTE, k.pipeline());
     vk_.vkCmdPushConstants(cmd_, k.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, k.push_size(), push);
     vk_.vkCmdDispatchIndirect(cmd_, args.handle(), offset);
+    write_timestamp(k);
 }
 
 void VulkanContext::submit_and_wait() {
@@ -281,6 +328,7 @@ void VulkanContext::submit_and_wait() {
     check(vk_.vkQueueSubmit(queue_, 1, &si, fence_), "vkQueueSubmit");
     check(vk_.vkWaitForFences(device_, 1, &fence_, VK_TRUE, UINT64_MAX), "vkWaitForFences");
     check(vk_.vkResetFences(device_, 1, &fence_), "vkResetFences");
+    read_timestamps();
     check_validation();
 }
 
@@ -361,8 +409,9 @@ void Buffer::release() {
     address_ = 0;
 }
 
-Kernel::Kernel(VulkanContext& ctx, std::span<const std::uint32_t> spirv, std::uint32_t push_size, std::uint32_t workgroup)
-    : ctx_(ctx), push_size_(push_size) {
+Kernel::Kernel(VulkanContext& ctx, std::string name, std::span<const std::uint32_t> spirv, std::uint32_t push_size,
+               std::uint32_t workgroup)
+    : ctx_(ctx), name_(std::move(name)), push_size_(push_size) {
     const auto& vk = ctx.vk();
     VkShaderModuleCreateInfo mi{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
     mi.codeSize = spirv.size_bytes();

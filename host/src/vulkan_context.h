@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "phase_times.h"
 #include "vrpd/vrpd.h"
 
 namespace vrpd::detail {
@@ -53,16 +54,19 @@ private:
 // A compute pipeline with a push-constant block of push_size bytes and no descriptor sets.
 class Kernel {
 public:
-    Kernel(VulkanContext& ctx, std::span<const std::uint32_t> spirv, std::uint32_t push_size, std::uint32_t workgroup);
+    Kernel(VulkanContext& ctx, std::string name, std::span<const std::uint32_t> spirv, std::uint32_t push_size,
+           std::uint32_t workgroup);
     Kernel(const Kernel&) = delete;
     Kernel& operator=(const Kernel&) = delete;
     ~Kernel();
     VkPipeline pipeline() const { return pipeline_; }
     VkPipelineLayout layout() const { return layout_; }
     std::uint32_t push_size() const { return push_size_; }
+    const std::string& name() const { return name_; }
 
 private:
     VulkanContext& ctx_;
+    std::string name_;
     VkPipelineLayout layout_ = VK_NULL_HANDLE;
     VkPipeline pipeline_ = VK_NULL_HANDLE;
     std::uint32_t push_size_;
@@ -104,7 +108,16 @@ public:
     // Validation messages (VRPD_VALIDATION=1); throws Error with the first if there were any.
     void check_validation();
 
+    // From now on, times every dispatch with device timestamps: from the end of the work recorded
+    // before it to its own end. Throws Error if the queue has no timestamps.
+    void start_profile();
+    const std::vector<PhaseTime>& profile() const { return times_.phases(); }
+
 private:
+    static constexpr std::uint32_t kQueries = 256;  // timestamps per submit: far more than its dispatches
+    void write_timestamp(const Kernel& k);
+    void read_timestamps();
+
     void* library_ = nullptr;
     VulkanFunctions vk_;
     VkInstance instance_ = VK_NULL_HANDLE;
@@ -121,6 +134,12 @@ private:
     std::vector<std::string> messages_;
     std::uint64_t allocated_ = 0;
     std::uint64_t peak_allocated_ = 0;
+    // Profiling: timestamp 0 at begin(), then one after each dispatch, named in timed_.
+    VkQueryPool queries_ = VK_NULL_HANDLE;
+    std::uint32_t timestamp_bits_ = 0;
+    double timestamp_ns_ = 0.0;  // nanoseconds per timestamp tick
+    std::vector<const Kernel*> timed_;
+    PhaseTimes times_;
 
     static VKAPI_ATTR VkBool32 VKAPI_CALL on_message(VkDebugUtilsMessageSeverityFlagBitsEXT,
                                                      VkDebugUtilsMessageTypeFlagsEXT,

@@ -72,6 +72,9 @@ public:
 
     std::string device_name() const override { return ctx_.device_name(); }
 
+    void start_profile() override { ctx_.start_profile(); }
+    std::vector<PhaseTime> profile() const override { return ctx_.profile(); }
+
     std::uint64_t start() override {
         const std::uint64_t n = plan_.base_cells;
         // The samples' buffer starts at the expected count and grows by a quarter if a round overflows it.
@@ -416,32 +419,32 @@ private:
 
     Plan plan_;
     VulkanContext ctx_;
-    Kernel init_cells_{ctx_, words(spirv_init_cells), sizeof(CellArgs), WORKGROUP_SIZE};
-    Kernel flag_dart_cells_{ctx_, words(spirv_flag_dart_cells), sizeof(CellArgs), WORKGROUP_SIZE};
-    Kernel flag_free_cells_{ctx_, words(spirv_flag_free_cells), sizeof(CellArgs), WORKGROUP_SIZE};
-    Kernel list_dart_cells_{ctx_, words(spirv_list_dart_cells), sizeof(CellArgs), WORKGROUP_SIZE};
-    Kernel count_darts_{ctx_, words(spirv_count_darts), sizeof(CellArgs), WORKGROUP_SIZE};
-    Kernel mark_ranges_{ctx_, words(spirv_mark_ranges), sizeof(CellArgs), WORKGROUP_SIZE};
-    Kernel apply_decisions_{ctx_, words(spirv_apply_decisions), sizeof(DartArgs), WORKGROUP_SIZE};
-    Kernel throw_darts_{ctx_, words(spirv_throw_darts), sizeof(CellArgs), WORKGROUP_SIZE};
-    Kernel work_args_{ctx_, words(spirv_work_args), sizeof(WorkArgs), 1};
-    Kernel resolve_darts_{ctx_, words(spirv_resolve_darts), sizeof(DartArgs), WORKGROUP_SIZE};
-    Kernel commit_cells_{ctx_, words(spirv_commit_cells), sizeof(CellArgs), WORKGROUP_SIZE};
-    Kernel emit_samples_{ctx_, words(spirv_emit_samples), sizeof(DartArgs), WORKGROUP_SIZE};
-    Kernel refine_cells_{ctx_, words(spirv_refine_cells), sizeof(CellArgs), WORKGROUP_SIZE};
-    Kernel scatter_cells_{ctx_, words(spirv_scatter_cells), sizeof(CellArgs), WORKGROUP_SIZE};
-    Kernel count_masked_{ctx_, words(spirv_count_masked), sizeof(CellArgs), WORKGROUP_SIZE};
-    Kernel mark_masked_{ctx_, words(spirv_mark_masked), sizeof(CellArgs), WORKGROUP_SIZE};
-    Kernel throw_masked_{ctx_, words(spirv_throw_masked), sizeof(CellArgs), WORKGROUP_SIZE};
-    Kernel commit_masked_{ctx_, words(spirv_commit_masked), sizeof(CellArgs), WORKGROUP_SIZE};
-    Kernel refine_masked_{ctx_, words(spirv_refine_masked), sizeof(CellArgs), WORKGROUP_SIZE};
-    Kernel apply_masks_{ctx_, words(spirv_apply_masks), sizeof(CellArgs), WORKGROUP_SIZE};
-    Kernel scatter_masked_{ctx_, words(spirv_scatter_masked), sizeof(CellArgs), WORKGROUP_SIZE};
-    Kernel scan_blocks_{ctx_, words(spirv_scan_blocks), sizeof(ScanArgs), 64};
-    Kernel scan_sums_{ctx_, words(spirv_scan_sums), sizeof(ScanArgs), 64};
-    Kernel scan_add_{ctx_, words(spirv_scan_add), sizeof(ScanArgs), WORKGROUP_SIZE};
-    Kernel sort_histogram_{ctx_, words(spirv_sort_histogram), sizeof(SortArgs), 64};
-    Kernel sort_scatter_{ctx_, words(spirv_sort_scatter), sizeof(SortArgs), 1};
+    Kernel init_cells_{ctx_, "init_cells", words(spirv_init_cells), sizeof(CellArgs), WORKGROUP_SIZE};
+    Kernel flag_dart_cells_{ctx_, "flag_dart_cells", words(spirv_flag_dart_cells), sizeof(CellArgs), WORKGROUP_SIZE};
+    Kernel flag_free_cells_{ctx_, "flag_free_cells", words(spirv_flag_free_cells), sizeof(CellArgs), WORKGROUP_SIZE};
+    Kernel list_dart_cells_{ctx_, "list_dart_cells", words(spirv_list_dart_cells), sizeof(CellArgs), WORKGROUP_SIZE};
+    Kernel count_darts_{ctx_, "count_darts", words(spirv_count_darts), sizeof(CellArgs), WORKGROUP_SIZE};
+    Kernel mark_ranges_{ctx_, "mark_ranges", words(spirv_mark_ranges), sizeof(CellArgs), WORKGROUP_SIZE};
+    Kernel apply_decisions_{ctx_, "apply_decisions", words(spirv_apply_decisions), sizeof(DartArgs), WORKGROUP_SIZE};
+    Kernel throw_darts_{ctx_, "throw_darts", words(spirv_throw_darts), sizeof(CellArgs), WORKGROUP_SIZE};
+    Kernel work_args_{ctx_, "work_args", words(spirv_work_args), sizeof(WorkArgs), 1};
+    Kernel resolve_darts_{ctx_, "resolve_darts", words(spirv_resolve_darts), sizeof(DartArgs), WORKGROUP_SIZE};
+    Kernel commit_cells_{ctx_, "commit_cells", words(spirv_commit_cells), sizeof(CellArgs), WORKGROUP_SIZE};
+    Kernel emit_samples_{ctx_, "emit_samples", words(spirv_emit_samples), sizeof(DartArgs), WORKGROUP_SIZE};
+    Kernel refine_cells_{ctx_, "refine_cells", words(spirv_refine_cells), sizeof(CellArgs), WORKGROUP_SIZE};
+    Kernel scatter_cells_{ctx_, "scatter_cells", words(spirv_scatter_cells), sizeof(CellArgs), WORKGROUP_SIZE};
+    Kernel count_masked_{ctx_, "count_masked", words(spirv_count_masked), sizeof(CellArgs), WORKGROUP_SIZE};
+    Kernel mark_masked_{ctx_, "mark_masked", words(spirv_mark_masked), sizeof(CellArgs), WORKGROUP_SIZE};
+    Kernel throw_masked_{ctx_, "throw_masked", words(spirv_throw_masked), sizeof(CellArgs), WORKGROUP_SIZE};
+    Kernel commit_masked_{ctx_, "commit_masked", words(spirv_commit_masked), sizeof(CellArgs), WORKGROUP_SIZE};
+    Kernel refine_masked_{ctx_, "refine_masked", words(spirv_refine_masked), sizeof(CellArgs), WORKGROUP_SIZE};
+    Kernel apply_masks_{ctx_, "apply_masks", words(spirv_apply_masks), sizeof(CellArgs), WORKGROUP_SIZE};
+    Kernel scatter_masked_{ctx_, "scatter_masked", words(spirv_scatter_masked), sizeof(CellArgs), WORKGROUP_SIZE};
+    Kernel scan_blocks_{ctx_, "scan_blocks", words(spirv_scan_blocks), sizeof(ScanArgs), 64};
+    Kernel scan_sums_{ctx_, "scan_sums", words(spirv_scan_sums), sizeof(ScanArgs), 64};
+    Kernel scan_add_{ctx_, "scan_add", words(spirv_scan_add), sizeof(ScanArgs), WORKGROUP_SIZE};
+    Kernel sort_histogram_{ctx_, "sort_histogram", words(spirv_sort_histogram), sizeof(SortArgs), 64};
+    Kernel sort_scatter_{ctx_, "sort_scatter", words(spirv_sort_scatter), sizeof(SortArgs), 1};
     Buffer counters_, grid_;
     Buffer cells_;       // the active cells, ordered by base cell
     Buffer dart_cells_;  // two radii: the base cells that get darts this round

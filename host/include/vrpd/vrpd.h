@@ -38,6 +38,16 @@ struct SampleOptions {
     Backend backend = Backend::Gpu;
     std::string device;          // Vulkan device by index or name substring; empty: $VRPD_DEVICE, else the best
     unsigned threads = 0;        // host threads of the cpu backend; 0: one per core. Never changes the points.
+    bool profile = false;        // fill SamplingStats::profile. Never changes the points.
+};
+
+// Where a run's time went: one phase of the host engines, or one kernel of the Vulkan engine
+// (timed on the device with timestamps: from the end of the work before it to its own end, so
+// the barrier and any buffer fill before a dispatch count towards it).
+struct PhaseTime {
+    std::string name;
+    double seconds = 0.0;
+    std::uint64_t calls = 0;     // times the phase ran (rounds, or dispatches)
 };
 
 struct SamplingStats {
@@ -48,6 +58,7 @@ struct SamplingStats {
     std::uint64_t peak_bytes = 0; // the most memory the sampler's own arrays held at once: device
                                   // memory (gpu) or host arrays (cpu, serial); the process's
                                   // resident memory adds the program and the Vulkan driver
+    std::vector<PhaseTime> profile;   // with SampleOptions::profile: phases in the order they first ran
 };
 
 // A maximal sampling. Samples lie on an integer lattice of spacing `quantum` (exact predicates on
