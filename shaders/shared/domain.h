@@ -27,7 +27,16 @@ struct Domain {
 
 const uint MAX_REACH = 3u;
 
+#ifdef __cplusplus
 VRPD_FN bool two_radii(Domain dom) { return dom.cover2 != dom.radius2; }
+#else
+// Specialization constant 1, set by the host for each run: false when Rc = Rf, so that the
+// compiler drops the two-radii code (T tests, their private arrays) from the one-radius
+// pipelines. Never taken, that code still cost lavapipe: refine_masked took 2.5 s at r = 0.001
+// with it and 1.4 s without. True (the default) leaves the test to the domain.
+layout(constant_id = 1) const bool MAY_HAVE_TWO_RADII = true;
+bool two_radii(Domain dom) { return MAY_HAVE_TWO_RADII && dom.cover2 != dom.radius2; }
+#endif
 VRPD_FN int conflict_reach(Domain dom) { return int(dom.reach & 0xFFu); }
 VRPD_FN int cover_reach(Domain dom) { return int((dom.reach >> 8u) & 0xFFu); }
 // The widest neighbourhood any kernel scans: 2 Rc with two radii (a dart's membership in T
