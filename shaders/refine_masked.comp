@@ -1,5 +1,6 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
+#define VRPD_ONE_RADIUS  // mask mode serves one radius only (shared/domain.h)
 #include "common.glsl"
 #include "shared/sampler.h"
 layout(local_size_x_id = 0) in;

@@ -410,7 +410,7 @@ void Buffer::release() {
 }
 
 Kernel::Kernel(VulkanContext& ctx, std::string name, std::span<const std::uint32_t> spirv, std::uint32_t push_size,
-               std::uint32_t workgroup, bool two_radii)
+               std::uint32_t workgroup)
     : ctx_(ctx), name_(std::move(name)), push_size_(push_size) {
     const auto& vk = ctx.vk();
     VkShaderModuleCreateInfo mi{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
@@ -423,9 +423,8 @@ Kernel::Kernel(VulkanContext& ctx, std::string name, std::span<const std::uint32
     li.pushConstantRangeCount = 1;
     li.pPushConstantRanges = &range;
     check(vk.vkCreatePipelineLayout(ctx.device(), &li, nullptr, &layout_), "vkCreatePipelineLayout");
-    const std::uint32_t constants[2] = {workgroup, two_radii ? VK_TRUE : VK_FALSE};
-    const VkSpecializationMapEntry entries[2] = {{0, 0, sizeof(std::uint32_t)}, {1, sizeof(std::uint32_t), sizeof(VkBool32)}};
-    VkSpecializationInfo spec{2, entries, sizeof(constants), constants};
+    VkSpecializationMapEntry entry{0, 0, sizeof(std::uint32_t)};
+    VkSpecializationInfo spec{1, &entry, sizeof(std::uint32_t), &workgroup};
     VkComputePipelineCreateInfo pi{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
     pi.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
     pi.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;

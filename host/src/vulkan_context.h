@@ -54,10 +54,8 @@ private:
 // A compute pipeline with a push-constant block of push_size bytes and no descriptor sets.
 class Kernel {
 public:
-    // Specialization constants: 0 the workgroup size, 1 whether the run may have two radii
-    // (shared/domain.h; false builds a one-radius kernel, leaner and far quicker to compile).
     Kernel(VulkanContext& ctx, std::string name, std::span<const std::uint32_t> spirv, std::uint32_t push_size,
-           std::uint32_t workgroup, bool two_radii = true);
+           std::uint32_t workgroup);
     Kernel(const Kernel&) = delete;
     Kernel& operator=(const Kernel&) = delete;
     ~Kernel();

@@ -24,8 +24,10 @@
 #include "mark_masked.h"
 #include "mark_ranges.h"
 #include "refine_cells.h"
+#include "refine_cells_two.h"
 #include "refine_masked.h"
 #include "resolve_darts.h"
+#include "resolve_darts_two.h"
 #include "scan_add.h"
 #include "scan_blocks.h"
 #include "scan_sums.h"
@@ -419,33 +421,35 @@ private:
 
     Plan plan_;
     VulkanContext ctx_;
-    bool two_ = two_radii(plan_.domain);  // specializes the kernels (Kernel)
-    Kernel init_cells_{ctx_, "init_cells", words(spirv_init_cells), sizeof(CellArgs), WORKGROUP_SIZE, two_};
-    Kernel flag_dart_cells_{ctx_, "flag_dart_cells", words(spirv_flag_dart_cells), sizeof(CellArgs), WORKGROUP_SIZE, two_};
-    Kernel flag_free_cells_{ctx_, "flag_free_cells", words(spirv_flag_free_cells), sizeof(CellArgs), WORKGROUP_SIZE, two_};
-    Kernel list_dart_cells_{ctx_, "list_dart_cells", words(spirv_list_dart_cells), sizeof(CellArgs), WORKGROUP_SIZE, two_};
-    Kernel count_darts_{ctx_, "count_darts", words(spirv_count_darts), sizeof(CellArgs), WORKGROUP_SIZE, two_};
-    Kernel mark_ranges_{ctx_, "mark_ranges", words(spirv_mark_ranges), sizeof(CellArgs), WORKGROUP_SIZE, two_};
-    Kernel apply_decisions_{ctx_, "apply_decisions", words(spirv_apply_decisions), sizeof(DartArgs), WORKGROUP_SIZE, two_};
-    Kernel throw_darts_{ctx_, "throw_darts", words(spirv_throw_darts), sizeof(CellArgs), WORKGROUP_SIZE, two_};
-    Kernel work_args_{ctx_, "work_args", words(spirv_work_args), sizeof(WorkArgs), 1, two_};
-    Kernel resolve_darts_{ctx_, "resolve_darts", words(spirv_resolve_darts), sizeof(DartArgs), WORKGROUP_SIZE, two_};
-    Kernel commit_cells_{ctx_, "commit_cells", words(spirv_commit_cells), sizeof(CellArgs), WORKGROUP_SIZE, two_};
-    Kernel emit_samples_{ctx_, "emit_samples", words(spirv_emit_samples), sizeof(DartArgs), WORKGROUP_SIZE, two_};
-    Kernel refine_cells_{ctx_, "refine_cells", words(spirv_refine_cells), sizeof(CellArgs), WORKGROUP_SIZE, two_};
-    Kernel scatter_cells_{ctx_, "scatter_cells", words(spirv_scatter_cells), sizeof(CellArgs), WORKGROUP_SIZE, two_};
-    Kernel count_masked_{ctx_, "count_masked", words(spirv_count_masked), sizeof(CellArgs), WORKGROUP_SIZE, two_};
-    Kernel mark_masked_{ctx_, "mark_masked", words(spirv_mark_masked), sizeof(CellArgs), WORKGROUP_SIZE, two_};
-    Kernel throw_masked_{ctx_, "throw_masked", words(spirv_throw_masked), sizeof(CellArgs), WORKGROUP_SIZE, two_};
-    Kernel commit_masked_{ctx_, "commit_masked", words(spirv_commit_masked), sizeof(CellArgs), WORKGROUP_SIZE, two_};
-    Kernel refine_masked_{ctx_, "refine_masked", words(spirv_refine_masked), sizeof(CellArgs), WORKGROUP_SIZE, two_};
-    Kernel apply_masks_{ctx_, "apply_masks", words(spirv_apply_masks), sizeof(CellArgs), WORKGROUP_SIZE, two_};
-    Kernel scatter_masked_{ctx_, "scatter_masked", words(spirv_scatter_masked), sizeof(CellArgs), WORKGROUP_SIZE, two_};
-    Kernel scan_blocks_{ctx_, "scan_blocks", words(spirv_scan_blocks), sizeof(ScanArgs), 64, two_};
-    Kernel scan_sums_{ctx_, "scan_sums", words(spirv_scan_sums), sizeof(ScanArgs), 64, two_};
-    Kernel scan_add_{ctx_, "scan_add", words(spirv_scan_add), sizeof(ScanArgs), WORKGROUP_SIZE, two_};
-    Kernel sort_histogram_{ctx_, "sort_histogram", words(spirv_sort_histogram), sizeof(SortArgs), 64, two_};
-    Kernel sort_scatter_{ctx_, "sort_scatter", words(spirv_sort_scatter), sizeof(SortArgs), 1, two_};
+    bool two_ = two_radii(plan_.domain);  // picks the kernels' variants (shared/domain.h, VRPD_ONE_RADIUS)
+    Kernel init_cells_{ctx_, "init_cells", words(spirv_init_cells), sizeof(CellArgs), WORKGROUP_SIZE};
+    Kernel flag_dart_cells_{ctx_, "flag_dart_cells", words(spirv_flag_dart_cells), sizeof(CellArgs), WORKGROUP_SIZE};
+    Kernel flag_free_cells_{ctx_, "flag_free_cells", words(spirv_flag_free_cells), sizeof(CellArgs), WORKGROUP_SIZE};
+    Kernel list_dart_cells_{ctx_, "list_dart_cells", words(spirv_list_dart_cells), sizeof(CellArgs), WORKGROUP_SIZE};
+    Kernel count_darts_{ctx_, "count_darts", words(spirv_count_darts), sizeof(CellArgs), WORKGROUP_SIZE};
+    Kernel mark_ranges_{ctx_, "mark_ranges", words(spirv_mark_ranges), sizeof(CellArgs), WORKGROUP_SIZE};
+    Kernel apply_decisions_{ctx_, "apply_decisions", words(spirv_apply_decisions), sizeof(DartArgs), WORKGROUP_SIZE};
+    Kernel throw_darts_{ctx_, "throw_darts", words(spirv_throw_darts), sizeof(CellArgs), WORKGROUP_SIZE};
+    Kernel work_args_{ctx_, "work_args", words(spirv_work_args), sizeof(WorkArgs), 1};
+    Kernel resolve_darts_{ctx_, two_ ? "resolve_darts_two" : "resolve_darts", two_ ? words(spirv_resolve_darts_two) : words(spirv_resolve_darts),
+                  sizeof(DartArgs), WORKGROUP_SIZE};
+    Kernel commit_cells_{ctx_, "commit_cells", words(spirv_commit_cells), sizeof(CellArgs), WORKGROUP_SIZE};
+    Kernel emit_samples_{ctx_, "emit_samples", words(spirv_emit_samples), sizeof(DartArgs), WORKGROUP_SIZE};
+    Kernel refine_cells_{ctx_, two_ ? "refine_cells_two" : "refine_cells", two_ ? words(spirv_refine_cells_two) : words(spirv_refine_cells),
+                  sizeof(CellArgs), WORKGROUP_SIZE};
+    Kernel scatter_cells_{ctx_, "scatter_cells", words(spirv_scatter_cells), sizeof(CellArgs), WORKGROUP_SIZE};
+    Kernel count_masked_{ctx_, "count_masked", words(spirv_count_masked), sizeof(CellArgs), WORKGROUP_SIZE};
+    Kernel mark_masked_{ctx_, "mark_masked", words(spirv_mark_masked), sizeof(CellArgs), WORKGROUP_SIZE};
+    Kernel throw_masked_{ctx_, "throw_masked", words(spirv_throw_masked), sizeof(CellArgs), WORKGROUP_SIZE};
+    Kernel commit_masked_{ctx_, "commit_masked", words(spirv_commit_masked), sizeof(CellArgs), WORKGROUP_SIZE};
+    Kernel refine_masked_{ctx_, "refine_masked", words(spirv_refine_masked), sizeof(CellArgs), WORKGROUP_SIZE};
+    Kernel apply_masks_{ctx_, "apply_masks", words(spirv_apply_masks), sizeof(CellArgs), WORKGROUP_SIZE};
+    Kernel scatter_masked_{ctx_, "scatter_masked", words(spirv_scatter_masked), sizeof(CellArgs), WORKGROUP_SIZE};
+    Kernel scan_blocks_{ctx_, "scan_blocks", words(spirv_scan_blocks), sizeof(ScanArgs), 64};
+    Kernel scan_sums_{ctx_, "scan_sums", words(spirv_scan_sums), sizeof(ScanArgs), 64};
+    Kernel scan_add_{ctx_, "scan_add", words(spirv_scan_add), sizeof(ScanArgs), WORKGROUP_SIZE};
+    Kernel sort_histogram_{ctx_, "sort_histogram", words(spirv_sort_histogram), sizeof(SortArgs), 64};
+    Kernel sort_scatter_{ctx_, "sort_scatter", words(spirv_sort_scatter), sizeof(SortArgs), 1};
     Buffer counters_, grid_;
     Buffer cells_;       // the active cells, ordered by base cell
     Buffer dart_cells_;  // two radii: the base cells that get darts this round

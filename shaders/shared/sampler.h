@@ -298,7 +298,9 @@ VRPD_FN uint resolve_dart_two_radii(Domain global, Grid grid, Darts darts, uint 
 }
 
 VRPD_FN uint resolve_dart(Domain global, Grid grid, Darts darts, uint d) {
+#ifndef VRPD_ONE_RADIUS
     if (two_radii(global)) return resolve_dart_two_radii(global, grid, darts, d);
+#endif
     uvec4 me = dart_at(darts, d);
     uvec2 p = uvec2(me.x, me.y);
     uvec2 cell = base_cell_of(global, p);
@@ -639,6 +641,7 @@ VRPD_FN uint surviving_children(Domain dom, Grid grid, uvec2 base, uvec2 corner,
             }
         }
     }
+#ifndef VRPD_ONE_RADIUS
     for (uint c = 0u; c < fanout && two_radii(dom); c++) {
         if ((mask & (1u << c)) == 0u) continue;
         uint k = 3u * (c >> 1u) + (c & 1u);
@@ -652,6 +655,7 @@ VRPD_FN uint surviving_children(Domain dom, Grid grid, uvec2 base, uvec2 corner,
         if (t == T_UNKNOWN && side == 1u) t = near_sample(dom, grid, base, cc, dom.cover2, cover_reach(dom)) ? T_OUTSIDE : T_INSIDE;
         if (t == T_OUTSIDE) mask &= ~(1u << c);
     }
+#endif
     return mask;
 }
 
