@@ -52,6 +52,20 @@ TEST_CASE("the lattice plan keeps the invariants the kernels rely on", "[options
         CHECK(std::abs(std::sqrt(double(plan.domain.radius2)) * plan.quantum - r) < 1e-6 * r);
         CHECK(shared::conflict_reach(plan.domain) <= int(shared::MAX_REACH));
     }
+    // The conflict scans read their rows from the plan's table (shared::conflict_row), down to
+    // lattices a few steps per base cell, where the rows are narrowest.
+    for (std::uint32_t bits : {2u, 3u, 4u, 30u}) {
+        for (double r : {0.3, 0.05, 0.03, 0.001}) {
+            const detail::Plan plan = detail::make_plan(options(r, 0, Backend::Cpu), bits);
+            const shared::Domain& d = plan.domain;
+            const int reach = shared::conflict_reach(d);
+            INFO("r = " << r << ", at most " << bits << " cell bits");
+            for (int dy = -reach; dy <= reach; ++dy) {
+                CHECK(shared::conflict_row(d, dy) == shared::computed_row_reach(d, dy, reach, d.radius2));
+                CHECK(shared::row_reach(d, dy, reach, d.radius2) == shared::computed_row_reach(d, dy, reach, d.radius2));
+            }
+        }
+    }
 }
 
 struct Case {

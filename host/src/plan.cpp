@@ -165,6 +165,8 @@ Plan make_plan(const SampleOptions& o, std::uint32_t max_cell_bits) {
         throw Error(fmt::format("Rc {} is too large for a periodic box of {} x {}: the 2 Rc neighbourhood must not wrap onto itself",
                                 o.coverage, o.box.width, o.box.height));
     d.reach = conflict | cover << 8 | influence << 16;
+    for (std::uint32_t dy = 0; dy <= conflict; ++dy)
+        d.reach |= std::uint32_t(shared::computed_row_reach(d, int(dy), int(conflict), d.radius2)) << (24 + 2 * dy);
     plan.deepest_level = bits;
     plan.base_cells = nx * ny;
     return plan;

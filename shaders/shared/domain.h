@@ -21,7 +21,8 @@ struct Domain {
     uint cell_bits;        // base cell side = 1 << cell_bits lattice units
     uint periodic;         // 1: torus of lattice_x * lattice_y, 0: free boundary
     uint reach;            // base cells within this many rows/columns may hold: a conflicting sample (bits
-                           // 0-7, <= MAX_REACH), a covering one (bits 8-15), one within 2 Rc (bits 16-23)
+                           // 0-7, <= MAX_REACH), a covering one (bits 8-15), one within 2 Rc (bits 16-23);
+                           // bits 24 + 2 |dy|: the conflict scans' row_reach of row dy (conflict_row)
     uint seed;
 };
 
@@ -141,10 +142,21 @@ VRPD_FN uint neighbour_index(Domain dom, uvec2 cell, bool inner, int dx, int dy)
 // The columns a scan of row dy (|dy| <= reach) must visit: |dx| <= row_reach, the cells some of
 // whose points are closer than sqrt(limit2) to some point of the centre cell; -1 if none is.
 // Scans over these use neighbour_index, which leaves out only cells off a free boundary.
-VRPD_FN int row_reach(Domain dom, int dy, int reach, uint64_t limit2) {
+VRPD_FN int computed_row_reach(Domain dom, int dy, int reach, uint64_t limit2) {
     int w = reach;
     while (w >= 0 && cell_gap2(dom, w, dy) >= limit2) w--;
     return w;
+}
+
+// computed_row_reach for the conflict scans (radius2, conflict_reach), which the plan stores in
+// bits 24-31 of Domain::reach: 0 to MAX_REACH, since the centre column of a row within the reach
+// is always within it. Those scans run for every dart (and with one radius for every cell test
+// too); the 64-bit products of the computation were 7 % of a run on lavapipe.
+VRPD_FN int conflict_row(Domain dom, int dy) { return int((dom.reach >> (24u + 2u * uint(dy < 0 ? -dy : dy))) & 3u); }
+
+VRPD_FN int row_reach(Domain dom, int dy, int reach, uint64_t limit2) {
+    if (limit2 == dom.radius2 && reach == conflict_reach(dom)) return conflict_row(dom, dy);
+    return computed_row_reach(dom, dy, reach, limit2);
 }
 
 // The domain as seen from base cell `cell`: on a torus, a cell whose neighbourhood does not
