@@ -422,34 +422,42 @@ private:
     Plan plan_;
     VulkanContext ctx_;
     bool two_ = two_radii(plan_.domain);  // picks the kernels' variants (shared/domain.h, VRPD_ONE_RADIUS)
-    Kernel init_cells_{ctx_, "init_cells", words(spirv_init_cells), sizeof(CellArgs), WORKGROUP_SIZE};
-    Kernel flag_dart_cells_{ctx_, "flag_dart_cells", words(spirv_flag_dart_cells), sizeof(CellArgs), WORKGROUP_SIZE};
-    Kernel flag_free_cells_{ctx_, "flag_free_cells", words(spirv_flag_free_cells), sizeof(CellArgs), WORKGROUP_SIZE};
-    Kernel list_dart_cells_{ctx_, "list_dart_cells", words(spirv_list_dart_cells), sizeof(CellArgs), WORKGROUP_SIZE};
-    Kernel count_darts_{ctx_, "count_darts", words(spirv_count_darts), sizeof(CellArgs), WORKGROUP_SIZE};
-    Kernel mark_ranges_{ctx_, "mark_ranges", words(spirv_mark_ranges), sizeof(CellArgs), WORKGROUP_SIZE};
-    Kernel apply_decisions_{ctx_, "apply_decisions", words(spirv_apply_decisions), sizeof(DartArgs), WORKGROUP_SIZE};
-    Kernel throw_darts_{ctx_, "throw_darts", words(spirv_throw_darts), sizeof(CellArgs), WORKGROUP_SIZE};
-    Kernel work_args_{ctx_, "work_args", words(spirv_work_args), sizeof(WorkArgs), 1};
-    Kernel resolve_darts_{ctx_, two_ ? "resolve_darts_two" : "resolve_darts", two_ ? words(spirv_resolve_darts_two) : words(spirv_resolve_darts),
-                  sizeof(DartArgs), WORKGROUP_SIZE};
-    Kernel commit_cells_{ctx_, "commit_cells", words(spirv_commit_cells), sizeof(CellArgs), WORKGROUP_SIZE};
-    Kernel emit_samples_{ctx_, "emit_samples", words(spirv_emit_samples), sizeof(DartArgs), WORKGROUP_SIZE};
-    Kernel refine_cells_{ctx_, two_ ? "refine_cells_two" : "refine_cells", two_ ? words(spirv_refine_cells_two) : words(spirv_refine_cells),
-                  sizeof(CellArgs), WORKGROUP_SIZE};
-    Kernel scatter_cells_{ctx_, "scatter_cells", words(spirv_scatter_cells), sizeof(CellArgs), WORKGROUP_SIZE};
-    Kernel count_masked_{ctx_, "count_masked", words(spirv_count_masked), sizeof(CellArgs), WORKGROUP_SIZE};
-    Kernel mark_masked_{ctx_, "mark_masked", words(spirv_mark_masked), sizeof(CellArgs), WORKGROUP_SIZE};
-    Kernel throw_masked_{ctx_, "throw_masked", words(spirv_throw_masked), sizeof(CellArgs), WORKGROUP_SIZE};
-    Kernel commit_masked_{ctx_, "commit_masked", words(spirv_commit_masked), sizeof(CellArgs), WORKGROUP_SIZE};
-    Kernel refine_masked_{ctx_, "refine_masked", words(spirv_refine_masked), sizeof(CellArgs), WORKGROUP_SIZE};
-    Kernel apply_masks_{ctx_, "apply_masks", words(spirv_apply_masks), sizeof(CellArgs), WORKGROUP_SIZE};
-    Kernel scatter_masked_{ctx_, "scatter_masked", words(spirv_scatter_masked), sizeof(CellArgs), WORKGROUP_SIZE};
-    Kernel scan_blocks_{ctx_, "scan_blocks", words(spirv_scan_blocks), sizeof(ScanArgs), 64};
-    Kernel scan_sums_{ctx_, "scan_sums", words(spirv_scan_sums), sizeof(ScanArgs), 64};
-    Kernel scan_add_{ctx_, "scan_add", words(spirv_scan_add), sizeof(ScanArgs), WORKGROUP_SIZE};
-    Kernel sort_histogram_{ctx_, "sort_histogram", words(spirv_sort_histogram), sizeof(SortArgs), 64};
-    Kernel sort_scatter_{ctx_, "sort_scatter", words(spirv_sort_scatter), sizeof(SortArgs), 1};
+
+// A kernel member; its name, in profiles, is its shader's.
+#define VRPD_KERNEL(name, push, workgroup) Kernel name##_{ctx_, #name, words(spirv_##name), sizeof(push), workgroup}
+// A kernel with a one-radius variant and a two-radii one (name_two.comp; shared/domain.h,
+// VRPD_ONE_RADIUS): the run's is built.
+#define VRPD_KERNEL_BY_RADII(name, push, workgroup)                                                                  \
+    Kernel name##_{ctx_, two_ ? #name "_two" : #name, two_ ? words(spirv_##name##_two) : words(spirv_##name),     \
+                   sizeof(push), workgroup}
+    VRPD_KERNEL(init_cells, CellArgs, WORKGROUP_SIZE);
+    VRPD_KERNEL(flag_dart_cells, CellArgs, WORKGROUP_SIZE);
+    VRPD_KERNEL(flag_free_cells, CellArgs, WORKGROUP_SIZE);
+    VRPD_KERNEL(list_dart_cells, CellArgs, WORKGROUP_SIZE);
+    VRPD_KERNEL(count_darts, CellArgs, WORKGROUP_SIZE);
+    VRPD_KERNEL(mark_ranges, CellArgs, WORKGROUP_SIZE);
+    VRPD_KERNEL(apply_decisions, DartArgs, WORKGROUP_SIZE);
+    VRPD_KERNEL(throw_darts, CellArgs, WORKGROUP_SIZE);
+    VRPD_KERNEL(work_args, WorkArgs, 1);
+    VRPD_KERNEL_BY_RADII(resolve_darts, DartArgs, WORKGROUP_SIZE);
+    VRPD_KERNEL(commit_cells, CellArgs, WORKGROUP_SIZE);
+    VRPD_KERNEL(emit_samples, DartArgs, WORKGROUP_SIZE);
+    VRPD_KERNEL_BY_RADII(refine_cells, CellArgs, WORKGROUP_SIZE);
+    VRPD_KERNEL(scatter_cells, CellArgs, WORKGROUP_SIZE);
+    VRPD_KERNEL(count_masked, CellArgs, WORKGROUP_SIZE);
+    VRPD_KERNEL(mark_masked, CellArgs, WORKGROUP_SIZE);
+    VRPD_KERNEL(throw_masked, CellArgs, WORKGROUP_SIZE);
+    VRPD_KERNEL(commit_masked, CellArgs, WORKGROUP_SIZE);
+    VRPD_KERNEL(refine_masked, CellArgs, WORKGROUP_SIZE);
+    VRPD_KERNEL(apply_masks, CellArgs, WORKGROUP_SIZE);
+    VRPD_KERNEL(scatter_masked, CellArgs, WORKGROUP_SIZE);
+    VRPD_KERNEL(scan_blocks, ScanArgs, 64);
+    VRPD_KERNEL(scan_sums, ScanArgs, 64);
+    VRPD_KERNEL(scan_add, ScanArgs, WORKGROUP_SIZE);
+    VRPD_KERNEL(sort_histogram, SortArgs, 64);
+    VRPD_KERNEL(sort_scatter, SortArgs, 1);
+#undef VRPD_KERNEL_BY_RADII
+#undef VRPD_KERNEL
     Buffer counters_, grid_;
     Buffer cells_;       // the active cells, ordered by base cell
     Buffer dart_cells_;  // two radii: the base cells that get darts this round

@@ -151,7 +151,7 @@ VRPD_FN int computed_row_reach(Domain dom, int dy, int reach, uint64_t limit2) {
 // computed_row_reach for the conflict scans (radius2, conflict_reach), which the plan stores in
 // bits 24-31 of Domain::reach: 0 to MAX_REACH, since the centre column of a row within the reach
 // is always within it. Those scans run for every dart (and with one radius for every cell test
-// too); the 64-bit products of the computation were 7 % of a run on lavapipe.
+// too); computing their rows took 3.8 % of the cpu's instructions at r = 0.002.
 VRPD_FN int conflict_row(Domain dom, int dy) { return int((dom.reach >> (24u + 2u * uint(dy < 0 ? -dy : dy))) & 3u); }
 
 VRPD_FN int row_reach(Domain dom, int dy, int reach, uint64_t limit2) {
