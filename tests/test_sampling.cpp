@@ -190,9 +190,10 @@ TEST_CASE("profiling names the phases that ran, within the run's time, and chang
         CHECK(sum <= timed.stats.seconds * 1.01);
         CHECK(sum > 0.0);
         const std::vector<std::string> expected =
-            b == Backend::Gpu ? std::vector<std::string>{"count_masked", "throw_masked", "resolve_darts", "refine_masked",
-                                                         "throw_darts", "refine_cells", "emit_samples"}
-                              : std::vector<std::string>{"throw", "resolve", "commit", "emit", "refine"};
+            b == Backend::Gpu
+                ? std::vector<std::string>{"count_masked", "throw_masked", "resolve_darts", "refine_masked",
+                                           "throw_darts", "refine_cells", "emit_samples"}
+                : std::vector<std::string>{"throw", "resolve", "commit", "emit", "refine"};
         for (const std::string& e : expected) CHECK(std::count(names.begin(), names.end(), e) == 1);
         if (b != Backend::Gpu) CHECK(names == expected);  // in the order they first ran
     }

@@ -124,13 +124,15 @@ int run_check(const CheckOptions& o) {
 // between phases, submits, read-backs).
 void print_profile(const SamplingStats& stats, std::ostream& out) {
     std::vector<PhaseTime> phases = stats.profile;
-    std::stable_sort(phases.begin(), phases.end(), [](const PhaseTime& a, const PhaseTime& b) { return a.seconds > b.seconds; });
+    std::stable_sort(phases.begin(), phases.end(),
+                     [](const PhaseTime& a, const PhaseTime& b) { return a.seconds > b.seconds; });
     double timed = 0.0;
     out << fmt::format("vrpd: profile, {:.3f} s in all\n  {:<18} {:>9} {:>7} {:>7}\n", stats.seconds, "phase", "seconds",
                        "share", "calls");
     for (const PhaseTime& p : phases) {
         timed += p.seconds;
-        out << fmt::format("  {:<18} {:9.3f} {:6.1f}% {:7}\n", p.name, p.seconds, 100.0 * p.seconds / stats.seconds, p.calls);
+        out << fmt::format("  {:<18} {:9.3f} {:6.1f}% {:7}\n", p.name, p.seconds, 100.0 * p.seconds / stats.seconds,
+                           p.calls);
     }
     const double rest = std::max(0.0, stats.seconds - timed);
     out << fmt::format("  {:<18} {:9.3f} {:6.1f}%\n", "(outside phases)", rest, 100.0 * rest / stats.seconds);
@@ -159,7 +161,8 @@ int main(int argc, char** argv) {
     sample_cmd->add_option("--threads", opt.threads, "host threads for --device cpu (default: one per core)")
         ->check(CLI::Range(1u, 1024u));
     sample_cmd->add_flag("--profile", opt.profile,
-                         "also print where the time went: per phase (cpu, serial) or per kernel (gpu, device timestamps)");
+                         "also print where the time went: per phase (cpu, serial) or per kernel (gpu, device "
+                         "timestamps)");
 
     auto* devices_cmd = app.add_subcommand("devices", "list Vulkan devices");
 

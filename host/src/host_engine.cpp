@@ -29,8 +29,8 @@ public:
           masked_(resolution == Resolution::Parallel && !two_radii(plan.domain)) {}
 
     std::string device_name() const override {
-        return resolution_ == Resolution::Serial ? "serial (host, one dart at a time)"
-                                                 : fmt::format("cpu (host, {} thread{})", pool_.size(), pool_.size() == 1 ? "" : "s");
+        if (resolution_ == Resolution::Serial) return "serial (host, one dart at a time)";
+        return fmt::format("cpu (host, {} thread{})", pool_.size(), pool_.size() == 1 ? "" : "s");
     }
 
     std::uint64_t start() override {

@@ -273,8 +273,9 @@ void VulkanContext::start_profile() {
 void VulkanContext::read_timestamps() {
     if (!queries_ || timed_.empty()) return;
     std::vector<std::uint64_t> ticks(timed_.size() + 1);
-    check(vk_.vkGetQueryPoolResults(device_, queries_, 0, std::uint32_t(ticks.size()), ticks.size() * sizeof(std::uint64_t),
-                                    ticks.data(), sizeof(std::uint64_t), VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT),
+    check(vk_.vkGetQueryPoolResults(device_, queries_, 0, std::uint32_t(ticks.size()),
+                                    ticks.size() * sizeof(std::uint64_t), ticks.data(), sizeof(std::uint64_t),
+                                    VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT),
           "vkGetQueryPoolResults");
     const std::uint64_t mask = timestamp_bits_ >= 64 ? ~std::uint64_t(0) : (std::uint64_t(1) << timestamp_bits_) - 1;
     for (std::size_t i = 0; i < timed_.size(); ++i)
@@ -284,7 +285,8 @@ void VulkanContext::read_timestamps() {
 
 void VulkanContext::write_timestamp(const Kernel& k) {
     if (!queries_) return;
-    if (timed_.size() + 1 >= kQueries) throw Error("internal: more dispatches in one submit than profiling has timestamps");
+    if (timed_.size() + 1 >= kQueries)
+        throw Error("internal: more dispatches in one submit than profiling has timestamps");
     timed_.push_back(&k);
     vk_.vkCmdWriteTimestamp(cmd_, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries_, std::uint32_t(timed_.size()));
 }
