@@ -30,12 +30,16 @@ const uint MAX_REACH = 3u;
 
 VRPD_FN bool two_radii(Domain dom) { return dom.cover2 != dom.radius2; }
 // A kernel built for one radius only defines VRPD_ONE_RADIUS before its includes: the code that
-// serves two radii (the T tests of coverage.h) is then left out of its SPIR-V, under #ifndef at
-// the two places kernels reach it. Merely never taken, that code cost lavapipe at r = 0.001:
-// refine_masked 2.5-2.7 s against 1.3 s without it, resolve_darts 1.4-1.5 s against 1.1-1.3 s,
-// and 0.45 s of the 0.85 s it took to build the kernels. (A specialization constant that folds
-// it away kept most of the run-time gain but only 0.1 s of the build's.) The Vulkan engine
-// builds each such kernel's one-radius variant or its two-radii one (*_two.comp) for the run.
+// serves two radii (the T tests of coverage.h, the corner bookkeeping, the grid-scan fallback of
+// a cell test) is then left out of its SPIR-V, under #ifndef where kernels reach it. llvmpipe
+// runs every branch of a SIMD batch whether a lane takes it or not, and every loop body at least
+// once (measured: a block of 400 hashes that no dart entered added 1.1 s to throw_masked at
+// r = 0.001), so code merely never taken costs there. Left out, it saved at r = 0.001:
+// refine_masked 2.5-2.7 s -> 1.3 s (then 1.34-1.47 s -> 1.16-1.29 s for the corner bookkeeping
+// and the fallback), resolve_darts 1.4-1.5 s -> 1.1-1.3 s, and 0.45 s of the 0.85 s it took to
+// build the kernels. (A specialization constant that folds the code away kept most of the
+// run-time gain but only 0.1 s of the build's.) The Vulkan engine builds each such kernel's
+// one-radius variant or its two-radii one (*_two.comp) for the run.
 VRPD_FN int conflict_reach(Domain dom) { return int(dom.reach & 0xFFu); }
 VRPD_FN int cover_reach(Domain dom) { return int((dom.reach >> 8u) & 0xFFu); }
 // The widest neighbourhood any kernel scans: 2 Rc with two radii (a dart's membership in T

@@ -567,6 +567,7 @@ VRPD_FN void cover_children(Domain dom, ChildBoxes b, uint fanout, ivec2 o, VRPD
         if (fx0 + fy1 < dom.cover2) mask &= ~4u;
         if (fx1 + fy1 < dom.cover2) mask &= ~8u;
     }
+#ifndef VRPD_ONE_RADIUS
     if (open_corners != 0u && two_radii(dom)) {
         uint64_t gx[3];
         uint64_t gy[3];
@@ -579,6 +580,7 @@ VRPD_FN void cover_children(Domain dom, ChildBoxes b, uint fanout, ivec2 o, VRPD
         for (uint k = 0u; k < 9u; k++)
             if (gx[k % 3u] + gy[k / 3u] < dom.cover2) open_corners &= ~(1u << k);
     }
+#endif
 }
 
 // Does refinement into `fanout` children of side `side` test which of them disks cover? When
@@ -628,7 +630,9 @@ VRPD_FN uint surviving_children(Domain dom, Grid grid, uvec2 base, uvec2 corner,
     uint open_corners = 0x1FFu;
     if (samples <= MAX_CELL_SAMPLES) {
         for (uint k = 0u; k < samples && mask != 0u; k++) cover_children(dom, b, fanout, cell_sample_at[k], mask, open_corners);
-    } else {
+    }
+#ifndef VRPD_ONE_RADIUS  // one radius: MAX_CELL_SAMPLES holds any neighbourhood (gather_cell_samples)
+    else {
         int reach = cover_reach(dom);
         bool inner = inner_cell(dom, base);
         for (int dy = -reach; dy <= reach && mask != 0u; dy++) {
@@ -641,7 +645,6 @@ VRPD_FN uint surviving_children(Domain dom, Grid grid, uvec2 base, uvec2 corner,
             }
         }
     }
-#ifndef VRPD_ONE_RADIUS
     for (uint c = 0u; c < fanout && two_radii(dom); c++) {
         if ((mask & (1u << c)) == 0u) continue;
         uint k = 3u * (c >> 1u) + (c & 1u);
