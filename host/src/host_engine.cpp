@@ -179,9 +179,11 @@ private:
                 next += word.y >> 16;
             }
         });
+        const bool no_samples = out_.empty();
         pool_.parallel_for(bases, [&](std::size_t b, std::size_t e, unsigned) {
             for (std::size_t i = b; i < e; ++i)
-                if (grid_is_darts(grid_[i])) throw_masked_base(args, darts(), grid(), uint(i), grid_darts(grid_[i]).x);
+                if (grid_is_darts(grid_[i]))
+                    throw_masked_base(args, darts(), grid(), uint(i), grid_darts(grid_[i]).x, no_samples);
         });
         return total;
     }

@@ -37,6 +37,7 @@
 #include "sort_scatter.h"
 #include "throw_darts.h"
 #include "throw_masked.h"
+#include "throw_masked_empty.h"
 #include "work_args.h"
 
 namespace vrpd::detail {
@@ -150,7 +151,8 @@ public:
         a = cell_args(targets, at.in(scratch_, dart_list), n, spec.round, side, spec.exp_neg_lambda);
         ctx_.dispatch(masked ? mark_masked_ : mark_ranges_, &a, groups(n, WORKGROUP_SIZE));
         ctx_.barrier();  // dart ranges and the empty work list before throw_darts reads and appends
-        ctx_.dispatch(masked ? throw_masked_ : throw_darts_, &a, groups(n, WORKGROUP_SIZE));
+        const Kernel& thrower = !masked ? throw_darts_ : (emitted_ == 0 ? throw_masked_empty_ : throw_masked_);
+        ctx_.dispatch(thrower, &a, groups(n, WORKGROUP_SIZE));
         ctx_.barrier();  // darts, grid dart ranges and work list before resolution
         std::uint32_t in = 0;
         for (;;) {
@@ -447,6 +449,7 @@ private:
     VRPD_KERNEL(count_masked, CellArgs, WORKGROUP_SIZE);
     VRPD_KERNEL(mark_masked, CellArgs, WORKGROUP_SIZE);
     VRPD_KERNEL(throw_masked, CellArgs, WORKGROUP_SIZE);
+    VRPD_KERNEL(throw_masked_empty, CellArgs, WORKGROUP_SIZE);
     VRPD_KERNEL(commit_masked, CellArgs, WORKGROUP_SIZE);
     VRPD_KERNEL(refine_masked, CellArgs, WORKGROUP_SIZE);
     VRPD_KERNEL(apply_masks, CellArgs, WORKGROUP_SIZE);
