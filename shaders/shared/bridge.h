@@ -19,6 +19,7 @@ using ivec2 = glm::ivec2;
 using uvec2 = glm::uvec2;
 using uvec4 = glm::uvec4;
 inline int bitCount(std::uint32_t v) { return std::popcount(v); }
+inline int findLSB(std::uint32_t v) { return v == 0u ? -1 : std::countr_zero(v); }
 using std::int64_t;
 using std::uint64_t;
 }  // namespace vrpd::shared

@@ -715,15 +715,20 @@ VRPD_FN uvec2 base_corner(Domain dom, uint b) {
 
 VRPD_FN bool masked_active(uvec2 w) { return !grid_is_sample(w) && (w.y & GRID_MASK_BITS) != 0u; }
 
+// The loops over a mask's set bits visit them in ascending order (findLSB, then clear the bit),
+// each bit once: a loop over every bit position ran each SIMD batch of llvmpipe up to the
+// highest bit of any of its lanes.
+
 // Mask mode: the darts of base cell b (word w, active) this round (a.side: the sub-cells' side;
 // a.param: exp(-lambda) as in count_darts).
 VRPD_FN uint masked_dart_count(CellArgs a, uvec2 w, uint b) {
     uvec2 corner = base_corner(a.domain, b);
     uint base_side = 1u << a.domain.cell_bits;
     uint count = 0u;
-    for (uint mask = w.y & GRID_MASK_BITS, k = 0u; mask != 0u; mask >>= 1u, k++)
-        if ((mask & 1u) != 0u)
-            count += dart_count(cell_stream(a.domain.seed, a.round, subcell_corner(corner, k, a.side, base_side)), a.param);
+    for (uint mask = w.y & GRID_MASK_BITS; mask != 0u; mask &= mask - 1u) {
+        uvec2 cc = subcell_corner(corner, uint(findLSB(mask)), a.side, base_side);
+        count += dart_count(cell_stream(a.domain.seed, a.round, cc), a.param);
+    }
     return count;
 }
 
@@ -744,9 +749,8 @@ VRPD_FN uint throw_masked_base(CellArgs a, Darts darts, Grid grid, uint b, uint 
     uint j = first;
     uint undecided = 0u;
     StateBits states = no_state_bits(first);
-    for (uint mask = w.y & GRID_MASK_BITS, k = 0u; mask != 0u; mask >>= 1u, k++) {
-        if ((mask & 1u) == 0u) continue;
-        uvec2 cc = subcell_corner(corner, k, a.side, base_side);
+    for (uint mask = w.y & GRID_MASK_BITS; mask != 0u; mask &= mask - 1u) {
+        uvec2 cc = subcell_corner(corner, uint(findLSB(mask)), a.side, base_side);
         uint stream = cell_stream(a.domain.seed, a.round, cc);
         uint count = dart_count(stream, a.param);
         throw_cell(dom, grid, base, darts, stream, cc, a.side, j, count, states, undecided, no_samples);
@@ -769,8 +773,8 @@ VRPD_FN uvec2 refine_masked_base(CellArgs a, Grid grid, uint b) {
     uvec2 corner = base_corner(a.domain, b);
     uint base_side = 1u << a.domain.cell_bits;
     uint parent_side = a.param == 4u ? 2u * a.side : a.side;
-    for (uint mask = w.y & GRID_MASK_BITS, k = 0u; mask != 0u; mask >>= 1u, k++) {
-        if ((mask & 1u) == 0u) continue;
+    for (uint mask = w.y & GRID_MASK_BITS; mask != 0u; mask &= mask - 1u) {
+        uint k = uint(findLSB(mask));
         uvec2 cc = subcell_corner(corner, k, parent_side, base_side);
         uint children = surviving_children(dom, grid, base, cc, a.side, a.param, samples);
         uint bit = a.param * k;
@@ -790,9 +794,10 @@ VRPD_FN uvec2 masked_word(uvec2 w, uint mask) { return grid_is_sample(w) ? w : u
 // an explicit active list, from `rank` on, in the explicit list's order.
 VRPD_FN void scatter_subcells(Domain dom, Cells cells_out, uint rank, uvec2 kept, uint b, uint side) {
     uvec2 corner = base_corner(dom, b);
-    for (uint bit = 0u; bit < 64u; bit++)
-        if ((((bit < 32u) ? kept.x >> bit : kept.y >> (bit - 32u)) & 1u) != 0u)
-            cells_out.cell[rank++] = subcell_corner(corner, bit, side, 1u << dom.cell_bits);
+    for (uint bits = kept.x; bits != 0u; bits &= bits - 1u)
+        cells_out.cell[rank++] = subcell_corner(corner, uint(findLSB(bits)), side, 1u << dom.cell_bits);
+    for (uint bits = kept.y; bits != 0u; bits &= bits - 1u)
+        cells_out.cell[rank++] = subcell_corner(corner, uint(findLSB(bits)) + 32u, side, 1u << dom.cell_bits);
 }
 
 VRPD_END
