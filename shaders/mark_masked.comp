@@ -2,13 +2,15 @@
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"
 #include "shared/sampler.h"
+#include "masked.glsl"
 layout(local_size_x_id = 0) in;
 // Mask mode, per active base cell: its word becomes a packed darts word from its first dart on.
 layout(push_constant) uniform Push { CellArgs a; };
 
 void main() {
-    uint b = gl_GlobalInvocationID.x;
-    if (b >= a.cell_count) return;
+    uint i = gl_GlobalInvocationID.x;
+    if (i >= a.cell_count) return;
+    uint b = masked_base(a, i);
     uvec2 w = a.grid.word[b];
-    if (masked_active(w)) a.grid.word[b] = numbered_word(w, a.scan.value[b]);
+    if (masked_active(w)) a.grid.word[b] = numbered_word(w, a.scan.value[i]);
 }

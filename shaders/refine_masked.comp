@@ -3,25 +3,26 @@
 #define VRPD_ONE_RADIUS  // mask mode serves one radius only (shared/domain.h)
 #include "common.glsl"
 #include "shared/sampler.h"
+#include "masked.glsl"
 layout(local_size_x_id = 0) in;
-// Mask mode, per base cell: the mask of its surviving children (or cells) goes to masks[b], and
+// Mask mode, per base cell: the mask of its surviving children (or cells) goes to masks[i], and
 // their number to counters[COUNTER_ACTIVE]. At the last mask-mode level (masked_leaves) the 64-bit
-// mask goes to masks[b] and work[b] (low and high halves), for apply_masks. Invocation
+// mask goes to masks[i] and work[i] (low and high halves), for apply_masks. Invocation
 // cell_count writes the trailing 0 that the scan of the counts needs.
 layout(push_constant) uniform Push { CellArgs a; };
 
 void main() {
-    uint b = gl_GlobalInvocationID.x;
-    if (b < a.cell_count) {
-        uvec2 kept = refine_masked_base(a, a.grid, b);
-        a.masks.value[b] = kept.x;
+    uint i = gl_GlobalInvocationID.x;
+    if (i < a.cell_count) {
+        uvec2 kept = refine_masked_base(a, a.grid, masked_base(a, i));
+        a.masks.value[i] = kept.x;
         if (masked_leaves(a.domain, a.side, a.param)) {
-            a.work.value[b] = kept.y;
+            a.work.value[i] = kept.y;
         } else {
             uint n = uint(bitCount(kept.x));
             if (n != 0u) atomicAdd(a.counters.value[COUNTER_ACTIVE], n);
         }
-    } else if (b == a.cell_count) {
-        a.masks.value[b] = 0u;
+    } else if (i == a.cell_count) {
+        a.masks.value[i] = 0u;
     }
 }

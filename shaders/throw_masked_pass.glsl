@@ -3,6 +3,7 @@
 // earlier samples already rejected) and appends the undecided to work list 0, as throw_darts.
 #include "common.glsl"
 #include "shared/sampler.h"
+#include "masked.glsl"
 layout(local_size_x_id = 0) in;
 #ifdef VRPD_NO_SAMPLES
 const bool kNoSamples = true;
@@ -12,8 +13,9 @@ const bool kNoSamples = false;
 layout(push_constant) uniform Push { CellArgs a; };
 
 void main() {
-    uint b = gl_GlobalInvocationID.x;
-    if (b >= a.cell_count) return;
+    uint i = gl_GlobalInvocationID.x;
+    if (i >= a.cell_count) return;
+    uint b = masked_base(a, i);
     uvec2 w = a.grid.word[b];
     if (!grid_is_darts(w)) return;
     uvec2 range = grid_darts(w);

@@ -19,8 +19,10 @@
 #include "emit_samples.h"
 #include "flag_dart_cells.h"
 #include "flag_free_cells.h"
+#include "flag_masked.h"
 #include "init_cells.h"
 #include "list_dart_cells.h"
+#include "list_masked.h"
 #include "mark_masked.h"
 #include "mark_ranges.h"
 #include "refine_cells.h"
@@ -111,8 +113,11 @@ public:
         // One radius: the darts go to the active cells, or in mask mode to the base cells' active
         // sub-cells. Two radii: to the base cells near the active cells.
         const std::uint32_t bases = std::uint32_t(plan_.base_cells);
-        const std::uint32_t n = masked ? bases : (two ? list_dart_cells(spec) : active_);
-        const std::uint64_t targets = masked ? 0 : (two ? dart_cells_.address() : cells_.address());
+        // Mask mode's kernels run over the base cells, or over the list of the active ones (masked.glsl).
+        const bool by_list = masked && listed_bases_ > 0;
+        const std::uint32_t n = masked ? (by_list ? listed_bases_ : bases) : (two ? list_dart_cells(spec) : active_);
+        const std::uint64_t targets =
+            masked ? (by_list ? base_list_.address() : 0) : (two ? dart_cells_.address() : cells_.address());
         const std::uint32_t side = two ? 1u << plan_.domain.cell_bits : spec.side;
         // Cells whose children refinement counts: the list's, or in mask mode none (the masks go
         // to the ranks region, over the base cells).
@@ -139,7 +144,7 @@ public:
         // is then allocated in their place. When mask mode ends, refine_masked parks half of each
         // base cell's 64-bit mask there too.
         const bool leaves = masked && masked_leaves(plan_.domain, spec.side / 2, spec.refine ? 4u : 1u);
-        darts_ = Buffer(ctx_, std::max<std::uint64_t>(dart_words(darts) * 4, leaves ? std::uint64_t(bases) * 4 : 0), false);
+        darts_ = Buffer(ctx_, std::max<std::uint64_t>(dart_words(darts) * 4, leaves ? std::uint64_t(n) * 4 : 0), false);
         const std::uint64_t ranks = scratch_.address() + at.ranks;
         const std::uint64_t dart_list = darts_.address();
         const std::uint64_t work[2] = {scratch_.address() + at.work0, scratch_.address() + at.work1};
@@ -206,7 +211,7 @@ public:
         emitted_ += accepted;
         const std::uint32_t fanout = spec.refine ? 4 : 1;
         const std::uint32_t child_side = spec.refine ? spec.side / 2 : spec.side;
-        active_ = masked ? refine_masked(spec, ranks, child_side, fanout)
+        active_ = masked ? refine_masked(spec, ranks, child_side, fanout, n, targets)
                          : refine_listed(spec, at.in(scratch_, 0), ranks, child_side, fanout);
         return {darts, active_};
     }
@@ -296,28 +301,63 @@ private:
     // words. At the last mask-mode level the children go to an explicit active list instead: their
     // 64-bit masks pass through the ranks region and the spent darts' buffer (see round) to the
     // words, their counts are ranked, and mask mode ends. Returns the active count.
-    std::uint32_t refine_masked(const RoundSpec& spec, std::uint64_t ranks, std::uint32_t child_side, std::uint32_t fanout) {
-        const std::uint32_t bases = std::uint32_t(plan_.base_cells);
-        CellArgs a = cell_args(0, Regions{ranks, 0, darts_.address(), ranks}, bases, spec.round, child_side, fanout);
+    // The round's targets are `n` base cells, or the `n` listed at `targets` (masked.glsl).
+    std::uint32_t refine_masked(const RoundSpec& spec, std::uint64_t ranks, std::uint32_t child_side, std::uint32_t fanout,
+                                std::uint32_t n, std::uint64_t targets) {
+        CellArgs a = cell_args(targets, Regions{ranks, 0, darts_.address(), ranks}, n, spec.round, child_side, fanout);
         const bool leaves = masked_leaves(plan_.domain, child_side, fanout);
-        ctx_.dispatch(refine_masked_, &a, groups(std::uint64_t(bases) + 1, WORKGROUP_SIZE));
+        ctx_.dispatch(refine_masked_, &a, groups(std::uint64_t(n) + 1, WORKGROUP_SIZE));
         ctx_.barrier();  // the new masks (and the active sum) before they reach the words
-        ctx_.dispatch(apply_masks_, &a, groups(bases, WORKGROUP_SIZE));
+        ctx_.dispatch(apply_masks_, &a, groups(n, WORKGROUP_SIZE));
         ctx_.barrier();  // the words (and the counts) before the next round, or the scan
-        if (leaves) scan(ranks, std::uint64_t(bases) + 1, COUNTER_ACTIVE);
+        if (leaves) scan(ranks, std::uint64_t(n) + 1, COUNTER_ACTIVE);
         ctx_.submit_and_wait();
         darts_ = Buffer();
         const std::uint32_t kept = counter(COUNTER_ACTIVE);
-        if (!leaves) return kept;
+        // Children of the last mask-mode level: from the next round on, the kernels run over the
+        // list of the base cells that hold them (a superset of the active ones while the level's
+        // rounds last: masks only lose bits).
+        const bool last_level = fanout == 4u && (child_side << (MASK_LEVELS - 1u)) == (1u << plan_.domain.cell_bits);
+        if (!leaves) {
+            if (last_level && kept > 0) list_active_bases();
+            return kept;
+        }
         if (kept >= GRID_TAG) throw Error("more than 2^31 active cells");
         cells_ = Buffer(ctx_, std::uint64_t(kept) * sizeof(uvec2), false);
         a.cells_out = cells_.address();
         ctx_.begin();
-        ctx_.dispatch(scatter_masked_, &a, groups(bases, WORKGROUP_SIZE));
+        ctx_.dispatch(scatter_masked_, &a, groups(n, WORKGROUP_SIZE));
         ctx_.barrier();  // the active list and the emptied words before the next round
         ctx_.submit_and_wait();
         masked_ = false;
+        base_list_ = Buffer();
+        listed_bases_ = 0;
         return kept;
+    }
+
+    // Lists the base cells with active sub-cells, in base cell order (flag_masked, a scan of the
+    // flags, list_masked), for the kernels of the last mask-mode level. At r = 0.001 a quarter of
+    // the base cells are active there (474 k of 2.0 M); over all of them, most SIMD batches of a
+    // kernel ran for one or two working lanes. The flags lie at the start of the scratch buffer;
+    // the list gets a buffer of its exact size.
+    void list_active_bases() {
+        const std::uint64_t bases = plan_.base_cells;
+        ensure(scratch_, (bases + 1) * 4, true);
+        ensure_block_sums(bases + 1);
+        ctx_.begin();
+        CellArgs a = cell_args(0, {}, std::uint32_t(bases), 0, 0, 0);
+        a.scan = scratch_.address();
+        ctx_.dispatch(flag_masked_, &a, groups(bases + 1, WORKGROUP_SIZE));
+        ctx_.barrier();  // flags before their scan
+        scan(a.scan, bases + 1, COUNTER_LISTED);
+        ctx_.submit_and_wait();
+        listed_bases_ = counter(COUNTER_LISTED);
+        base_list_ = Buffer(ctx_, std::uint64_t(listed_bases_) * 4, false);
+        a.work = base_list_.address();
+        ctx_.begin();
+        ctx_.dispatch(list_masked_, &a, groups(bases, WORKGROUP_SIZE));
+        ctx_.barrier();  // the list before the next round's kernels read it
+        ctx_.submit_and_wait();
     }
 
     // Two radii: lists the base cells that get darts this round (flag_dart_cells or
@@ -454,6 +494,8 @@ private:
     VRPD_KERNEL(refine_masked, CellArgs, WORKGROUP_SIZE);
     VRPD_KERNEL(apply_masks, CellArgs, WORKGROUP_SIZE);
     VRPD_KERNEL(scatter_masked, CellArgs, WORKGROUP_SIZE);
+    VRPD_KERNEL(flag_masked, CellArgs, WORKGROUP_SIZE);
+    VRPD_KERNEL(list_masked, CellArgs, WORKGROUP_SIZE);
     VRPD_KERNEL(scan_blocks, ScanArgs, 64);
     VRPD_KERNEL(scan_sums, ScanArgs, 64);
     VRPD_KERNEL(scan_add, ScanArgs, WORKGROUP_SIZE);
@@ -472,6 +514,8 @@ private:
     std::uint32_t active_ = 0;
     // Mask mode (sampler.h) at levels 0 to MASK_LEVELS - 1, with one radius: no active list there.
     bool masked_ = false;
+    Buffer base_list_;             // mask mode's last level: the base cells its kernels run over
+    std::uint32_t listed_bases_ = 0;
 };
 
 }  // namespace

@@ -91,7 +91,8 @@ const uint COUNTER_SORT = 11u;     // the sort's histogram
 const uint COUNTER_DART_CELLS = 12u;  // two radii: base cells that get darts this round
 const uint COUNTER_TOO_COMPLEX = 13u; // two radii: 1 if a dart's T test went past its bounds
 const uint COUNTER_CROWDED = 14u;     // mask mode: 1 if a base cell got 2^16 darts or more in a round
-const uint COUNTER_WORDS = 15u;
+const uint COUNTER_LISTED = 15u;      // mask mode: base cells listed for the last mask-mode level
+const uint COUNTER_WORDS = 16u;
 
 // Kernels over the active cells: init_cells, count_darts, mark_ranges, throw_darts, commit_cells,
 // refine_cells, scatter_cells; with two radii flag_dart_cells and list_dart_cells, which make the
