@@ -160,7 +160,10 @@ public:
         ctx_.dispatch(thrower, &a, groups(n, WORKGROUP_SIZE));
         ctx_.barrier();  // darts, grid dart ranges and work list before resolution
         std::uint32_t in = 0;
-        for (;;) {
+        // Each pass decides at least the earliest undecided dart, so `darts` passes end any round;
+        // more means corrupted states (a bug), which fails the run instead of looping.
+        for (std::uint64_t passes = 0;; passes += kResolvePassesPerSubmit) {
+            if (passes > darts) throw Error("internal: the resolution of a round did not end");
             for (std::uint32_t p = 0; p < kResolvePassesPerSubmit; ++p, in ^= 1) {
                 const std::uint32_t in_slot = in ? COUNTER_WORK1 : COUNTER_WORK0;
                 const std::uint32_t out_slot = in ? COUNTER_WORK0 : COUNTER_WORK1;
