@@ -747,12 +747,16 @@ VRPD_FN uint throw_masked_base(CellArgs a, Darts darts, Grid grid, uint b, uint 
     uvec2 corner = base_corner(a.domain, b);
     uint base_side = 1u << a.domain.cell_bits;
     uint j = first;
+    uint end = grid_darts(w).y;
     uint undecided = 0u;
     StateBits states = no_state_bits(first);
-    for (uint mask = w.y & GRID_MASK_BITS; mask != 0u; mask &= mask - 1u) {
+    // The sub-cells' counts sum to the word's (masked_dart_count): the last sub-cell with darts
+    // takes what is left, uncounted, and once none is left the rest have none. At level 0, where
+    // a base cell is one sub-cell, no count is drawn twice.
+    for (uint mask = w.y & GRID_MASK_BITS; mask != 0u && j < end; mask &= mask - 1u) {
         uvec2 cc = subcell_corner(corner, uint(findLSB(mask)), a.side, base_side);
         uint stream = cell_stream(a.domain.seed, a.round, cc);
-        uint count = dart_count(stream, a.param);
+        uint count = (mask & (mask - 1u)) == 0u ? end - j : dart_count(stream, a.param);
         throw_cell(dom, grid, base, darts, stream, cc, a.side, j, count, states, undecided, no_samples);
         j += count;
     }
