@@ -3,7 +3,7 @@
 #include "common.glsl"
 #include "shared/sampler.h"
 layout(local_size_x_id = 0) in;
-// Per dart: an accepted dart becomes sample sample_base + (its rank among accepted darts), in
+// Per dart: an accepted dart becomes sample param + (its rank among accepted darts), in
 // spatial order; its key goes to the round's key list, for sort_* to put the round in arrival order.
 layout(push_constant) uniform Push { DartArgs a; };
 
@@ -13,6 +13,6 @@ void main() {
     uint rank = a.scan.value[d];
     if (a.scan.value[d + 1u] == rank) return;
     uvec4 dart = dart_at(a.darts, d);
-    a.samples.point[a.sample_base + rank] = uvec2(dart.x, dart.y);
+    a.samples.point[a.param + rank] = uvec2(dart.x, dart.y);
     a.sample_keys.value[rank] = dart.z;
 }

@@ -11,7 +11,7 @@ void main() {
     uint i = gl_GlobalInvocationID.x;
     if (i >= a.counters.value[a.work_in_slot + 3u]) return;
     uint d = a.work_in.value[i];
-    uint state = resolve_dart(a.domain, a.grid, a.darts, d);
+    uint state = resolve_dart(a.domain, a.grid, a.darts, d, a.param != 0u);
     a.work_in.value[i] = d | (state << DECISION_SHIFT);
     if (state == DART_UNDECIDED) a.work_out.value[atomicAdd(a.counters.value[a.work_out_slot + 3u], 1u)] = d;
 }

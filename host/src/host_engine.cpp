@@ -372,7 +372,7 @@ private:
         pool_.parallel_for(total, [&](std::size_t b, std::size_t e, unsigned) {
             for (std::size_t j = b; j < e; ++j) {
                 if (dart_at(darts(), uint(j)).w != DART_UNDECIDED) continue;
-                const uint state = resolve_dart(dom, grid(), darts(), uint(j));
+                const uint state = resolve_dart(dom, grid(), darts(), uint(j), false);
                 if (state != DART_UNDECIDED) set_dart_state(darts(), uint(j), state);
             }
             std::vector<uint> stack;
@@ -385,7 +385,7 @@ private:
                         stack.pop_back();
                         continue;
                     }
-                    const uint state = resolve_dart(dom, grid(), darts(), t);
+                    const uint state = resolve_dart(dom, grid(), darts(), t, false);
                     if (state != DART_UNDECIDED) {
                         set_dart_state(darts(), t, state);
                         stack.pop_back();

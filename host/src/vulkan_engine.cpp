@@ -170,7 +170,7 @@ public:
                 WorkArgs w{counters_.address(), in_slot, out_slot};
                 ctx_.dispatch(work_args_, &w, 1);
                 ctx_.barrier();  // indirect command and emptied output list before the pass
-                DartArgs d = dart_args(dart_list, darts, 0);
+                DartArgs d = dart_args(dart_list, darts, passes == 0 && p == 0 ? 1u : 0u);
                 d.work_in = work[in];
                 d.work_out = work[in ^ 1];
                 d.work_in_slot = in_slot;
@@ -404,8 +404,8 @@ private:
                 n, round, side, param};
     }
 
-    DartArgs dart_args(std::uint64_t darts, std::uint32_t count, std::uint32_t base) const {
-        return {plan_.domain, darts, grid_.address(), 0, 0, counters_.address(), 0, samples_.address(), 0, count, 0, 0, base};
+    DartArgs dart_args(std::uint64_t darts, std::uint32_t count, std::uint32_t param) const {
+        return {plan_.domain, darts, grid_.address(), 0, 0, counters_.address(), 0, samples_.address(), 0, count, 0, 0, param};
     }
 
     std::uint32_t counter(std::uint32_t slot) const { return static_cast<const std::uint32_t*>(counters_.mapped())[slot]; }

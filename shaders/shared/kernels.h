@@ -140,7 +140,8 @@ struct DartArgs {
     uint dart_count;
     uint work_in_slot;             // COUNTER_WORK0 or COUNTER_WORK1
     uint work_out_slot;
-    uint sample_base;              // samples already emitted in earlier rounds
+    uint param;                    // emit_samples: samples already emitted in earlier rounds;
+                                   // resolve_darts: 1 on a round's first pass (none accepted yet)
 };
 
 // Exclusive prefix sum over `count` uints in three passes: scan_blocks, scan_sums, scan_add.

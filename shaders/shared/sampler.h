@@ -301,7 +301,11 @@ VRPD_FN uint resolve_dart_two_radii(Domain global, Grid grid, Darts darts, uint 
     return reaches_uncovered_at(dom, p, n + undecided) == T_INSIDE ? DART_ACCEPTED : DART_UNDECIDED;
 }
 
-VRPD_FN uint resolve_dart(Domain global, Grid grid, Darts darts, uint d) {
+// `none_accepted`: no dart of the round is accepted yet (the Vulkan engine's first pass), so the
+// first earlier undecided dart in conflict leaves d undecided: no accepted one can follow it.
+// Stopping there cut lavapipe's first passes at r = 0.001 from 1.17 s to 0.92 s (round 0's from
+// 0.66 s to 0.51 s, where four in five darts wait).
+VRPD_FN uint resolve_dart(Domain global, Grid grid, Darts darts, uint d, bool none_accepted) {
 #ifndef VRPD_ONE_RADIUS
     if (two_radii(global)) return resolve_dart_two_radii(global, grid, darts, d);
 #endif
@@ -326,6 +330,7 @@ VRPD_FN uint resolve_dart(Domain global, Grid grid, Darts darts, uint d) {
                 if (other.w == DART_REJECTED || !arrives_before(other.z, j, me.z, d)) continue;
                 if (!in_disk(dom, uvec2(other.x, other.y), p)) continue;
                 if (other.w == DART_ACCEPTED) return DART_REJECTED;
+                if (none_accepted) return DART_UNDECIDED;
                 waiting = true;
             }
         }
