@@ -345,7 +345,7 @@ private:
     // the list gets a buffer of its exact size.
     void list_active_bases() {
         const std::uint64_t bases = plan_.base_cells;
-        ensure(scratch_, (bases + 1) * 4, true);
+        ensure(scratch_, (bases + 1) * 4);
         ensure_block_sums(bases + 1);
         ctx_.begin();
         CellArgs a = cell_args(0, {}, std::uint32_t(bases), 0, 0, 0);
