@@ -101,12 +101,14 @@ const uint COUNTER_WORDS = 16u;
 // throw_masked, commit_masked, refine_masked, apply_masks, scatter_masked.
 struct CellArgs {
     Domain domain;
-    VRPD_BUFFER(Cells) cells;      // active cells (lattice corners), ordered by base cell
+    VRPD_BUFFER(Cells) cells;      // active cells (lattice corners), ordered by base cell; in mask
+                                   // mode the list of base cells to run over, or 0 (masked.glsl)
     VRPD_BUFFER(Cells) cells_out;  // the next round's active cells
     VRPD_BUFFER(Darts) darts;
     VRPD_BUFFER(Uints) scan;       // per-cell dart (or surviving child) counts, then their prefix sums
     VRPD_BUFFER(Grid) grid;
-    VRPD_BUFFER(Uints) work;       // throw_darts: appends the undecided darts (work list 0)
+    VRPD_BUFFER(Uints) work;       // throw_darts: appends the undecided darts (work list 0);
+                                   // list_masked: the list of active base cells it writes
     VRPD_BUFFER(Uints) counters;
     VRPD_BUFFER(Uints) masks;      // refine/scatter: which children of each cell stay active
     uint cell_count;
