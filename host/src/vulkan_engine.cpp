@@ -351,16 +351,28 @@ private:
         CellArgs a = cell_args(0, {}, std::uint32_t(bases), 0, 0, 0);
         a.scan = scratch_.address();
         ctx_.dispatch(flag_masked_, &a, groups(bases + 1, WORKGROUP_SIZE));
+        listed_bases_ = list_flagged(a, list_masked_, COUNTER_LISTED, base_list_, sizeof(uint), &CellArgs::work);
+    }
+
+    // Ends a submit that flags base cells (flags[0, bases] at a.scan): scans the flags, gives
+    // `list` the exact size of the flagged cells' list (`entry` bytes each) and fills it by
+    // `lister`, which writes through a's field `out`. Returns the count.
+    std::uint32_t list_flagged(CellArgs a, const Kernel& lister, std::uint32_t total_slot, Buffer& list, std::uint64_t entry,
+                               std::uint64_t CellArgs::*out) {
+        const std::uint64_t bases = plan_.base_cells;
         ctx_.barrier();  // flags before their scan
-        scan(a.scan, bases + 1, COUNTER_LISTED);
+        scan(a.scan, bases + 1, total_slot);
         ctx_.submit_and_wait();
-        listed_bases_ = counter(COUNTER_LISTED);
-        base_list_ = Buffer(ctx_, std::uint64_t(listed_bases_) * 4, false);
-        a.work = base_list_.address();
+        const std::uint32_t count = counter(total_slot);
+        list = Buffer();  // free first: the peak is then the new size, not both
+        list = Buffer(ctx_, std::uint64_t(count) * entry, false);
+        a.cell_count = std::uint32_t(bases);
+        a.*out = list.address();
         ctx_.begin();
-        ctx_.dispatch(list_masked_, &a, groups(bases, WORKGROUP_SIZE));
-        ctx_.barrier();  // the list before the next round's kernels read it
+        ctx_.dispatch(lister, &a, groups(bases, WORKGROUP_SIZE));
+        ctx_.barrier();  // the list before the round's kernels read it
         ctx_.submit_and_wait();
+        return count;
     }
 
     // Two radii: lists the base cells that get darts this round (flag_dart_cells or
@@ -382,20 +394,7 @@ private:
             ctx_.barrier();  // cleared flags before they are set
             ctx_.dispatch(flag_dart_cells_, &a, groups(std::uint64_t(active_) + 1, WORKGROUP_SIZE));
         }
-        ctx_.barrier();  // flags before their scan
-        scan(flags, bases + 1, COUNTER_DART_CELLS);
-        ctx_.submit_and_wait();
-        const std::uint32_t count = counter(COUNTER_DART_CELLS);
-        dart_cells_ = Buffer();
-        dart_cells_ = Buffer(ctx_, std::uint64_t(count) * sizeof(uvec2), false);
-        ctx_.begin();
-        a = cell_args(cells_.address(), {}, std::uint32_t(bases), spec.round, spec.side, 0);
-        a.scan = flags;
-        a.cells_out = dart_cells_.address();
-        ctx_.dispatch(list_dart_cells_, &a, groups(bases, WORKGROUP_SIZE));
-        ctx_.barrier();  // the list before the round's kernels read it
-        ctx_.submit_and_wait();
-        return count;
+        return list_flagged(a, list_dart_cells_, COUNTER_DART_CELLS, dart_cells_, sizeof(uvec2), &CellArgs::cells_out);
     }
 
     CellArgs cell_args(std::uint64_t cells, const Regions& r, std::uint32_t n, std::uint32_t round,
