@@ -118,12 +118,12 @@ TEST_CASE("two radii from the command line: a file check passes at Rf and Rc", "
     CHECK(cli("check " + out.string() + " --rf 0.03 --rc 0.04").code == 1);
 }
 
-TEST_CASE("without a Vulkan driver, gpu says so and points to cpu, which still works", "[cli]") {
+TEST_CASE("without a Vulkan driver, gpu says so and points to cpu, and auto runs on cpu and says why", "[cli]") {
     const fs::path out = scratch() / "nodriver.csv";
     const std::string no_driver = "VK_ICD_FILENAMES=/nonexistent.json VK_DRIVER_FILES=/nonexistent.json ";
     const fs::path err = scratch() / "nodriver.txt";
-    const int status = std::system((no_driver + VRPD_CLI + " sample --radius 0.1 -o " + out.string() + " 2> " +
-                                    err.string()).c_str());
+    const int status = std::system((no_driver + VRPD_CLI + " sample --radius 0.1 --device gpu -o " + out.string() +
+                                    " 2> " + err.string()).c_str());
     CHECK(WEXITSTATUS(status) == 2);
     CHECK(slurp(err).find("--device cpu") != std::string::npos);
     CHECK_FALSE(fs::exists(out));
@@ -131,6 +131,33 @@ TEST_CASE("without a Vulkan driver, gpu says so and points to cpu, which still w
                                  " 2> /dev/null").c_str());
     CHECK(WEXITSTATUS(cpu) == 0);
     CHECK(fs::exists(out));
+    const std::string by_cpu = slurp(out);
+    fs::remove(out);
+    const int automatic = std::system((no_driver + VRPD_CLI + " sample --radius 0.1 -o " + out.string() + " 2> " +
+                                       err.string()).c_str());
+    CHECK(WEXITSTATUS(automatic) == 0);
+    CHECK(slurp(err).find("device cpu") != std::string::npos);
+    CHECK(slurp(err).find("(auto: no Vulkan driver") != std::string::npos);
+    CHECK(slurp(out) == by_cpu);
+    const fs::path listing = scratch() / "devices.txt";
+    const int devices = std::system((no_driver + VRPD_CLI + " devices > " + listing.string() + " 2>&1").c_str());
+    CHECK(WEXITSTATUS(devices) == 0);
+    CHECK(slurp(listing).find("--device auto: cpu (no Vulkan driver") != std::string::npos);
+}
+
+TEST_CASE("auto takes lavapipe only when a device is named, and says what it took", "[cli][gpu]") {
+    // This machine's only Vulkan device is a CPU driver: auto runs the cpu backend; naming the
+    // device (VRPD_DEVICE) takes it.
+    const fs::path out = scratch() / "auto.csv";
+    const fs::path err = scratch() / "auto.txt";
+    CHECK(WEXITSTATUS(std::system((std::string(VRPD_CLI) + " sample --radius 0.05 -o " + out.string() + " 2> " +
+                                   err.string()).c_str())) == 0);
+    CHECK(slurp(err).find("device cpu (host") != std::string::npos);
+    CHECK(slurp(err).find("(auto: no hardware Vulkan device") != std::string::npos);
+    CHECK(WEXITSTATUS(std::system(("VRPD_DEVICE=0 " + std::string(VRPD_CLI) + " sample --radius 0.05 -o " +
+                                   out.string() + " 2> " + err.string()).c_str())) == 0);
+    CHECK(slurp(err).find("(auto: VRPD_DEVICE names a Vulkan device)") != std::string::npos);
+    CHECK(slurp(err).find("device cpu (host") == std::string::npos);
 }
 
 TEST_CASE("a good run's CSV parses, and devices give byte-identical files", "[cli][gpu]") {

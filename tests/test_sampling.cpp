@@ -124,7 +124,7 @@ TEST_CASE("a radius far larger than a free box gives one sample, uniform over th
     }
 }
 
-TEST_CASE("the same seed gives the same points; another seed does not", "[sampling]") {
+TEST_CASE("the same seed gives the same points, another seed other points", "[sampling]") {
     const Sampling a = sample(options(0.02, 11, Backend::Cpu));
     const Sampling b = sample(options(0.02, 11, Backend::Cpu));
     const Sampling c = sample(options(0.02, 12, Backend::Cpu));

@@ -21,14 +21,16 @@
 namespace vrpd::cli {
 
 Backend parse_backend(const std::string& name) {
+    if (name == "auto") return Backend::Auto;
     if (name == "gpu") return Backend::Gpu;
     if (name == "cpu") return Backend::Cpu;
     if (name == "serial") return Backend::Serial;
-    throw Error(fmt::format("unknown device '{}': use gpu, cpu or serial", name));
+    throw Error(fmt::format("unknown device '{}': use auto, gpu, cpu or serial", name));
 }
 
 const char* backend_name(Backend b) {
     switch (b) {
+    case Backend::Auto: return "auto";
     case Backend::Gpu: return "gpu";
     case Backend::Cpu: return "cpu";
     case Backend::Serial: return "serial";
@@ -147,7 +149,7 @@ int main(int argc, char** argv) {
     app.require_subcommand(1);
 
     SampleOptions opt;
-    std::string extent = "1,1", boundary = "periodic", device = "gpu", output;
+    std::string extent = "1,1", boundary = "periodic", device = "auto", output;
     auto* sample_cmd = app.add_subcommand("sample", "maximal Poisson-disk sampling of a box");
     double rf = 0, rc = 0;
     auto* radius_opt = sample_cmd->add_option("--radius,-r", opt.radius, "disk radius r (Rf = Rc = r)");
@@ -156,7 +158,9 @@ int main(int argc, char** argv) {
     sample_cmd->add_option("--extent", extent, "box W,H (default 1,1)");
     sample_cmd->add_option("--boundary", boundary, "periodic (default) or free");
     sample_cmd->add_option("--seed", opt.seed, "random seed (default 0)");
-    sample_cmd->add_option("--device", device, "gpu (default; $VRPD_DEVICE picks the Vulkan device), cpu or serial");
+    sample_cmd->add_option("--device", device,
+                           "auto (default: a hardware GPU if present, else cpu), gpu (Vulkan, lavapipe included; "
+                           "$VRPD_DEVICE picks the device), cpu or serial");
     sample_cmd->add_option("-o,--output", output, "FILE.csv or FILE.bin (default: CSV to stdout)");
     sample_cmd->add_option("--threads", opt.threads, "host threads for --device cpu (default: one per core)")
         ->check(CLI::Range(1u, 1024u));
@@ -164,7 +168,7 @@ int main(int argc, char** argv) {
                          "also print where the time went: per phase (cpu, serial) or per kernel (gpu, device "
                          "timestamps)");
 
-    auto* devices_cmd = app.add_subcommand("devices", "list Vulkan devices");
+    auto* devices_cmd = app.add_subcommand("devices", "list Vulkan devices, and what --device auto picks");
 
 #ifdef VRPD_HAVE_GEOMETRY
     cli::CheckOptions check;
@@ -222,18 +226,25 @@ int main(int argc, char** argv) {
             else write_points(s, output);
             const double area = s.box.width * s.box.height;
             std::cerr << fmt::format("vrpd: {} samples, n*{}^2/area {:.5f}, {:.3f} s, {:.3g} points/s, {} levels, {} darts, "
-                                     "{:.1f} MiB of arrays, device {}\n",
+                                     "{:.1f} MiB of arrays, device {}{}\n",
                                      s.size(), s.coverage == s.radius ? "r" : "Rf",
                                      double(s.size()) * s.radius * s.radius / area, s.stats.seconds,
                                      double(s.size()) / s.stats.seconds, s.stats.levels, s.stats.darts,
-                                     double(s.stats.peak_bytes) / (1 << 20), s.device);
+                                     double(s.stats.peak_bytes) / (1 << 20), s.device,
+                                     s.choice.empty() ? "" : " (auto: " + s.choice + ")");
             if (opt.profile) cli::print_profile(s.stats, std::cerr);
             return 0;
         }
         if (*devices_cmd) {
-            for (const DeviceInfo& d : list_devices())
-                std::cout << fmt::format("{}: {} ({}, {}){}\n", d.index, d.name, d.type, d.driver,
-                                         d.usable ? "" : " - not usable: needs Vulkan 1.2, shaderInt64, bufferDeviceAddress");
+            try {
+                for (const DeviceInfo& d : list_devices())
+                    std::cout << fmt::format("{}: {} ({}, {}){}\n", d.index, d.name, d.type, d.driver,
+                                             d.usable ? "" : " - not usable: needs Vulkan 1.2, shaderInt64, bufferDeviceAddress");
+            } catch (const Error& e) {
+                std::cout << "no Vulkan device: " << e.what() << "\n";
+            }
+            const BackendChoice c = choose_backend(SampleOptions{});
+            std::cout << fmt::format("--device auto: {} ({})\n", cli::backend_name(c.backend), c.reason);
             return 0;
         }
         if (*bench_cmd) return cli::run_bench(bench);

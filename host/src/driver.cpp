@@ -3,6 +3,7 @@
 // maximal. The engines keep each round's samples in arrival order: the sequence x_1..x_n.
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 
 #include <fmt/format.h>
 
@@ -52,16 +53,37 @@ constexpr std::uint32_t kMaxRounds = 100000;  // far above any run (a few dozen)
 
 std::uint32_t exp_neg(double lambda) { return std::uint32_t(std::floor(std::exp(-lambda) * 4294967296.0)); }
 
-std::unique_ptr<Engine> make_engine(const SampleOptions& o, const Plan& plan) {
-    switch (o.backend) {
+std::unique_ptr<Engine> make_engine(const SampleOptions& o, Backend backend, const Plan& plan) {
+    switch (backend) {
     case Backend::Gpu: return detail::make_vulkan_engine(plan, o.device);
     case Backend::Cpu: return detail::make_host_engine(plan, detail::Resolution::Parallel, o.threads);
     case Backend::Serial: return detail::make_host_engine(plan, detail::Resolution::Serial, o.threads);
+    case Backend::Auto: break;
     }
-    throw Error("unknown backend");
+    throw Error("internal: no engine for this backend");
 }
 
 }  // namespace
+
+// A CPU Vulkan driver (lavapipe) runs the kernels on the same cores as the cpu backend, one
+// SIMD lane an invocation and every branch of a batch, several times slower for the same bytes:
+// Auto takes it only when named.
+BackendChoice choose_backend(const SampleOptions& o) {
+    if (o.backend != Backend::Auto) return {o.backend, ""};
+    if (!o.device.empty()) return {Backend::Gpu, "the options name a Vulkan device"};
+    if (const char* env = std::getenv("VRPD_DEVICE"); env && *env)
+        return {Backend::Gpu, "VRPD_DEVICE names a Vulkan device"};
+    std::vector<DeviceInfo> devices;
+    try {
+        devices = list_devices();
+    } catch (const Error&) {
+        return {Backend::Cpu, "no Vulkan driver on this machine"};
+    }
+    for (const DeviceInfo& d : devices)
+        if (d.usable && (d.type == "discrete" || d.type == "integrated" || d.type == "virtual"))
+            return {Backend::Gpu, fmt::format("hardware Vulkan device {}", d.name)};
+    return {Backend::Cpu, "no hardware Vulkan device; a CPU Vulkan driver gives the same points, slower"};
+}
 
 Sampling sample(const SampleOptions& options) { return detail::sample_plan(options, detail::make_plan(options)); }
 
@@ -73,7 +95,8 @@ Sampling detail::sample_plan(const SampleOptions& options, const Plan& plan) {
         throw Error(fmt::format("radius {} needs about {:.1f} GiB ({} base cells); this machine has {:.1f} GiB",
                                 options.radius, double(need) / (1 << 30), plan.base_cells, double(have) / (1 << 30)));
 
-    std::unique_ptr<Engine> engine = make_engine(options, plan);
+    const BackendChoice choice = choose_backend(options);
+    std::unique_ptr<Engine> engine = make_engine(options, choice.backend, plan);
     if (options.profile) engine->start_profile();
     Sampling result;
     std::uint64_t active = engine->start();
@@ -106,6 +129,8 @@ Sampling detail::sample_plan(const SampleOptions& options, const Plan& plan) {
     result.radius = options.radius;
     result.coverage = options.coverage == 0.0 ? options.radius : options.coverage;
     result.box = options.box;
+    result.backend = choice.backend;
+    result.choice = choice.reason;
     result.device = engine->device_name();
     result.stats.levels = level + 1;
     result.stats.rounds = round;

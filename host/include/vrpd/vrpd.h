@@ -19,7 +19,13 @@ public:
 };
 
 enum class Boundary { Periodic, Free };
-enum class Backend { Gpu, Cpu, Serial };
+// Where a run's rounds execute. Every backend gives the same points, byte for byte.
+//   Auto:   a hardware Vulkan device (discrete, integrated or virtual GPU) when one is usable,
+//           else Cpu; a named Vulkan device (SampleOptions::device or $VRPD_DEVICE) means Gpu.
+//   Gpu:    Vulkan compute on the chosen device, CPU drivers such as Mesa lavapipe included.
+//   Cpu:    the same kernel bodies on the host's threads.
+//   Serial: the same darts accepted one at a time in arrival order: the textbook oracle.
+enum class Backend { Auto, Gpu, Cpu, Serial };
 
 // The axis-aligned box [0, width) x [0, height): a torus (the paper's setting) or a free boundary,
 // where samples lie inside the box, coverage is required inside it and distance is Euclidean.
@@ -35,7 +41,7 @@ struct SampleOptions {
                                  // sample (Eq. 8); 0: equal to radius, the classical one-radius case
     Box box;
     std::uint32_t seed = 0;
-    Backend backend = Backend::Gpu;
+    Backend backend = Backend::Auto;
     std::string device;          // Vulkan device by index or name substring; empty: $VRPD_DEVICE, else the best
     unsigned threads = 0;        // host threads of the cpu backend; 0: one per core. Never changes the points.
     bool profile = false;        // fill SamplingStats::profile. Never changes the points.
@@ -69,7 +75,9 @@ struct Sampling {
     double radius = 0.0;              // Rf
     double coverage = 0.0;            // Rc (equal to radius for one radius)
     Box box;
-    std::string device;
+    Backend backend = Backend::Cpu;   // the backend that ran (never Auto)
+    std::string device;               // the device that ran it, with its driver
+    std::string choice;               // with Backend::Auto, why it picked that backend; else empty
     SamplingStats stats;
 
     std::size_t size() const { return lattice.size(); }
@@ -93,6 +101,14 @@ struct DeviceInfo {
 
 // The Vulkan devices on this machine; throws Error when no Vulkan loader or driver is present.
 std::vector<DeviceInfo> list_devices();
+
+// The backend a run of `options` uses: options.backend, or for Backend::Auto the one it picks,
+// with the reason. Looks at the Vulkan devices only for Auto.
+struct BackendChoice {
+    Backend backend;
+    std::string reason;          // empty unless options.backend is Auto
+};
+BackendChoice choose_backend(const SampleOptions& options);
 
 const char* version();
 
