@@ -9,6 +9,6 @@ layout(push_constant) uniform Push { CellArgs a; };
 
 void main() {
     uint e = gl_GlobalInvocationID.x;
-    if (e < a.cell_count) a.scan.value[e] = dart_count(cell_stream(a.domain.seed, a.round, a.cells.cell[e]), a.param);
+    if (e < a.cell_count) a.scan.value[e] = dart_count(cell_stream(a.round_key, a.cells.cell[e]), a.param);
     else if (e == a.cell_count) a.scan.value[e] = 0u;
 }

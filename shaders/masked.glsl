@@ -1,7 +1,7 @@
 // Included by mask mode's kernels after shared/sampler.h. They run over the base cells, or at
-// the last mask-mode level over the list of the active ones, where three in four base cells are
-// idle (measured at r = 0.001: 474 k of 2.0 M active) and a kernel over all of them runs most
-// SIMD batches for one or two working lanes. Target i is base cell masked_base(a, i); the arrays
+// the last mask-mode level over the list of the active ones, where about three in four base
+// cells are idle and a kernel over all of them runs most SIMD batches for one or two working
+// lanes. Target i is base cell masked_base(a, i); the arrays
 // a target owns (its dart count, mask, rank) are indexed by i.
 
 // The list (base cell indices, in base cell order, so the darts keep their indices) is passed in

@@ -1,5 +1,19 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// A resolution pass (resolve_pass.glsl) for one radius: the two-radii code is left out (shared/domain.h).
-#define VRPD_ONE_RADIUS
-#include "resolve_pass.glsl"
+// Per undecided dart: one step of the arrival-order resolution (see resolve_dart). It reads the
+// darts' states and writes only its own work-list slot (the decision) and the next work list;
+// apply_decisions writes the states after the pass. Variant resolve_darts_one (CMakeLists.txt):
+// one radius only.
+#include "common.glsl"
+#include "shared/sampler.h"
+layout(local_size_x_id = 0) in;
+layout(push_constant) uniform Push { DartArgs a; };
+
+void main() {
+    uint i = gl_GlobalInvocationID.x;
+    if (i >= a.counters.value[a.work_in_slot + 3u]) return;
+    uint d = a.work_in.value[i];
+    uint state = resolve_dart(a.domain, a.grid, a.darts, d, a.param != 0u);
+    a.work_in.value[i] = d | (state << DECISION_SHIFT);
+    if (state == DART_UNDECIDED) a.work_out.value[atomicAdd(a.counters.value[a.work_out_slot + 3u], 1u)] = d;
+}

@@ -22,10 +22,10 @@ inline SampleOptions options(double radius, std::uint32_t seed, Backend backend,
 inline std::uint64_t lattice_distance2(const detail::Plan& plan, glm::uvec2 a, glm::uvec2 b) {
     auto gap = [&](std::uint32_t p, std::uint32_t q, std::uint32_t extent) {
         std::uint64_t d = p > q ? p - q : q - p;
-        if (plan.domain.periodic && d > extent - d) d = extent - d;
+        if (plan.domain.lattice.periodic && d > extent - d) d = extent - d;
         return d * d;
     };
-    return gap(a.x, b.x, plan.domain.lattice_x) + gap(a.y, b.y, plan.domain.lattice_y);
+    return gap(a.x, b.x, plan.domain.lattice.extent_x) + gap(a.y, b.y, plan.domain.lattice.extent_y);
 }
 
 // Pairs of samples closer than r, by brute force over all pairs.
@@ -33,7 +33,7 @@ inline std::uint64_t brute_force_conflicts(const detail::Plan& plan, const Sampl
     std::uint64_t conflicts = 0;
     for (std::size_t i = 0; i < s.size(); ++i)
         for (std::size_t j = i + 1; j < s.size(); ++j)
-            if (lattice_distance2(plan, s.lattice[i], s.lattice[j]) < plan.domain.radius2) ++conflicts;
+            if (lattice_distance2(plan, s.lattice[i], s.lattice[j]) < plan.domain.radii.inhibition2) ++conflicts;
     return conflicts;
 }
 

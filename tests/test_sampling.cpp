@@ -47,10 +47,10 @@ TEST_CASE("the lattice plan keeps the invariants the kernels rely on", "[options
         const detail::Plan plan = detail::make_plan(options(r, 0, Backend::Cpu));
         const std::uint64_t side = std::uint64_t(1) << plan.domain.cell_bits;
         INFO("r = " << r);
-        CHECK(plan.domain.radius2 > 2 * (side - 1) * (side - 1));      // a sample covers its base cell
-        CHECK(plan.domain.lattice_x < 0x80000000u);                    // grid tag bit stays free
-        CHECK(std::abs(std::sqrt(double(plan.domain.radius2)) * plan.quantum - r) < 1e-6 * r);
-        CHECK(shared::conflict_reach(plan.domain) <= int(shared::MAX_REACH));
+        CHECK(plan.domain.radii.inhibition2 > 2 * (side - 1) * (side - 1));      // a sample covers its base cell
+        CHECK(plan.domain.lattice.extent_x < 0x80000000u);                    // grid tag bit stays free
+        CHECK(std::abs(std::sqrt(double(plan.domain.radii.inhibition2)) * plan.quantum - r) < 1e-6 * r);
+        CHECK(shared::conflict_reach(plan.domain.radii) <= int(shared::MAX_REACH));
     }
     // The conflict scans read their rows from the plan's table (shared::conflict_row), down to
     // lattices a few steps per base cell, where the rows are narrowest.
@@ -58,11 +58,11 @@ TEST_CASE("the lattice plan keeps the invariants the kernels rely on", "[options
         for (double r : {0.3, 0.05, 0.03, 0.001}) {
             const detail::Plan plan = detail::make_plan(options(r, 0, Backend::Cpu), bits);
             const shared::Domain& d = plan.domain;
-            const int reach = shared::conflict_reach(d);
+            const int reach = shared::conflict_reach(d.radii);
             INFO("r = " << r << ", at most " << bits << " cell bits");
             for (int dy = -reach; dy <= reach; ++dy) {
-                CHECK(shared::conflict_row(d, dy) == shared::computed_row_reach(d, dy, reach, d.radius2));
-                CHECK(shared::row_reach(d, dy, reach, d.radius2) == shared::computed_row_reach(d, dy, reach, d.radius2));
+                CHECK(shared::conflict_row(d.radii, dy) == shared::computed_row_reach(d, dy, reach, d.radii.inhibition2));
+                CHECK(shared::row_reach(d, dy, reach, d.radii.inhibition2) == shared::computed_row_reach(d, dy, reach, d.radii.inhibition2));
             }
         }
     }
@@ -270,7 +270,7 @@ TEST_CASE("refinement drops exactly the children one sample's disk covers", "[sa
             const uvec2 origin(base.x << d.cell_bits, base.y << d.cell_bits);
             const Domain dom = local_domain(d, base);
             const uint n = gather_cell_samples(dom, Grid{grid.data()}, base);
-            if (!two_radii(d)) REQUIRE(n <= MAX_CELL_SAMPLES);
+            if (!two_radii(d.radii)) REQUIRE(n <= MAX_CELL_SAMPLES);
             for (int trial = 0; trial < 3; ++trial) {
                 // A random active cell of the base cell, at level 0 (kept whole) or split in 4.
                 const uint level = std::uniform_int_distribution<uint>(0, std::min(d.cell_bits, 6u))(rng);
@@ -282,17 +282,17 @@ TEST_CASE("refinement drops exactly the children one sample's disk covers", "[sa
                 const uint mask = surviving_children(dom, Grid{grid.data()}, base, corner, side, fanout, n);
                 const uint scanned = surviving_children(dom, Grid{grid.data()}, base, corner, side, fanout, MAX_CELL_SAMPLES + 1);
                 REQUIRE(mask == scanned);
-                if (two_radii(d)) continue;  // the exact U test of two radii has tests of its own
+                if (two_radii(d.radii)) continue;  // the exact U test of two radii has tests of its own
                 for (uint ch = 0; ch < fanout; ++ch) {
                     const uvec2 cc = child_corner(corner, side, ch);
-                    bool expect = cc.x < d.lattice_x && cc.y < d.lattice_y;
-                    const uvec2 hi(std::min(cc.x + side - 1, d.lattice_x - 1), std::min(cc.y + side - 1, d.lattice_y - 1));
+                    bool expect = cc.x < d.lattice.extent_x && cc.y < d.lattice.extent_y;
+                    const uvec2 hi(std::min(cc.x + side - 1, d.lattice.extent_x - 1), std::min(cc.y + side - 1, d.lattice.extent_y - 1));
                     // Between the rounds of a level above the deepest, one radius tests no cover (cover_tested).
                     for (uvec2 p : kept) {
                         if (!expect || !cover_tested(d, fanout, side)) break;
                         bool covers = true;
                         for (uvec2 q : {cc, hi, uvec2(cc.x, hi.y), uvec2(hi.x, cc.y)})
-                            covers = covers && vrpd::test::lattice_distance2(plan, p, q) < d.radius2;
+                            covers = covers && vrpd::test::lattice_distance2(plan, p, q) < d.radii.inhibition2;
                         expect = !covers;
                     }
                     CHECK(((mask >> ch) & 1u) == (expect ? 1u : 0u));
@@ -300,7 +300,7 @@ TEST_CASE("refinement drops exactly the children one sample's disk covers", "[sa
                 }
             }
         }
-        if (!two_radii(d)) CHECK((dropped > 20 && alive > 20));
+        if (!two_radii(d.radii)) CHECK((dropped > 20 && alive > 20));
     }
 }
 

@@ -158,7 +158,7 @@ TEST_CASE("sign of a sqrt(l) + b sqrt(m) is exact up to the 2^124 products the t
     std::mt19937_64 rng(7);
     const std::uint64_t r2 = shared::MAX_COVER2;
     for (int i = 0; i < 200000; ++i) {
-        // |a|, |b| up to 2^42 and l, m up to 4 r2 = 2^40: the bounds coverage.h relies on.
+        // |a|, |b| up to 2^42 and l, m up to 4 r2 = 2^40: the bounds t_membership.h relies on.
         const std::int64_t a = std::int64_t(rng() % (std::uint64_t(1) << 43)) - (std::int64_t(1) << 42);
         const std::int64_t b = std::int64_t(rng() % (std::uint64_t(1) << 43)) - (std::int64_t(1) << 42);
         const std::uint64_t l = rng() % (4 * r2 + 1);
@@ -279,7 +279,7 @@ TEST_CASE("two-radii options are refused with a reason", "[two-radii][options]")
     CHECK_NOTHROW(detail::make_plan(two_radii(0.1, 0.26, 0, Backend::Cpu, {1, 1, Boundary::Free})));
     // Rc = Rf is the one-radius sampler.
     const detail::Plan same = detail::make_plan(two_radii(0.01, 0.01, 0, Backend::Cpu));
-    CHECK(same.domain.cover2 == same.domain.radius2);
+    CHECK(same.domain.radii.coverage2 == same.domain.radii.inhibition2);
 }
 
 namespace {
@@ -389,12 +389,12 @@ TEST_CASE("two radii: the device's resolution passes give the host's decisions",
     for (uint y = 0; y < dom.cells_y; ++y)
         for (uint x = 0; x < dom.cells_x; ++x) {
             const uvec2 corner(x << dom.cell_bits, y << dom.cell_bits);
-            const uint stream = cell_stream(dom.seed, 0, corner);
+            const uint stream = cell_stream(round_key(plan.seed, 0), corner);
             const uint first = uint(darts.size());
             const uint count = dart_count(stream, exp_neg);
             for (uint j = 0; j < count; ++j) {
                 uvec4 dart = make_dart(stream, j, corner, 1u << dom.cell_bits);
-                dart.w = in_domain(dom, uvec2(dart.x, dart.y)) ? DART_UNDECIDED : DART_REJECTED;
+                dart.w = in_lattice(dom.lattice, uvec2(dart.x, dart.y)) ? DART_UNDECIDED : DART_REJECTED;
                 darts.push_back(dart);
             }
             grid[y * dom.cells_x + x] = count ? uvec2(GRID_TAG | first, first + count) : uvec2(GRID_EMPTY, GRID_EMPTY);

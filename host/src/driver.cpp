@@ -20,28 +20,14 @@ struct LevelSchedule {
     std::uint32_t rounds;    // rounds before the active cells are refined
 };
 
-// Chosen by measurement (cpu, r = 0.001, seed 1): lambda 0.5 with 2 rounds at level 0, then one
-// round per level, took 3.1 s and 6.2 darts/sample; lambda 1 (2 rounds, then 1) took 4.3 s and
-// 9.3; lambda 0.5 with 3 or 4 rounds at level 0, 3.3-3.7 s; lambda 2 at level 0, 6.3 s.
-// Per-cell work (counts, scans, cover tests), not darts, dominates the time. Rechecked once the
-// rounds between splits stopped testing cover (sampler.h, cover_tested), in instructions at
-// r = 0.002 (callgrind, one thread): 0.5 x 2 then 0.5, 4.34 G; 0.5 x 3, 4.49 G; 0.7 x 2, 4.50 G;
-// 0.35 x 3, 4.44 G; 0.7 or 0.35 past level 0, 4.32 G and 4.43 G (each schedule draws other
-// darts, so part of these differences is chance).
-//
-// Two radii (share = (Rf / Rc)^2): darts go to whole base cells, of which a sample fills about
-// 4 share / 0.94 at the end, and a dart that lands where T is already empty costs a full T test;
-// so level 0 throws fewer darts per round, over more rounds, and each round's exact cell tests
-// shrink the region the next one throws into. Measured (cpu, seed 1): Rf = 0.001, Rc = 0.002:
-// lambda 0.5 x 2 rounds 9.1 s, 0.25 x 3 4.8 s, 0.15 x 4 4.3 s, 0.15 x 5 4.2 s, 0.1 x 8 4.4 s;
-// Rc = 4 Rf: 0.5 x 2 124 s, 0.15 x 4 35 s, 0.04 x 4 16 s; Rc = 1.5 Rf: 0.5 x 2 6.8 s, 0.27 x 4 5.4 s.
-// Two radii past level 0 also wait to split while the active cells outnumber the last round's
-// darts kCrowded times. Their cells track U exactly at any size, but their darts go to whole
-// base cells, so a gap of U fills no faster for its cells being small, while the cells covering
-// it multiply by up to 4 a split. Splitting after every round, as one radius does, took
-// Rf = 0.01, Rc = 1.1 Rf from 20 k cells at level 4 to 1.6 G at level 14, where it failed after
-// 90 s and 19 GB; waiting, it takes 0.08 s. At Rc = 1.5, 2 and 4 Rf no round waited in the runs
-// measured (Rf = 0.002; Rf = 0.001 with Rc = 2 Rf, the bench case): their darts are unchanged.
+// The schedule: one radius throws Poisson(0.5) darts per active cell for 2 rounds at level 0,
+// then one round per level; per-cell work (counts, scans, cover tests), not darts, dominates the
+// time. Two radii throw fewer darts per round over more rounds at level 0 (share = (Rf / Rc)^2):
+// a dart goes to a whole base cell, and one landing where T is already empty costs a full T
+// test. Past level 0 their cells wait to split while they outnumber the last round's darts
+// kCrowded times: the cells track U exactly at any size, but a gap of U fills no faster for its
+// cells being small, while splitting multiplies them by up to 4. The measurements behind each
+// number are in docs/performance.md.
 constexpr double kCrowded = 8;
 
 LevelSchedule schedule_for(std::uint32_t level, double share) {
@@ -102,7 +88,8 @@ Sampling detail::sample_plan(const SampleOptions& options, const Plan& plan) {
     std::uint64_t active = engine->start();
     std::uint32_t level = 0, round = 0;
     std::uint64_t last_darts = 0;
-    const double share = double(plan.domain.radius2) / double(plan.domain.cover2);
+    // Two radii: the share of a sample's Rc-disk its Rf-disk takes, (Rf / Rc)^2; 1 for one radius.
+    const double share = double(plan.domain.radii.inhibition2) / double(plan.domain.radii.coverage2);
     while (active > 0) {
         const LevelSchedule s = schedule_for(level, share);
         const std::uint32_t side = 1u << (plan.deepest_level - level);

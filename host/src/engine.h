@@ -48,7 +48,7 @@ public:
 };
 
 
-// The error of a run in which a dart's T test went past its bounds (shared/coverage.h).
+// The error of a run in which a dart's T test went past its bounds (shared/t_membership.h).
 inline constexpr const char* kTooComplex =
     "two radii: a dart's T-membership test went past its bounds (more than 64 samples within 2 Rc, or 8192 "
     "steps); this Rc/Rf and box are beyond what the kernels handle";

@@ -26,7 +26,7 @@ class HostEngine final : public Engine {
 public:
     HostEngine(const Plan& plan, Resolution resolution, unsigned threads)
         : plan_(plan), resolution_(resolution), pool_(threads ? threads : std::thread::hardware_concurrency()),
-          masked_(resolution == Resolution::Parallel && !two_radii(plan.domain)) {}
+          masked_(resolution == Resolution::Parallel && !two_radii(plan.domain.radii)) {}
 
     std::string device_name() const override {
         if (resolution_ == Resolution::Serial) return "serial (host, one dart at a time)";
@@ -115,17 +115,18 @@ private:
     // radii), throws them, and returns their count.
     std::uint64_t throw_listed(const RoundSpec& spec) {
         const Domain dom = plan_.domain;
-        if (two_radii(dom)) list_dart_cells(spec);
-        std::vector<uvec2>& targets = two_radii(dom) ? dart_cells_ : cells_;
+        if (two_radii(dom.radii)) list_dart_cells(spec);
+        std::vector<uvec2>& targets = two_radii(dom.radii) ? dart_cells_ : cells_;
         const uint n = uint(targets.size());
-        const uint side = two_radii(dom) ? 1u << dom.cell_bits : spec.side;
-        CellArgs args{dom, 0, 0, 0, 0, 0, 0, 0, 0, n, spec.round, side, spec.exp_neg_lambda};
+        const uint side = two_radii(dom.radii) ? 1u << dom.cell_bits : spec.side;
+        const uint key = round_key(plan_.seed, spec.round);
+        CellArgs args{dom, 0, 0, 0, 0, 0, 0, 0, 0, n, key, side, spec.exp_neg_lambda};
         const Cells cells{targets.data()};
 
         fit(scan_, std::size_t(n) + 1);
         pool_.parallel_for(n, [&](std::size_t b, std::size_t e, unsigned) {
             for (std::size_t i = b; i < e; ++i)
-                scan_[i] = dart_count(cell_stream(dom.seed, spec.round, targets[i]), spec.exp_neg_lambda);
+                scan_[i] = dart_count(cell_stream(key, targets[i]), spec.exp_neg_lambda);
         });
         const std::uint64_t total = exclusive_scan(n);
         if (total >= MAX_ROUND_DARTS) throw Error("a round would throw more than 2^30 darts");
@@ -149,7 +150,8 @@ private:
     std::uint64_t throw_masked(const RoundSpec& spec) {
         const Domain dom = plan_.domain;
         const uint bases = uint(plan_.base_cells);
-        const CellArgs args{dom, 0, 0, 0, 0, 0, 0, 0, 0, bases, spec.round, spec.side, spec.exp_neg_lambda};
+        const CellArgs args{dom, 0, 0, 0, 0, 0, 0, 0, 0, bases, round_key(plan_.seed, spec.round), spec.side,
+                            spec.exp_neg_lambda};
         std::vector<std::uint64_t> first(pool_.size() + 1, 0);
         std::atomic<bool> crowded = false;
         pool_.parallel_for(bases, [&](std::size_t b, std::size_t e, unsigned w) {
@@ -198,8 +200,8 @@ private:
             });
             return;
         }
-        const Cells listed{(two_radii(dom) ? dart_cells_ : cells_).data()};
-        const std::size_t n = two_radii(dom) ? dart_cells_.size() : cells_.size();
+        const Cells listed{(two_radii(dom.radii) ? dart_cells_ : cells_).data()};
+        const std::size_t n = two_radii(dom.radii) ? dart_cells_.size() : cells_.size();
         pool_.parallel_for(n, [&](std::size_t b, std::size_t e, unsigned) {
             for (std::size_t i = b; i < e; ++i) {
                 if (!first_in_base_cell(dom, listed, uint(i))) continue;
@@ -255,7 +257,7 @@ private:
         const uint bases = uint(plan_.base_cells);
         const uint fanout = spec.refine ? 4u : 1u;
         const uint side = spec.refine ? spec.side / 2u : spec.side;
-        const CellArgs args{dom, 0, 0, 0, 0, 0, 0, 0, 0, bases, spec.round, side, fanout};
+        const CellArgs args{dom, 0, 0, 0, 0, 0, 0, 0, 0, bases, round_key(plan_.seed, spec.round), side, fanout};
         std::vector<std::uint64_t> first(pool_.size() + 1, 0);
         if (!masked_leaves(dom, side, fanout)) {
             fit(masks_, bases);
@@ -315,7 +317,7 @@ private:
         const uint n = uint(cells_.size());
         const uint bases = uint(plan_.base_cells);
         scan_.assign(std::size_t(bases) + 1, 0);
-        const CellArgs args{dom, 0, 0, 0, 0, 0, 0, 0, 0, n, spec.round, spec.side, 0};
+        const CellArgs args{dom, 0, 0, 0, 0, 0, 0, 0, 0, n, round_key(plan_.seed, spec.round), spec.side, 0};
         if (spec.every_free_cell) {
             pool_.parallel_for(bases, [&](std::size_t b, std::size_t e, unsigned) {
                 for (std::size_t i = b; i < e; ++i) flag_free_cell(grid(), scan(), uint(i));
@@ -413,7 +415,7 @@ private:
         if (std::size_t(n) * fanout >= GRID_TAG) throw Error("more than 2^31 active cells");
         fit(scan_, std::size_t(n) + 1);
         fit(masks_, n);
-        const CellArgs args{dom, 0, 0, 0, 0, 0, 0, 0, 0, n, spec.round, side, fanout};
+        const CellArgs args{dom, 0, 0, 0, 0, 0, 0, 0, 0, n, round_key(plan_.seed, spec.round), side, fanout};
         pool_.parallel_for(n, [&](std::size_t b, std::size_t e, unsigned) {
             for (std::size_t i = b; i < e; ++i)
                 if (first_in_base_cell(dom, cells(), uint(i)))

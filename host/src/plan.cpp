@@ -7,7 +7,8 @@
 
 #include <fmt/format.h>
 
-#include "shared/coverage.h"
+#include "shared/neighbourhood.h"
+#include "shared/t_membership.h"
 
 namespace vrpd::detail {
 namespace {
@@ -17,9 +18,7 @@ constexpr std::uint32_t kMinCellBits = 10;            // >= 1024 lattice steps p
 
 constexpr double kMaxCoverageRatio = 4.0;
 // Below it T, the free points within Rc of U, is a thin crescent, and the darts, spread over
-// whole base cells, take long to fill it. Measured (cpu, Rf = 0.002): Rc = 1.1 Rf 1.7 s and
-// 37 bytes of arrays per base cell; 1.03 Rf 8.8 s and 113 bytes, above the 48 the memory check
-// assumes; 1.01 Rf 36 s; at Rf = 0.01, 1.001 Rf was not maximal after 100 000 rounds.
+// whole base cells, take long to fill it, past the memory the plan assumes (docs/performance.md).
 constexpr double kMinCoverageRatio = 1.1;
 constexpr unsigned kMaxThreads = 1024;  // a host thread each: far above any machine's cores, below its limits
 
@@ -108,7 +107,7 @@ Plan make_plan(const SampleOptions& o, std::uint32_t max_cell_bits) {
         throw Error(fmt::format("the box is {:.3g} radii across: {} base cells, more than the 2^31 the kernels index",
                                 longest / r, nx * ny));
     if (cells_per_row > max_cells_per_row) throw too_wide();
-    // Two radii: Rc is at most 2^19 lattice units, the bound under which coverage.h's exact
+    // Two radii: Rc is at most 2^19 lattice units, the bound under which t_membership.h's exact
     // circle-intersection tests fit 128-bit products.
     const bool two = o.coverage != 0.0 && o.coverage != o.radius;
     const std::uint32_t top = std::min<std::uint32_t>(30, max_cell_bits);
@@ -126,15 +125,15 @@ Plan make_plan(const SampleOptions& o, std::uint32_t max_cell_bits) {
     d.cells_x = std::uint32_t(nx);
     d.cells_y = std::uint32_t(ny);
     d.cell_bits = bits;
-    d.periodic = o.box.boundary == Boundary::Periodic ? 1u : 0u;
-    d.seed = o.seed;
-    if (d.periodic) {
-        d.lattice_x = std::uint32_t(nx << bits);
-        d.lattice_y = std::uint32_t(ny << bits);
+    d.lattice.periodic = o.box.boundary == Boundary::Periodic ? 1u : 0u;
+    plan.seed = o.seed;
+    if (d.lattice.periodic) {
+        d.lattice.extent_x = std::uint32_t(nx << bits);
+        d.lattice.extent_y = std::uint32_t(ny << bits);
     } else {
         // Lattice points x with x * quantum < width.
-        d.lattice_x = std::uint32_t(std::min<double>(std::ceil(o.box.width / plan.quantum), double(nx << bits)));
-        d.lattice_y = std::uint32_t(std::min<double>(std::ceil(o.box.height / plan.quantum), double(ny << bits)));
+        d.lattice.extent_x = std::uint32_t(std::min<double>(std::ceil(o.box.width / plan.quantum), double(nx << bits)));
+        d.lattice.extent_y = std::uint32_t(std::min<double>(std::ceil(o.box.height / plan.quantum), double(ny << bits)));
     }
     // Squared lattice distances in the domain are < 2^63 (coordinates < 2^31), so a radius whose
     // square reaches 2^63 covers the whole box: clamping it there is exact, and sums cannot wrap.
@@ -143,12 +142,13 @@ Plan make_plan(const SampleOptions& o, std::uint32_t max_cell_bits) {
         const long double rq2 = std::ceil(rq * rq);
         return rq2 >= 9223372036854775808.0L ? std::uint64_t(1) << 63 : std::uint64_t(rq2);
     };
-    d.radius2 = squared_units(r);
-    d.cover2 = two ? squared_units(o.coverage) : d.radius2;
-    if (two && d.cover2 > shared::MAX_COVER2) throw Error("internal: Rc is past the lattice steps the exact T test handles");
+    d.radii.inhibition2 = squared_units(r);
+    d.radii.coverage2 = two ? squared_units(o.coverage) : d.radii.inhibition2;
+    d.radii.kind = two ? shared::RADII_TWO : shared::RADII_ONE;
+    if (two && d.radii.coverage2 > shared::MAX_COVER2) throw Error("internal: Rc is past the lattice steps the exact T test handles");
     const std::uint64_t cell_side = std::uint64_t(1) << bits;
     // A sample must cover its whole base cell, so that an occupied base cell needs no darts.
-    if (d.radius2 <= 2 * (cell_side - 1) * (cell_side - 1))
+    if (d.radii.inhibition2 <= 2 * (cell_side - 1) * (cell_side - 1))
         throw Error("internal: base cell diagonal is not shorter than the radius");
     // Rows/columns of base cells a disk of squared radius limit2 reaches across.
     auto reach_of = [&](std::uint64_t limit2) {
@@ -156,17 +156,18 @@ Plan make_plan(const SampleOptions& o, std::uint32_t max_cell_bits) {
         while (shared::cell_gap2(d, int(n) + 1, 0) < limit2) ++n;
         return n;
     };
-    const std::uint32_t conflict = reach_of(d.radius2);
-    const std::uint32_t cover = reach_of(d.cover2 + 1);
-    const std::uint32_t influence = two ? reach_of(shared::influence2(d)) : conflict;
-    if (conflict > shared::MAX_REACH || (d.periodic && (conflict > nx || conflict > ny)))
+    const std::uint32_t conflict = reach_of(d.radii.inhibition2);
+    const std::uint32_t cover = reach_of(d.radii.coverage2 + 1);
+    const std::uint32_t influence = two ? reach_of(shared::influence2(d.radii)) : conflict;
+    if (conflict > shared::MAX_REACH || (d.lattice.periodic && (conflict > nx || conflict > ny)))
         throw Error("internal: a disk reaches further than the neighbourhood the kernels scan");
-    if (two && d.periodic && (2 * influence + 1 > nx || 2 * influence + 1 > ny))
+    if (two && d.lattice.periodic && (2 * influence + 1 > nx || 2 * influence + 1 > ny))
         throw Error(fmt::format("Rc {} is too large for a periodic box of {} x {}: the 2 Rc neighbourhood must not wrap onto itself",
                                 o.coverage, o.box.width, o.box.height));
-    d.reach = conflict | cover << 8 | influence << 16;
+    d.radii.reach = conflict | cover << 8 | influence << 16;
     for (std::uint32_t dy = 0; dy <= conflict; ++dy)
-        d.reach |= std::uint32_t(shared::computed_row_reach(d, int(dy), int(conflict), d.radius2)) << (24 + 2 * dy);
+        d.radii.reach |= std::uint32_t(shared::computed_row_reach(d, int(dy), int(conflict), d.radii.inhibition2))
+                         << (24 + 2 * dy);
     plan.deepest_level = bits;
     plan.base_cells = nx * ny;
     return plan;
@@ -176,14 +177,14 @@ std::uint64_t expected_samples(const Plan& plan) {
     // RSA jams at n r^2 = 0.6966 per unit area; with two radii n Rc^2 rises from there to about
     // 0.94 at Rc = 2 Rf (section 3). The smaller of the two bounds, over the box's lattice area.
     const shared::Domain& d = plan.domain;
-    const double area = double(d.lattice_x) * double(d.lattice_y);
-    const double n = std::min(0.70 * area / double(d.radius2), 0.95 * area / double(d.cover2));
+    const double area = double(d.lattice.extent_x) * double(d.lattice.extent_y);
+    const double n = std::min(0.70 * area / double(d.radii.inhibition2), 0.95 * area / double(d.radii.coverage2));
     return std::uint64_t(n) + 64;
 }
 
 std::uint64_t estimated_bytes(const Plan& plan) {
     // The engines' arrays stay within 48 bytes per base cell (estimated_device_bytes; a test
-    // holds every engine to it; measured at r = 0.001: cpu 20, serial 32, lavapipe 25).
+    // holds every engine to it).
     // On a CPU Vulkan device those arrays are host memory too, beside the driver's own (about
     // 155 MiB for lavapipe with LLVM) and the program.
     return plan.base_cells * 48 + (std::uint64_t(256) << 20);
@@ -192,8 +193,7 @@ std::uint64_t estimated_bytes(const Plan& plan) {
 std::uint64_t estimated_device_bytes(const Plan& plan) {
     // The first round's peak, per base cell: grid word 8, the scratch regions (prefix sums 4,
     // work list 2 at lambda = 0.5; see VulkanEngine::Scratch), the darts 8 and the samples about
-    // 3; mask mode keeps no active list there. Measured at r = 0.001: 25 bytes per base cell; 37
-    // with Rc = 2 Rf, which keeps the lists.
+    // 3; mask mode keeps no active list there. Two radii keep the lists, and more.
     return plan.base_cells * 48 + (std::uint64_t(16) << 20);
 }
 

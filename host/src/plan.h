@@ -14,6 +14,7 @@ struct Plan {
     double quantum;              // lattice spacing in user units
     std::uint32_t deepest_level; // cells of this level are single lattice points
     std::uint64_t base_cells;
+    std::uint32_t seed;          // keys the RNG with each round (shared/darts.h, round_key)
 };
 
 // max_cell_bits caps the lattice's resolution (tests use it to make runs reach the deepest

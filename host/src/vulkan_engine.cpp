@@ -26,10 +26,10 @@
 #include "mark_masked.h"
 #include "mark_ranges.h"
 #include "refine_cells.h"
-#include "refine_cells_two.h"
+#include "refine_cells_one.h"
 #include "refine_masked.h"
 #include "resolve_darts.h"
-#include "resolve_darts_two.h"
+#include "resolve_darts_one.h"
 #include "scan_add.h"
 #include "scan_blocks.h"
 #include "scan_sums.h"
@@ -47,16 +47,6 @@ namespace {
 
 using namespace shared;
 
-// Push-constant layouts must match std430 as glslang lays them out.
-static_assert(sizeof(Domain) == 48 && offsetof(Domain, cover2) == 8 && offsetof(Domain, lattice_x) == 16 &&
-              offsetof(Domain, seed) == 44);
-static_assert(sizeof(CellArgs) == 128 && offsetof(CellArgs, cells) == 48 && offsetof(CellArgs, cell_count) == 112);
-static_assert(sizeof(DartArgs) == 128 && offsetof(DartArgs, darts) == 48 && offsetof(DartArgs, dart_count) == 112);
-static_assert(sizeof(ScanArgs) == 40 && offsetof(ScanArgs, count) == 24);
-static_assert(sizeof(WorkArgs) == 16 && offsetof(WorkArgs, slot) == 8);
-static_assert(sizeof(SortArgs) == 56 && offsetof(SortArgs, count) == 40);
-static_assert(sizeof(CellArgs) <= 128 && sizeof(DartArgs) <= 128, "push constants: 128 bytes is the guaranteed minimum");
-
 constexpr std::uint32_t kResolvePassesPerSubmit = 4;
 
 std::uint32_t groups(std::uint64_t n, std::uint32_t per_group) { return std::uint32_t((n + per_group - 1) / per_group); }
@@ -66,7 +56,7 @@ template <std::size_t N> std::span<const std::uint32_t> words(const std::uint32_
 class VulkanEngine final : public Engine {
 public:
     VulkanEngine(const Plan& plan, const std::string& selector)
-        : plan_(plan), ctx_(selector), masked_(!two_radii(plan.domain)) {
+        : plan_(plan), ctx_(selector), masked_(!two_radii(plan.domain.radii)) {
         if (estimated_device_bytes(plan) > ctx_.device_heap_bytes())
             throw Error(fmt::format("the run needs about {:.1f} GiB but {} has {:.1f} GiB of device memory",
                                     double(estimated_device_bytes(plan)) / (1 << 30), ctx_.device_name(),
@@ -108,7 +98,7 @@ public:
     }
 
     RoundResult round(const RoundSpec& spec) override {
-        const bool two = two_radii(plan_.domain);
+        const bool two = two_radii(plan_.domain.radii);
         const bool masked = masked_;
         // One radius: the darts go to the active cells, or in mask mode to the base cells' active
         // sub-cells. Two radii: to the base cells near the active cells.
@@ -400,7 +390,7 @@ private:
     CellArgs cell_args(std::uint64_t cells, const Regions& r, std::uint32_t n, std::uint32_t round,
                        std::uint32_t side, std::uint32_t param) const {
         return {plan_.domain, cells, 0, r.darts, r.scan, grid_.address(), r.work, counters_.address(), r.masks,
-                n, round, side, param};
+                n, round_key(plan_.seed, round), side, param};
     }
 
     DartArgs dart_args(std::uint64_t darts, std::uint32_t count, std::uint32_t param) const {
@@ -465,15 +455,14 @@ private:
 
     Plan plan_;
     VulkanContext ctx_;
-    bool two_ = two_radii(plan_.domain);  // picks the kernels' variants (shared/domain.h, VRPD_ONE_RADIUS)
+    bool two_ = two_radii(plan_.domain.radii);  // picks the kernels' variants (CMakeLists.txt, VRPD_ONE_RADIUS)
 
 // A kernel member; its name, in profiles, is its shader's.
 #define VRPD_KERNEL(name, push, workgroup) Kernel name##_{ctx_, #name, words(spirv_##name), sizeof(push), workgroup}
-// A kernel with a one-radius variant and a two-radii one (name_two.comp; shared/domain.h,
-// VRPD_ONE_RADIUS): the run's is built.
-#define VRPD_KERNEL_BY_RADII(name, push, workgroup)                                                                  \
-    Kernel name##_{ctx_, two_ ? #name "_two" : #name, two_ ? words(spirv_##name##_two) : words(spirv_##name),     \
-                   sizeof(push), workgroup}
+// A kernel with a one-radius variant, name_one (CMakeLists.txt, VRPD_ONE_RADIUS): the run's is
+// built; profiles name both by their source.
+#define VRPD_KERNEL_BY_RADII(name, push, workgroup) \
+    Kernel name##_{ctx_, #name, two_ ? words(spirv_##name) : words(spirv_##name##_one), sizeof(push), workgroup}
     VRPD_KERNEL(init_cells, CellArgs, WORKGROUP_SIZE);
     VRPD_KERNEL(flag_dart_cells, CellArgs, WORKGROUP_SIZE);
     VRPD_KERNEL(flag_free_cells, CellArgs, WORKGROUP_SIZE);

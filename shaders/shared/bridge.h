@@ -6,6 +6,7 @@
 
 #ifdef __cplusplus
 #include <bit>
+#include <cstddef>
 #include <cstdint>
 #include <glm/common.hpp>
 #include <glm/vec2.hpp>

@@ -21,11 +21,13 @@ VRPD_FN uint hash32(uint x) {
 
 VRPD_FN uint hash_mix(uint h, uint v) { return hash32(h ^ (v * 0x9e3779b9u + 0x7f4a7c15u)); }
 
-// The random stream of one cell in one round. A cell is unique in a round (by its corner), and
-// rounds are numbered globally, so no two streams of a run share a key.
-VRPD_FN uint cell_stream(uint seed, uint round, uvec2 corner) {
-    return hash_mix(hash_mix(hash_mix(hash32(seed), round), corner.x), corner.y);
-}
+// The random key of one round of a run: every cell's stream that round starts from it. Rounds
+// are numbered globally, so no two rounds of a run share a key. The engines compute it on the
+// host and pass it to the kernels (CellArgs::round_key): the seed is not part of the domain.
+VRPD_FN uint round_key(uint seed, uint round) { return hash_mix(hash32(seed), round); }
+
+// The random stream of one cell in one round. A cell is unique in a round (by its corner).
+VRPD_FN uint cell_stream(uint round_key, uvec2 corner) { return hash_mix(hash_mix(round_key, corner.x), corner.y); }
 
 // Poisson(lambda) by Knuth's product of uniforms, in 32-bit fixed point so that every device
 // counts alike: exp_neg_lambda = floor(exp(-lambda) * 2^32). Expected lambda + 1 hashes.
@@ -69,8 +71,14 @@ VRPD_FN uint64_t dart_words(uint64_t n) { return (n + 15u) / 16u * uint64_t(DART
 const uint DART_UNDECIDED = 0u;
 const uint DART_ACCEPTED = 1u;
 const uint DART_REJECTED = 2u;
-// Two radii: the dart's T test went past its bounds (coverage.h); the run fails with an error.
+// Two radii: the dart's T test went past its bounds (t_membership.h); the run fails with an error.
 const uint DART_TOO_COMPLEX = 3u;
+
+// Is dart j (`other`, state in .w) one that dart d (arrival key `key`) must reckon with: another
+// dart, not rejected, arriving before d?
+VRPD_FN bool live_before(uvec4 other, uint j, uint key, uint d) {
+    return j != d && other.w != DART_REJECTED && arrives_before(other.z, j, key, d);
+}
 
 VRPD_END
 #endif

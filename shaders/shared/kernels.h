@@ -5,6 +5,8 @@
 #include "bridge.h"
 #include "darts.h"
 #include "domain.h"
+#include "grid.h"
+#include "neighbourhood.h"
 
 #ifndef __cplusplus
 layout(buffer_reference, std430, buffer_reference_align = 8) buffer Cells { uvec2 cell[]; };
@@ -14,32 +16,12 @@ layout(buffer_reference, std430, buffer_reference_align = 4) buffer Uints { uint
 layout(buffer_reference, std430, buffer_reference_align = 8) buffer Points { uvec2 point[]; };
 // Sets flag i to 1. Invocations that write it concurrently all write 1: the result is the same.
 void set_flag(Uints flags, uint i) { flags.value[i] = 1u; }
-// Dart j (.xy position, .z arrival key, .w state; storage in darts.h).
-uvec4 dart_at(Darts darts, uint j) {
-    uint r = dart_record(j);
-    return uvec4(darts.word[r], darts.word[r + 1u], darts.word[r + 2u],
-                 (darts.word[dart_state_word(j)] >> dart_state_shift(j)) & 3u);
-}
-// Ors state bits into state word w (dart_state_word), for the darts whose states they set.
-void or_dart_states(Darts darts, uint w, uint bits) {
-    if (bits != 0u) atomicOr(darts.word[w], bits);
-}
-void set_dart_state(Darts darts, uint j, uint state) { or_dart_states(darts, dart_state_word(j), state << dart_state_shift(j)); }
-// Writes dart j's position and key; its state stays as it is (undecided in a zeroed buffer).
-void store_dart_record(Darts darts, uint j, uvec4 dart) {
-    uint r = dart_record(j);
-    darts.word[r] = dart.x;
-    darts.word[r + 1u] = dart.y;
-    darts.word[r + 2u] = dart.z;
-}
-void store_dart(Darts darts, uint j, uvec4 dart) {
-    store_dart_record(darts, j, dart);
-    set_dart_state(darts, j, dart.w);
-}
+uint load_state_word(Darts darts, uint w) { return darts.word[w]; }
+void or_state_word(Darts darts, uint w, uint bits) { atomicOr(darts.word[w], bits); }
 #else
 #include <atomic>
 namespace vrpd::shared {
-// Host views of the same buffers, so the kernel bodies in sampler.h compile unchanged in C++.
+// Host views of the same buffers, so the kernel bodies compile unchanged in C++.
 struct Cells { uvec2* cell; };
 struct Grid { uvec2* word; };
 struct Darts { uint* word; };
@@ -49,31 +31,63 @@ struct Points { uvec2* point; };
 inline void set_flag(Uints flags, uint i) { std::atomic_ref<uint>(flags.value[i]).store(1u, std::memory_order_relaxed); }
 // The cpu backend's resolution decides darts while other threads read their states (see
 // HostEngine::resolve), and a block's state word is shared by darts that different threads
-// write: state words are read and or-ed atomically. States only change from undecided to final,
-// so a reader sees either. Position and key do not change in a round.
-inline uvec4 dart_at(Darts darts, uint j) {
-    const uint r = dart_record(j);
-    const uint states = std::atomic_ref<uint>(darts.word[dart_state_word(j)]).load(std::memory_order_relaxed);
-    return uvec4(darts.word[r], darts.word[r + 1], darts.word[r + 2], (states >> dart_state_shift(j)) & 3u);
+// write: state words are read and or-ed atomically.
+inline uint load_state_word(Darts darts, uint w) {
+    return std::atomic_ref<uint>(darts.word[w]).load(std::memory_order_relaxed);
 }
-inline void or_dart_states(Darts darts, uint w, uint bits) {
-    if (bits != 0u) std::atomic_ref<uint>(darts.word[w]).fetch_or(bits, std::memory_order_relaxed);
-}
-inline void set_dart_state(Darts darts, uint j, uint state) {
-    or_dart_states(darts, dart_state_word(j), state << dart_state_shift(j));
-}
-inline void store_dart_record(Darts darts, uint j, uvec4 dart) {
-    const uint r = dart_record(j);
-    darts.word[r] = dart.x;
-    darts.word[r + 1] = dart.y;
-    darts.word[r + 2] = dart.z;
-}
-inline void store_dart(Darts darts, uint j, uvec4 dart) {
-    store_dart_record(darts, j, dart);
-    set_dart_state(darts, j, dart.w);
+inline void or_state_word(Darts darts, uint w, uint bits) {
+    std::atomic_ref<uint>(darts.word[w]).fetch_or(bits, std::memory_order_relaxed);
 }
 }  // namespace vrpd::shared
 #endif
+
+VRPD_BEGIN
+
+// Dart j (.xy position, .z arrival key, .w state; storage in darts.h). States only change from
+// undecided to final, so a reader sees either; position and key do not change in a round.
+VRPD_FN uvec4 dart_at(Darts darts, uint j) {
+    uint r = dart_record(j);
+    uint states = load_state_word(darts, dart_state_word(j));
+    return uvec4(darts.word[r], darts.word[r + 1u], darts.word[r + 2u], (states >> dart_state_shift(j)) & 3u);
+}
+// Ors state bits into state word w (dart_state_word), for the darts whose states they set.
+VRPD_FN void or_dart_states(Darts darts, uint w, uint bits) {
+    if (bits != 0u) or_state_word(darts, w, bits);
+}
+VRPD_FN void set_dart_state(Darts darts, uint j, uint state) {
+    or_dart_states(darts, dart_state_word(j), state << dart_state_shift(j));
+}
+// Writes dart j's position and key; its state stays as it is (undecided in a zeroed buffer).
+VRPD_FN void store_dart_record(Darts darts, uint j, uvec4 dart) {
+    uint r = dart_record(j);
+    darts.word[r] = dart.x;
+    darts.word[r + 1u] = dart.y;
+    darts.word[r + 2u] = dart.z;
+}
+// Where dart d lies: the dart (dart_at), its lattice point, its base cell, and the domain as seen
+// from that cell (local_domain), which every scan around the dart uses.
+struct DartSite {
+    uvec4 dart;
+    uvec2 p;
+    uvec2 cell;
+    Domain dom;
+};
+VRPD_FN DartSite dart_site(Domain global, Darts darts, uint d) {
+    DartSite s;
+    s.dart = dart_at(darts, d);
+    s.p = uvec2(s.dart.x, s.dart.y);
+    s.cell = base_cell_of(global, s.p);
+    s.dom = local_domain(global, s.cell);
+    return s;
+}
+
+// Writes dart j whole, its state (.w) included.
+VRPD_FN void store_dart(Darts darts, uint j, uvec4 dart) {
+    store_dart_record(darts, j, dart);
+    set_dart_state(darts, j, dart.w);
+}
+
+VRPD_END
 
 VRPD_BEGIN
 
@@ -112,11 +126,15 @@ struct CellArgs {
     VRPD_BUFFER(Uints) counters;
     VRPD_BUFFER(Uints) masks;      // refine/scatter: which children of each cell stay active
     uint cell_count;
-    uint round;                    // global round number: keys the RNG
+    uint round_key;                // the round's RNG key (darts.h, round_key)
     uint side;                     // side of the active cells (of the children in refine/scatter)
     uint param;                    // count_darts: exp(-lambda) in 2^-32 units; commit_cells: darts
                                    // thrown; refine/scatter: 1 or 4 children
 };
+#ifdef __cplusplus
+// Push constants: 128 bytes is what every Vulkan device guarantees.
+static_assert(sizeof(CellArgs) == 128 && offsetof(CellArgs, cells) == 48 && offsetof(CellArgs, cell_count) == 112);
+#endif
 
 // Mask mode (sampler.h) runs levels 0 to MASK_LEVELS - 1 and ends at children of level
 // MASK_LEVELS: is the refinement into `fanout` children of side `side` that one?
@@ -145,6 +163,9 @@ struct DartArgs {
     uint param;                    // emit_samples: samples already emitted in earlier rounds;
                                    // resolve_darts: 1 on a round's first pass (none accepted yet)
 };
+#ifdef __cplusplus
+static_assert(sizeof(DartArgs) == 128 && offsetof(DartArgs, darts) == 48 && offsetof(DartArgs, dart_count) == 112);
+#endif
 
 // Exclusive prefix sum over `count` uints in three passes: scan_blocks, scan_sums, scan_add.
 struct ScanArgs {
@@ -156,6 +177,9 @@ struct ScanArgs {
     uint total_slot;
     uint pad;
 };
+#ifdef __cplusplus
+static_assert(sizeof(ScanArgs) == 40 && offsetof(ScanArgs, count) == 24);
+#endif
 
 // Stable LSD radix sort of one round's samples by arrival key, 8 bits a pass:
 // sort_histogram (digit counts per tile of SCAN_BLOCK), a scan of the digit-major histogram,
@@ -172,6 +196,9 @@ struct SortArgs {
     uint tile_count;
     uint pad;
 };
+#ifdef __cplusplus
+static_assert(sizeof(SortArgs) == 56 && offsetof(SortArgs, count) == 40);
+#endif
 
 // work_args: turns a work list's count into its indirect dispatch and empties the other list.
 struct WorkArgs {
@@ -179,6 +206,9 @@ struct WorkArgs {
     uint slot;
     uint other_slot;
 };
+#ifdef __cplusplus
+static_assert(sizeof(WorkArgs) == 16 && offsetof(WorkArgs, slot) == 8);
+#endif
 
 VRPD_END
 #endif

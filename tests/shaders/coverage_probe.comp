@@ -1,9 +1,9 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"
-#include "shared/coverage.h"
+#include "shared/t_membership.h"
 layout(local_size_x = 64) in;
-// Test kernel: evaluates the T-membership test of shared/coverage.h on the device for a batch of
+// Test kernel: evaluates the T-membership test of shared/t_membership.h on the device for a batch of
 // configurations, so a test can compare it with the host's answers. A configuration is
 // PROBE_WORDS ivec2: (n, in_disk), r2 as (low, high) 32 bits, the box's lo and hi, then n disk centres.
 const uint PROBE_WORDS = 68u;

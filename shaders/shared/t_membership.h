@@ -1,6 +1,6 @@
 // Exact membership in the paper's T = S ∩ (U ⊕ Rc) (section 3, Eq. 9) for two radii Rf < Rc:
 // does the closed Rc-disk around a dart y reach a point that no earlier sample's open Rc-disk
-// covers? All disks have one radius Rc (squared radius R2 = Domain.cover2, an integer in lattice
+// covers? All disks have one radius Rc (squared radius R2 = Radii::coverage2, an integer in lattice
 // units), and every quantity below is an integer: the answer is exact and the same on every device.
 //
 // The method. Let K = (closed disk of y) minus (the open disks of the samples within 2 Rc of y).

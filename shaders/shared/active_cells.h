@@ -1,0 +1,31 @@
+// The active cells of the flat quadtree (Ebeida et al. 2012; paper section 1): squares of the
+// lattice that may still hold uncovered points, listed in base cell order so that the cells of one
+// base cell, and the darts thrown into them, are contiguous.
+#ifndef VRPD_ACTIVE_CELLS_H
+#define VRPD_ACTIVE_CELLS_H
+#include "bridge.h"
+#include "domain.h"
+#include "kernels.h"
+
+VRPD_BEGIN
+
+// Active cells are ordered by base cell, so the darts of one base cell are one contiguous range.
+VRPD_FN bool first_in_base_cell(Domain dom, Cells cells, uint e) {
+    return e == 0u || base_of_point(dom, cells.cell[e - 1u]) != base_of_point(dom, cells.cell[e]);
+}
+
+// The active cells after e that share its base cell: [e, group_end).
+VRPD_FN uint group_end(Domain dom, Cells cells, uint e, uint count) {
+    uint b = base_of_point(dom, cells.cell[e]);
+    uint end = e + 1u;
+    while (end < count && base_of_point(dom, cells.cell[end]) == b) end++;
+    return end;
+}
+
+// Child c (0..3, or 0 for a cell kept whole) of an active cell; side is the child's side.
+VRPD_FN uvec2 child_corner(uvec2 corner, uint side, uint c) {
+    return uvec2(corner.x + (c & 1u) * side, corner.y + (c >> 1u) * side);
+}
+
+VRPD_END
+#endif

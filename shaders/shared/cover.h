@@ -1,0 +1,111 @@
+// Coverage by the samples of earlier rounds, read from the grid: is a point in a sample's disk
+// (throwing), which samples may cover a base cell's quadtree cells (refinement), and with two
+// radii which samples' Rc-disks meet a box (the exact cell test of t_membership.h).
+#ifndef VRPD_COVER_H
+#define VRPD_COVER_H
+#include "bridge.h"
+#include "neighbourhood.h"
+#include "kernels.h"
+#include "t_membership.h"
+
+VRPD_BEGIN
+
+// Is point p inhibited (INHIBITION: closer than Rf) or covered (COVERAGE: closer than Rc) by a
+// sample of an earlier round? The samples near base cell `base` are read from the grid; dom is
+// local_domain(base).
+VRPD_FN bool near_sample(Domain dom, Grid grid, uvec2 base, uvec2 p, uint which) {
+    int reach = radius_reach(dom.radii, which);
+    VRPD_FOR_EACH_NEIGHBOUR(dom, base, reach, radius2(dom.radii, which), dx, dy, nb) {
+        uvec2 w = grid.word[nb];
+        if (grid_is_sample(w) && within(dom.radii, which, distance2(dom.lattice, w, p))) return true;
+    }
+    return false;
+}
+
+// Is point p off the domain or inhibited by a sample of an earlier round? Then a dart there is
+// rejected when thrown.
+VRPD_FN bool inhibited(Domain dom, Grid grid, uvec2 base, uvec2 p) {
+    return !in_lattice(dom.lattice, p) || near_sample(dom, grid, base, p, INHIBITION);
+}
+
+// Two radii: fills disk_at with the samples whose Rc-disk meets the box [cc, cc + hi] (hi >= 0),
+// as offsets from cc: only they can cover a point of it or cross inside it. Returns the count,
+// MAX_DISKS + 1 if they do not fit.
+VRPD_FN uint gather_near_box(Domain dom, Grid grid, uvec2 base, uvec2 cc, ivec2 hi) {
+    uint n = 0u;
+    int reach = cover_reach(dom.radii);
+    VRPD_FOR_EACH_NEIGHBOUR(dom, base, reach, dom.radii.coverage2 + uint64_t(1), dx, dy, nb) {
+        uvec2 w = grid.word[nb];
+        if (!grid_is_sample(w)) continue;
+        ivec2 o = offset_to(dom.lattice, cc, w);
+        int64_t gx = int64_t(max(max(-o.x, o.x - hi.x), 0));
+        int64_t gy = int64_t(max(max(-o.y, o.y - hi.y), 0));
+        if (!reaches(dom.radii, uint64_t(gx * gx + gy * gy))) continue;
+        if (n == MAX_DISKS) return MAX_DISKS + 1u;
+        disk_at[n++] = o;
+    }
+    return n;
+}
+
+// The samples of earlier rounds in the cover neighbourhood of a base cell, gathered once for all
+// of its active cells, as offsets from the base cell's corner: each cell's cover test then reads
+// this short list, not the grid, and needs no torus arithmetic. The offset of a sample is taken
+// through the neighbour cell it was found in. On a torus at least 2 reach + 1 cells wide, a
+// sample whose offset is not the shortest one lies at least reach * side + 1 >= Rc from every
+// point of the base cell along that axis, so it covers none of them either way: the tests below
+// are exact. MAX_CELL_SAMPLES holds any one-radius neighbourhood (a base cell holds at most one
+// sample and cover_reach <= MAX_REACH); a two-radii one that does not fit is scanned per cell.
+const uint MAX_CELL_SAMPLES = (2u * MAX_REACH + 1u) * (2u * MAX_REACH + 1u);
+VRPD_PRIVATE ivec2 cell_sample_at[MAX_CELL_SAMPLES];
+
+// The offset from the corner of base cell `base` to sample p, found in the cell (dx, dy) from it.
+VRPD_FN ivec2 sample_offset(Domain dom, int dx, int dy, uvec2 p) {
+    int side = 1 << dom.cell_bits;
+    uint low = uint(side) - 1u;
+    return ivec2(dx * side + int(p.x & low), dy * side + int(p.y & low));
+}
+
+// |a - b| for offsets of points of the domain: less than 2^31 apart, so the magnitude fits 32
+// bits and two squares sum below 2^63.
+VRPD_FN uint gap(int a, int b) { return a > b ? uint(a) - uint(b) : uint(b) - uint(a); }
+
+VRPD_FN uint64_t square_gap(int a, int b) {
+    uint d = gap(a, b);
+    return uint64_t(d) * uint64_t(d);
+}
+
+// The larger squared distance from coordinate c to the ends of [lo, hi]: the cell is convex, so
+// its farthest corner pairs the farthest x with the farthest y.
+VRPD_FN uint64_t far2(int c, int lo, int hi) {
+    uint m = max(gap(c, lo), gap(c, hi));
+    return uint64_t(m) * uint64_t(m);
+}
+
+// Fills cell_sample_at with the samples near base cell `base`, those of the 8 adjacent cells
+// first (the likeliest to cover a cell wholly, so that cover tests stop early); returns their
+// count, or MAX_CELL_SAMPLES + 1 if they do not fit.
+VRPD_FN uint gather_cell_samples(Domain dom, Grid grid, uvec2 base) {
+    uint near = 0u;
+    uint far = 0u;  // stored from the end of the array down
+    int side = 1 << dom.cell_bits;  // the base cell, closed: [0, side]^2 from its corner
+    int reach = cover_reach(dom.radii);
+    VRPD_FOR_EACH_NEIGHBOUR(dom, base, reach, dom.radii.coverage2, dx, dy, nb) {
+        uvec2 p = grid.word[nb];
+        if (!grid_is_sample(p)) continue;
+        if (near + far == MAX_CELL_SAMPLES) return MAX_CELL_SAMPLES + 1u;
+        ivec2 o = sample_offset(dom, dx, dy, p);
+        // A sample that covers no point of the base cell covers none of its cells.
+        if (!covers(dom.radii, square_gap(clamp(o.x, 0, side), o.x) + square_gap(clamp(o.y, 0, side), o.y))) continue;
+        if (dx >= -1 && dx <= 1 && dy >= -1 && dy <= 1) {
+            cell_sample_at[near++] = o;
+        } else {
+            far++;
+            cell_sample_at[MAX_CELL_SAMPLES - far] = o;
+        }
+    }
+    for (uint k = 0u; k < far; k++) cell_sample_at[near + k] = cell_sample_at[MAX_CELL_SAMPLES - 1u - k];
+    return near + far;
+}
+
+VRPD_END
+#endif

@@ -1,0 +1,123 @@
+// Mask mode (one radius, quadtree levels 0 to MASK_LEVELS - 1): the active cells live in the
+// grid words as masks instead of a list; the darts and samples are the list's, bit for bit.
+#ifndef VRPD_MASK_MODE_H
+#define VRPD_MASK_MODE_H
+#include "bridge.h"
+#include "darts.h"
+#include "kernels.h"
+#include "quadtree.h"
+#include "throw.h"
+
+VRPD_BEGIN
+
+// Mask mode (one radius, levels 0 to MASK_LEVELS - 1): there is no list of active cells. The grid
+// word of a base cell without a sample holds the mask of its active sub-cells at the current
+// level (GRID_MASK_BITS: at most 16 sub-cells, level 2), and the kernels run over base cells.
+// Bit k is the sub-cell the explicit list would hold at that place: k's base-4 digits, most
+// significant first, are the child indices (child_corner) taken at each level, so the darts,
+// their indices and the samples are the explicit mode's, bit for bit. (MASK_LEVELS: kernels.h.)
+
+// Corner of sub-cell k of side `side` of the base cell at `corner` (of side base_side).
+VRPD_FN uvec2 subcell_corner(uvec2 corner, uint k, uint side, uint base_side) {
+    for (uint s = side; s < base_side; s *= 2u) {
+        corner = child_corner(corner, s, k & 3u);
+        k >>= 2u;
+    }
+    return corner;
+}
+
+
+
+VRPD_FN bool masked_active(uvec2 w) { return !grid_is_sample(w) && (w.y & GRID_MASK_BITS) != 0u; }
+
+// The loops over a mask's set bits visit them in ascending order (findLSB, then clear the bit),
+// each bit once: a loop over every bit position ran each SIMD batch of llvmpipe up to the
+// highest bit of any of its lanes.
+
+// Mask mode: the darts of base cell b (word w, active) this round (a.side: the sub-cells' side;
+// a.param: exp(-lambda) as in count_darts).
+VRPD_FN uint masked_dart_count(CellArgs a, uvec2 w, uint b) {
+    uvec2 corner = base_corner(a.domain, b);
+    uint base_side = 1u << a.domain.cell_bits;
+    uint count = 0u;
+    for (uint mask = w.y & GRID_MASK_BITS; mask != 0u; mask &= mask - 1u) {
+        uvec2 cc = subcell_corner(corner, uint(findLSB(mask)), a.side, base_side);
+        count += dart_count(cell_stream(a.round_key, cc), a.param);
+    }
+    return count;
+}
+
+// Mask mode: an active word with its round's dart count (< 2^16; the engines check), then with
+// the index of its first dart: a packed darts word (domain.h).
+VRPD_FN uvec2 counted_word(uvec2 w, uint count) { return uvec2(w.x, (count << 16u) | (w.y & GRID_MASK_BITS)); }
+VRPD_FN uvec2 numbered_word(uvec2 w, uint first) { return uvec2(GRID_TAG | GRID_PACKED | first, w.y); }
+
+// Mask mode: writes the darts of base cell b, from `first` on, in the order of its sub-cells, each
+// rejected if it lies in the disk of a sample of an earlier round (as throw_base_cell; no_samples
+// as throw_cell's). Returns how many are still undecided.
+VRPD_FN uint throw_masked_base(CellArgs a, Darts darts, Grid grid, uint b, uint first, bool no_samples) {
+    uvec2 w = grid.word[b];
+    uvec2 base = uvec2(b % a.domain.cells_x, b / a.domain.cells_x);
+    Domain dom = local_domain(a.domain, base);
+    uvec2 corner = base_corner(a.domain, b);
+    uint base_side = 1u << a.domain.cell_bits;
+    uint j = first;
+    uint end = grid_darts(w).y;
+    uint undecided = 0u;
+    StateBits states = no_state_bits(first);
+    // The sub-cells' counts sum to the word's (masked_dart_count): the last sub-cell with darts
+    // takes what is left, uncounted, and once none is left the rest have none. At level 0, where
+    // a base cell is one sub-cell, no count is drawn twice.
+    for (uint mask = w.y & GRID_MASK_BITS; mask != 0u && j < end; mask &= mask - 1u) {
+        uvec2 cc = subcell_corner(corner, uint(findLSB(mask)), a.side, base_side);
+        uint stream = cell_stream(a.round_key, cc);
+        uint count = (mask & (mask - 1u)) == 0u ? end - j : dart_count(stream, a.param);
+        throw_cell(dom, grid, base, darts, stream, cc, a.side, j, count, states, undecided, no_samples);
+        j += count;
+    }
+    or_dart_states(darts, states.word, states.bits);
+    return undecided;
+}
+
+// Mask mode: the surviving children of base cell b's active sub-cells (a.side: the children's
+// side; a.param: 4 children, or 1: the cell itself), sub-cell k's as bits a.param * k + c, up to
+// 16 sub-cells: bits 0-31 in .x and 32-63 in .y, so that level 2's sub-cells may split too.
+VRPD_FN uvec2 refine_masked_base(CellArgs a, Grid grid, uint b) {
+    uvec2 w = grid.word[b];
+    uvec2 kept = uvec2(0u, 0u);
+    if (grid_is_sample(w) || (w.y & GRID_MASK_BITS) == 0u) return kept;
+    uvec2 base = uvec2(b % a.domain.cells_x, b / a.domain.cells_x);
+    Domain dom = local_domain(a.domain, base);
+    uint samples = cover_tested(dom, a.param, a.side) ? gather_cell_samples(dom, grid, base) : 0u;
+    uvec2 corner = base_corner(a.domain, b);
+    uint base_side = 1u << a.domain.cell_bits;
+    uint parent_side = a.param == 4u ? 2u * a.side : a.side;
+    for (uint mask = w.y & GRID_MASK_BITS; mask != 0u; mask &= mask - 1u) {
+        uint k = uint(findLSB(mask));
+        uvec2 cc = subcell_corner(corner, k, parent_side, base_side);
+        uint children = surviving_children(dom, grid, base, cc, a.side, a.param, samples);
+        uint bit = a.param * k;
+        if (bit < 32u) kept.x |= children << bit;
+        else kept.y |= children << (bit - 32u);
+    }
+    return kept;
+}
+
+// The number of sub-cells in a mask of refine_masked_base.
+VRPD_FN uint subcell_count(uvec2 kept) { return uint(bitCount(kept.x) + bitCount(kept.y)); }
+
+// A base cell's word with its new mask of active sub-cells (a sample's word stays).
+VRPD_FN uvec2 masked_word(uvec2 w, uint mask) { return grid_is_sample(w) ? w : uvec2(GRID_EMPTY, mask); }
+
+// Writes the children in `kept` (refine_masked_base, children of side `side`) of base cell b to
+// an explicit active list, from `rank` on, in the explicit list's order.
+VRPD_FN void scatter_subcells(Domain dom, Cells cells_out, uint rank, uvec2 kept, uint b, uint side) {
+    uvec2 corner = base_corner(dom, b);
+    for (uint bits = kept.x; bits != 0u; bits &= bits - 1u)
+        cells_out.cell[rank++] = subcell_corner(corner, uint(findLSB(bits)), side, 1u << dom.cell_bits);
+    for (uint bits = kept.y; bits != 0u; bits &= bits - 1u)
+        cells_out.cell[rank++] = subcell_corner(corner, uint(findLSB(bits)) + 32u, side, 1u << dom.cell_bits);
+}
+
+VRPD_END
+#endif

@@ -1,0 +1,86 @@
+// The one neighbourhood scan: every kernel that looks at the base cells around a point or a cell
+// (conflicts, cover tests, T tests, the dart cells of two radii) visits them through
+// VRPD_FOR_EACH_NEIGHBOUR, which leaves out the cells no point of which can lie within the
+// scan's radius and the cells off a free boundary.
+#ifndef VRPD_NEIGHBOURHOOD_H
+#define VRPD_NEIGHBOURHOOD_H
+#include "bridge.h"
+#include "domain.h"
+#include "grid.h"
+
+VRPD_BEGIN
+
+// Is base cell `cell` at least influence_reach cells from every side of the grid? Then its
+// neighbours' indices are plain offsets from its own: no wrap, no side to fall off.
+VRPD_FN bool inner_cell(Domain dom, uvec2 cell) {
+    uint r = influence_reach(dom.radii);
+    return cell.x >= r && cell.x + r < dom.cells_x && cell.y >= r && cell.y + r < dom.cells_y;
+}
+
+// neighbour_index for a cell near a side of the grid. make_plan guarantees influence_reach <=
+// cells per side, so one wrap step suffices on a torus.
+VRPD_COLD_FN uint wrapped_neighbour_index(Domain dom, uvec2 cell, int dx, int dy) {
+    int x = int(cell.x) + dx;
+    int y = int(cell.y) + dy;
+    int w = int(dom.cells_x);
+    int h = int(dom.cells_y);
+    if (dom.lattice.periodic != 0u) {
+        x += x < 0 ? w : (x >= w ? -w : 0);
+        y += y < 0 ? h : (y >= h ? -h : 0);
+    } else if (x < 0 || y < 0 || x >= w || y >= h) {
+        return GRID_EMPTY;
+    }
+    return uint(y) * dom.cells_x + uint(x);
+}
+
+// Index of the base cell (cx + dx, cy + dy), or GRID_EMPTY when it falls off a free boundary.
+// `inner` is inner_cell(dom, cell), computed once per scan.
+VRPD_FN uint neighbour_index(Domain dom, uvec2 cell, bool inner, int dx, int dy) {
+    if (inner) return uint(int(base_index(dom, cell)) + dy * int(dom.cells_x) + dx);
+    return wrapped_neighbour_index(dom, cell, dx, dy);
+}
+
+// The columns a scan of row dy (|dy| <= reach) must visit: |dx| <= row_reach, the cells some of
+// whose points are closer than sqrt(limit2) to some point of the centre cell; -1 if none is.
+VRPD_FN int computed_row_reach(Domain dom, int dy, int reach, uint64_t limit2) {
+    int w = reach;
+    while (w >= 0 && cell_gap2(dom, w, dy) >= limit2) w--;
+    return w;
+}
+
+// computed_row_reach for the conflict scans (inhibition2, conflict_reach), which the plan
+// stores in bits 24-31 of Radii::reach: 0 to MAX_REACH, since the centre column of a row within
+// the reach is always within it. Those scans run for every dart (and with one radius for every
+// cell test too): computing their rows costs (docs/performance.md).
+VRPD_FN int conflict_row(Radii r, int dy) { return int((r.reach >> (24u + 2u * uint(dy < 0 ? -dy : dy))) & 3u); }
+
+VRPD_FN int row_reach(Domain dom, int dy, int reach, uint64_t limit2) {
+    if (limit2 == dom.radii.inhibition2 && reach == conflict_reach(dom.radii)) return conflict_row(dom.radii, dy);
+    return computed_row_reach(dom, dy, reach, limit2);
+}
+
+// The domain as seen from base cell `cell`: on a torus at least 2 (reach + 1) cells wide, a cell
+// whose neighbourhood does not wrap sees every relevant offset shorter than half the torus, so
+// straight distances equal torus distances there and the wrap can be skipped. Every predicate
+// gives the same answer with either domain; this one is cheaper.
+VRPD_FN Domain local_domain(Domain dom, uvec2 cell) {
+    uint r = influence_reach(dom.radii);
+    if (dom.lattice.periodic != 0u && inner_cell(dom, cell) && dom.cells_x >= 2u * r + 2u && dom.cells_y >= 2u * r + 2u)
+        dom.lattice.periodic = 0u;
+    return dom;
+}
+
+// Visits the base cells (dx, dy) around base cell `cell` within `reach` rows and columns whose
+// points may lie closer than sqrt(limit2) to a point of `cell`, row by row, as `nb`, their index.
+// The body follows as a block; `continue` goes to the next cell, `return` ends the scan.
+// (GLSL has neither closures nor function pointers; a loop macro keeps the scan written once
+// while every compiler still sees two plain nested loops.)
+#define VRPD_FOR_EACH_NEIGHBOUR(dom, cell, reach, limit2, dx, dy, nb)                                      \
+    for (bool vrpd_inner = inner_cell(dom, cell), vrpd_once = true; vrpd_once; vrpd_once = false)          \
+        for (uint nb = 0u; vrpd_once; vrpd_once = false)                                                   \
+            for (int dy = -(reach); dy <= (reach); dy++)                                                   \
+                for (int dx = -row_reach(dom, dy, reach, limit2), vrpd_row_end = -dx; dx <= vrpd_row_end; dx++) \
+                    if ((nb = neighbour_index(dom, cell, vrpd_inner, dx, dy)) != GRID_EMPTY)
+
+VRPD_END
+#endif

@@ -1,0 +1,158 @@
+// Refinement of the flat quadtree (Ebeida et al. 2012): after a level's rounds, each active cell
+// keeps the children (or, between the rounds of a level, itself) that may still hold uncovered
+// points; a child one disk covers wholly is dropped (exact corner test), and with two radii a
+// child no single disk covers is tested exactly for U.
+#ifndef VRPD_QUADTREE_H
+#define VRPD_QUADTREE_H
+#include "bridge.h"
+#include "active_cells.h"
+#include "cover.h"
+#include "kernels.h"
+#include "t_membership.h"
+
+VRPD_BEGIN
+
+// Clamps the last lattice coordinate of an interval to a free boundary's last lattice point.
+VRPD_FN uint clip_hi(uint hi, uint extent, uint periodic) { return periodic != 0u || hi < extent ? hi : extent - 1u; }
+
+// The children of one active cell as closed lattice intervals, as offsets from the base cell's
+// corner: x in [lo0.x, hi0.x] or [lo1.x, hi1.x], the same in y. A second child off a free
+// boundary (dropped already) repeats the first's intervals.
+struct ChildBoxes {
+    ivec2 lo0;
+    ivec2 hi0;
+    ivec2 lo1;
+    ivec2 hi1;
+};
+
+// Clears from `mask` the children that the disk of the sample at offset o covers wholly (exact
+// corner test), and from `open_corners` (two radii) the corners of the children it covers.
+VRPD_FN void cover_children(Domain dom, ChildBoxes b, uint fanout, ivec2 o, VRPD_INOUT(uint) mask, VRPD_INOUT(uint) open_corners) {
+    uint64_t fx0 = far2(o.x, b.lo0.x, b.hi0.x);
+    uint64_t fy0 = far2(o.y, b.lo0.y, b.hi0.y);
+    if (covers(dom.radii, fx0 + fy0)) mask &= ~1u;
+    if (fanout == 4u) {
+        uint64_t fx1 = far2(o.x, b.lo1.x, b.hi1.x);
+        uint64_t fy1 = far2(o.y, b.lo1.y, b.hi1.y);
+        if (covers(dom.radii, fx1 + fy0)) mask &= ~2u;
+        if (covers(dom.radii, fx0 + fy1)) mask &= ~4u;
+        if (covers(dom.radii, fx1 + fy1)) mask &= ~8u;
+    }
+#ifndef VRPD_ONE_RADIUS
+    if (open_corners != 0u && two_radii(dom.radii)) {
+        uint64_t gx[3];
+        uint64_t gy[3];
+        gx[0] = square_gap(o.x, b.lo0.x);
+        gx[1] = square_gap(o.x, b.hi0.x);
+        gx[2] = square_gap(o.x, b.hi1.x);
+        gy[0] = square_gap(o.y, b.lo0.y);
+        gy[1] = square_gap(o.y, b.hi0.y);
+        gy[2] = square_gap(o.y, b.hi1.y);
+        for (uint k = 0u; k < 9u; k++)
+            if (covers(dom.radii, gx[k % 3u] + gy[k / 3u])) open_corners &= ~(1u << k);
+    }
+#endif
+}
+
+// Does refinement into `fanout` children of side `side` test which of them disks cover? When
+// cells split (fanout 4), and at the deepest level (side 1), where that test is what ends the
+// run. Between the rounds of a coarser level (fanout 1), one radius keeps every cell whose base
+// cell holds no sample, covered or not: the next round's darts in a covered cell are rejected at
+// throw by the same sample scan that the cover test would have run for every cell, and only the
+// darts are random, so the samples are the same, for less work (docs/performance.md). Two radii
+// test: their active cells also say which base cells get darts, and each T test costs far more
+// than a scan.
+VRPD_FN bool cover_tested(Domain dom, uint fanout, uint side) { return fanout == 4u || side == 1u || two_radii(dom.radii); }
+
+// Which of the `fanout` children (4, or 1: the cell itself) of the active cell at `corner` stay
+// active, as a bit mask. A child is dropped if it lies off the domain or (cover_tested) one
+// sample's disk covers it wholly (exact corner test, see far2). Children covered only by a union
+// of disks stay, and are split until they are single lattice points, where the test is exact.
+// A child's x and y intervals are shared in pairs: 2 + 2 far offsets per sample rather than 4
+// corner tests.
+// `samples` is gather_cell_samples's count for the base cell (past MAX_CELL_SAMPLES: scan the grid).
+//
+// Two radii: a cell is the closed square [corner, corner + side]^2 (continuous: T's test is), and
+// a child that no single disk covers is tested exactly (t_membership.h): it stays iff it still holds
+// a point of U. So the cells track U exactly, and vanish as soon as U does. Should that test run
+// past its bounds, the child stays; at the deepest level it then falls back to its lattice point.
+VRPD_FN uint surviving_children(Domain dom, Grid grid, uvec2 base, uvec2 corner, uint side, uint fanout, uint samples) {
+    uint mask = 0u;
+    for (uint c = 0u; c < fanout; c++)
+        if (in_lattice(dom.lattice, child_corner(corner, side, c))) mask |= 1u << c;
+    if (!cover_tested(dom, fanout, side)) return mask;
+    uint pad = two_radii(dom.radii) ? 0u : 1u;  // one radius: the cell's lattice points
+    // The children's intervals, as offsets from the base cell's corner (clipped to a free boundary).
+    uvec2 origin = uvec2(base.x << dom.cell_bits, base.y << dom.cell_bits);
+    uint x1 = corner.x + side;
+    uint y1 = corner.y + side;
+    ChildBoxes b;
+    b.lo0 = ivec2(corner - origin);
+    b.hi0 = ivec2(uvec2(clip_hi(x1 - pad, dom.lattice.extent_x, dom.lattice.periodic), clip_hi(y1 - pad, dom.lattice.extent_y, dom.lattice.periodic)) - origin);
+    bool x1_in = fanout == 4u && (dom.lattice.periodic != 0u || x1 < dom.lattice.extent_x);
+    bool y1_in = fanout == 4u && (dom.lattice.periodic != 0u || y1 < dom.lattice.extent_y);
+    b.lo1 = ivec2(x1_in ? int(x1 - origin.x) : b.lo0.x, y1_in ? int(y1 - origin.y) : b.lo0.y);
+    b.hi1 = ivec2(x1_in ? int(clip_hi(x1 + side - pad, dom.lattice.extent_x, dom.lattice.periodic) - origin.x) : b.hi0.x,
+                  y1_in ? int(clip_hi(y1 + side - pad, dom.lattice.extent_y, dom.lattice.periodic) - origin.y) : b.hi0.y);
+    // Two radii: bit 3 j + i stays set while no sample covers the lattice point (x_i, y_j) of the
+    // 3 x 3 corners of the children (x_0 = lo0.x, x_1 = hi0.x, x_2 = hi1.x): a child with an
+    // uncovered corner holds a point of U and stays without the exact test.
+    uint open_corners = 0x1FFu;
+    if (samples <= MAX_CELL_SAMPLES) {
+        for (uint k = 0u; k < samples && mask != 0u; k++) cover_children(dom, b, fanout, cell_sample_at[k], mask, open_corners);
+    }
+#ifndef VRPD_ONE_RADIUS  // one radius: MAX_CELL_SAMPLES holds any neighbourhood (gather_cell_samples)
+    else {
+        int reach = cover_reach(dom.radii);
+        VRPD_FOR_EACH_NEIGHBOUR(dom, base, reach, dom.radii.coverage2, dx, dy, nb) {
+            if (mask == 0u) return 0u;
+            uvec2 p = grid.word[nb];
+            if (grid_is_sample(p)) cover_children(dom, b, fanout, sample_offset(dom, dx, dy, p), mask, open_corners);
+        }
+    }
+    for (uint c = 0u; c < fanout && two_radii(dom.radii); c++) {
+        if ((mask & (1u << c)) == 0u) continue;
+        uint k = 3u * (c >> 1u) + (c & 1u);
+        if ((open_corners & ((3u << k) | (3u << (k + 3u)))) != 0u) continue;
+        uvec2 cc = child_corner(corner, side, c);
+        ivec2 hi = ivec2(int(side), int(side));
+        if (dom.lattice.periodic == 0u) hi = min(hi, ivec2(int(dom.lattice.extent_x - 1u - cc.x), int(dom.lattice.extent_y - 1u - cc.y)));
+        uint n = gather_near_box(dom, grid, base, cc, hi);
+        if (n > MAX_DISKS) continue;
+        uint t = reaches_uncovered(n, dom.radii.coverage2, ivec2(0, 0), hi, false);
+        if (t == T_UNKNOWN && side == 1u) t = near_sample(dom, grid, base, cc, COVERAGE) ? T_OUTSIDE : T_INSIDE;
+        if (t == T_OUTSIDE) mask &= ~(1u << c);
+    }
+#endif
+    return mask;
+}
+
+// For the active cells [first, end) of one base cell: masks[i] has bit c set for the children c
+// of cell i that stay active (none if the base cell holds a sample), and counts[i] their number,
+// for the scan that places them in the next active list. The samples near the base cell are
+// gathered once for the range. The host passes each base cell's whole group (group_end), the
+// Vulkan kernel one cell per invocation: with two radii a base cell may hold hundreds of active
+// cells (driver.cpp, kCrowded), and llvmpipe ends a loop once 65 535 iterations have run in one
+// SIMD batch, which a group's T tests in one invocation passed, leaving cells unrefined.
+VRPD_FN void refine_cells_of_base(CellArgs a, Cells cells, Uints counts, Uints masks, Grid grid, uint first, uint end) {
+    uvec2 base = base_cell_of(a.domain, cells.cell[first]);
+    Domain dom = local_domain(a.domain, base);
+    bool occupied = grid_is_sample(grid.word[base_index(dom, base)]);
+    uint samples = occupied || !cover_tested(dom, a.param, a.side) ? 0u : gather_cell_samples(dom, grid, base);
+    for (uint i = first; i < end; i++) {
+        uint mask = occupied ? 0u : surviving_children(dom, grid, base, cells.cell[i], a.side, a.param, samples);
+        masks.value[i] = mask;
+        counts.value[i] = uint(bitCount(mask));
+    }
+}
+
+// Writes the surviving children of active cell i to the next active list, from its rank on.
+VRPD_FN void scatter_children(CellArgs a, Cells cells, Uints ranks, Uints masks, Cells cells_out, uint i) {
+    uint mask = masks.value[i];
+    uint rank = ranks.value[i];
+    for (uint c = 0u; c < a.param; c++)
+        if ((mask & (1u << c)) != 0u) cells_out.cell[rank++] = child_corner(cells.cell[i], a.side, c);
+}
+
+VRPD_END
+#endif
