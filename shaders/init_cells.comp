@@ -9,5 +9,5 @@ layout(push_constant) uniform Push { CellArgs a; };
 void main() {
     uint i = gl_GlobalInvocationID.x;
     if (i < a.cell_count)
-        a.cells.cell[i] = uvec2((i % a.domain.cells_x) << a.domain.cell_bits, (i / a.domain.cells_x) << a.domain.cell_bits);
+        a.cells.cell[i] = base_corner(a.domain, i);
 }

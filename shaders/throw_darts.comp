@@ -4,8 +4,9 @@
 #include "shared/sampler.h"
 layout(local_size_x_id = 0) in;
 // Per base cell (run by its first active cell): writes the darts of its active cells (those
-// covered by earlier samples already rejected) and appends its undecided darts to work list 0. The list's order depends on scheduling, which is harmless: resolution's result
-// does not depend on the visiting order.
+// covered by earlier samples already rejected) and appends its undecided darts to work list 0.
+// The list's order depends on scheduling, which is harmless: resolution's result does not depend
+// on the visiting order.
 layout(push_constant) uniform Push { CellArgs a; };
 
 void main() {

@@ -220,7 +220,9 @@ TEST_CASE("check: vrpd's own files pass at the resolution they are written with"
     // A radius near the box's side leaves one or a few samples; check judges them too.
     for (const char* radius : {"0.9", "0.6"}) {
         const fs::path few = scratch() / "few.csv";
-        REQUIRE(cli(std::string("sample --boundary free --device cpu --radius ") + radius + " -o " + few.string()).code == 0);
+        REQUIRE(
+            cli(std::string("sample --boundary free --device cpu --radius ") + radius + " -o " + few.string()).code ==
+            0);
         CHECK(cli("check " + few.string() + " --boundary free --radius " + radius).code == 0);
     }
 }

@@ -61,8 +61,10 @@ TEST_CASE("the lattice plan keeps the invariants the kernels rely on", "[options
             const int reach = shared::conflict_reach(d.radii);
             INFO("r = " << r << ", at most " << bits << " cell bits");
             for (int dy = -reach; dy <= reach; ++dy) {
-                CHECK(shared::conflict_row(d.radii, dy) == shared::computed_row_reach(d, dy, reach, d.radii.inhibition2));
-                CHECK(shared::row_reach(d, dy, reach, d.radii.inhibition2) == shared::computed_row_reach(d, dy, reach, d.radii.inhibition2));
+                CHECK(shared::conflict_row(d.radii, dy) ==
+                      shared::computed_row_reach(d, dy, reach, d.radii.inhibition2));
+                CHECK(shared::row_reach(d, dy, reach, d.radii.inhibition2) ==
+                      shared::computed_row_reach(d, dy, reach, d.radii.inhibition2));
             }
         }
     }
@@ -218,7 +220,8 @@ TEST_CASE("the engines' arrays stay within the memory estimate checked before a 
             o.coverage = rc;
             const detail::Plan plan = detail::make_plan(o);
             const Sampling s = detail::sample_plan(o, plan);
-            INFO("backend " << int(b) << " Rc " << rc << " base cells " << plan.base_cells << " peak " << s.stats.peak_bytes);
+            INFO("backend " << int(b) << " Rc " << rc << " base cells " << plan.base_cells << " peak "
+                            << s.stats.peak_bytes);
             CHECK(s.stats.peak_bytes >= plan.base_cells * 8 + s.size() * 8);
             CHECK(s.stats.peak_bytes <= plan.base_cells * 48 + (1u << 20));
             // Mask mode and 12-byte darts: the issue's goal of 64 bytes per sample (measured here:
@@ -280,13 +283,15 @@ TEST_CASE("refinement drops exactly the children one sample's disk covers", "[sa
                 std::uniform_int_distribution<uint> pick(0, cells_across - 1);
                 const uvec2 corner = origin + uvec2(pick(rng), pick(rng)) * (fanout == 4u ? 2u * side : side);
                 const uint mask = surviving_children(dom, Grid{grid.data()}, base, corner, side, fanout, n);
-                const uint scanned = surviving_children(dom, Grid{grid.data()}, base, corner, side, fanout, MAX_CELL_SAMPLES + 1);
+                const uint scanned =
+                    surviving_children(dom, Grid{grid.data()}, base, corner, side, fanout, MAX_CELL_SAMPLES + 1);
                 REQUIRE(mask == scanned);
                 if (two_radii(d.radii)) continue;  // the exact U test of two radii has tests of its own
                 for (uint ch = 0; ch < fanout; ++ch) {
                     const uvec2 cc = child_corner(corner, side, ch);
                     bool expect = cc.x < d.lattice.extent_x && cc.y < d.lattice.extent_y;
-                    const uvec2 hi(std::min(cc.x + side - 1, d.lattice.extent_x - 1), std::min(cc.y + side - 1, d.lattice.extent_y - 1));
+                    const uvec2 hi(std::min(cc.x + side - 1, d.lattice.extent_x - 1),
+                                   std::min(cc.y + side - 1, d.lattice.extent_y - 1));
                     // Between the rounds of a level above the deepest, one radius tests no cover (cover_tested).
                     for (uvec2 p : kept) {
                         if (!expect || !cover_tested(d, fanout, side)) break;

@@ -11,7 +11,9 @@
 #include "resolve_probe.h"
 #include "shared/sampler.h"
 #include "support.h"
-#include "vulkan_context.h"
+#include "vulkan/buffer.h"
+#include "vulkan/device.h"
+#include "vulkan/kernel.h"
 
 using namespace vrpd;
 using vrpd::test::options;
@@ -67,7 +69,8 @@ bool brute_force_reaches(const Config& c, double r2) {
         const int steps = 200;
         for (int i = 0; i <= steps; ++i)
             for (int j = 0; j <= steps; ++j)
-                if (clear(c.lo.x + (c.hi.x - c.lo.x) * double(i) / steps, c.lo.y + (c.hi.y - c.lo.y) * double(j) / steps))
+                if (clear(c.lo.x + (c.hi.x - c.lo.x) * double(i) / steps,
+                          c.lo.y + (c.hi.y - c.lo.y) * double(j) / steps))
                     return true;
         return false;
     }
@@ -83,8 +86,8 @@ bool brute_force_reaches(const Config& c, double r2) {
 }
 
 std::string describe(const Config& c) {
-    std::string text = "box (" + std::to_string(c.lo.x) + "," + std::to_string(c.lo.y) + ")-(" + std::to_string(c.hi.x) +
-                       "," + std::to_string(c.hi.y) + "), disks";
+    std::string text = "box (" + std::to_string(c.lo.x) + "," + std::to_string(c.lo.y) + ")-(" +
+                       std::to_string(c.hi.x) + "," + std::to_string(c.hi.y) + "), disks";
     for (const glm::ivec2& d : c.disks) text += " (" + std::to_string(d.x) + "," + std::to_string(d.y) + ")";
     return text;
 }
@@ -201,8 +204,9 @@ TEST_CASE("T membership: the exact test agrees with dense brute force", "[two-ra
                         // The grid can miss slivers thinner than its spacing: count them.
                         if (exact && !dense) ++missed;
                     }
-                    INFO("Rc " << rc << " ratio " << ratio << " boxed " << boxed << " in_disk " << in_disk << ": " << reaches
-                               << " reach U, " << covered << " do not, " << missed << " slivers the grid missed");
+                    INFO("Rc " << rc << " ratio " << ratio << " boxed " << boxed << " in_disk " << in_disk << ": "
+                               << reaches << " reach U, " << covered << " do not, " << missed
+                               << " slivers the grid missed");
                     // Both answers are common, so neither direction goes untested.
                     CHECK(reaches >= 20);
                     CHECK(covered >= 20);
@@ -314,7 +318,8 @@ TEST_CASE("two radii: conflict-free at Rf, inside the box, gpu = cpu = serial", 
                 const SampleOptions o = two_radii(c.rf, c.rc, seed, b, c.box);
                 return detail::sample_plan(o, detail::make_plan(o, c.max_cell_bits));
             };
-            const detail::Plan plan = detail::make_plan(two_radii(c.rf, c.rc, seed, Backend::Cpu, c.box), c.max_cell_bits);
+            const detail::Plan plan =
+                detail::make_plan(two_radii(c.rf, c.rc, seed, Backend::Cpu, c.box), c.max_cell_bits);
             const Sampling serial = run(Backend::Serial);
             const Sampling cpu = run(Backend::Cpu);
             const Sampling gpu = run(Backend::Gpu);
@@ -360,7 +365,8 @@ TEST_CASE("every accepted sample reduced the uncovered set", "[two-radii]") {
                         if (boundary == Boundary::Free && (p.x < 0 || p.y < 0 || p.x > 1 || p.y > 1)) continue;
                         if (boundary == Boundary::Periodic) p = glm::fract(p);
                         bool covered = false;
-                        for (const glm::dvec2& q : near) covered = covered || std::hypot(gap(q.x, p.x), gap(q.y, p.y)) < rc;
+                        for (const glm::dvec2& q : near)
+                            covered = covered || std::hypot(gap(q.x, p.x), gap(q.y, p.y)) < rc;
                         reduces = !covered;
                     }
                 }
@@ -426,7 +432,9 @@ TEST_CASE("two radii: the device's resolution passes give the host's decisions",
         const auto* device = static_cast<const uint*>(decisions.mapped());
         undecided = false;
         for (uint d = 0; d < n; ++d) {
-            host[d] = darts[d].w == DART_UNDECIDED ? resolve_dart(dom, Grid{grid.data()}, Darts{stored.data()}, d, false) : darts[d].w;
+            host[d] = darts[d].w == DART_UNDECIDED
+                          ? resolve_dart(dom, Grid{grid.data()}, Darts{stored.data()}, d, false)
+                          : darts[d].w;
             INFO("pass " << passes << " dart " << d << " at " << darts[d].x << "," << darts[d].y);
             REQUIRE(device[d] == host[d]);
         }
@@ -504,7 +512,8 @@ TEST_CASE("two radii: mean count matches an independent brute-force process", "[
         naive_sq += b * b;
     }
     const double vm = vrpd_sum / runs, nm = naive_sum / runs;
-    const double vv = (vrpd_sq / runs - vm * vm) * runs / (runs - 1), nv = (naive_sq / runs - nm * nm) * runs / (runs - 1);
+    const double vv = (vrpd_sq / runs - vm * vm) * runs / (runs - 1),
+                 nv = (naive_sq / runs - nm * nm) * runs / (runs - 1);
     const double se = std::sqrt((vv + nv) / runs);
     INFO("vrpd mean " << vm << " (sd " << std::sqrt(vv) << "), naive mean " << nm << " (sd " << std::sqrt(nv)
                       << "), standard error of the difference " << se);

@@ -41,7 +41,8 @@ TEST_CASE("hexagonal lattice: every angle is 60 degrees", "[verify]") {
     const Box box{cols * a, rows * a * std::sqrt(3.0) / 2, Boundary::Periodic};
     std::vector<glm::dvec2> p;
     for (int y = 0; y < rows; ++y)
-        for (int x = 0; x < cols; ++x) p.push_back({(x + 0.5 * (y % 2) + 0.25) * a, (y + 0.5) * a * std::sqrt(3.0) / 2});
+        for (int x = 0; x < cols; ++x)
+            p.push_back({(x + 0.5 * (y % 2) + 0.25) * a, (y + 0.5) * a * std::sqrt(3.0) / 2});
     const Report r = verify(p, {a, a}, box);
     CHECK(r.min_angle_degrees == Approx(60).epsilon(1e-9));
     CHECK(r.max_angle_degrees == Approx(60).epsilon(1e-9));
@@ -90,13 +91,13 @@ TEST_CASE("one, two or collinear points: the largest empty circle is still found
         double radius;  // of the largest empty circle
     };
     const Known known[] = {
-        {{{0.5, 0.5}}, free, std::sqrt(0.5)},                                        // at a corner
-        {{{0.3, 0.5}}, free, std::hypot(0.7, 0.5)},                                  // the far corners
-        {{{0.25, 0.5}, {0.75, 0.5}}, free, std::hypot(0.25, 0.5)},                   // corners, and x = 0.5 on the sides
-        {{{0.5, 0.2}, {0.5, 0.9}}, free, std::hypot(0.5, 0.35)},                    // the bisector y = 0.55 on the sides
-        {{{0.2, 0.5}, {0.5, 0.5}, {0.8, 0.5}}, free, std::hypot(0.2, 0.5)},         // on one line
-        {{{0.5, 0.5}}, torus, std::sqrt(0.5)},                                       // the torus's far point
-        {{{0.25, 0.25}, {0.75, 0.75}}, torus, 0.5},                                  // a square lattice of side sqrt(1/2)
+        {{{0.5, 0.5}}, free, std::sqrt(0.5)},                                // at a corner
+        {{{0.3, 0.5}}, free, std::hypot(0.7, 0.5)},                          // the far corners
+        {{{0.25, 0.5}, {0.75, 0.5}}, free, std::hypot(0.25, 0.5)},           // corners, and x = 0.5 on the sides
+        {{{0.5, 0.2}, {0.5, 0.9}}, free, std::hypot(0.5, 0.35)},             // the bisector y = 0.55 on the sides
+        {{{0.2, 0.5}, {0.5, 0.5}, {0.8, 0.5}}, free, std::hypot(0.2, 0.5)},  // on one line
+        {{{0.5, 0.5}}, torus, std::sqrt(0.5)},                               // the torus's far point
+        {{{0.25, 0.25}, {0.75, 0.75}}, torus, 0.5},                          // a square lattice of side sqrt(1/2)
     };
     for (const Known& k : known) {
         INFO(k.points.size() << " points, " << (k.box.boundary == Boundary::Free ? "free" : "periodic"));

@@ -4,7 +4,9 @@
 
 #include <cstdlib>
 
-#include "vulkan_context.h"
+#include "vulkan/buffer.h"
+#include "vulkan/device.h"
+#include "vulkan/kernel.h"
 
 using namespace vrpd;
 
@@ -33,5 +35,35 @@ TEST_CASE("a buffer larger than the device holds is refused as out of memory", "
     detail::VulkanContext ctx("");
     CHECK_THROWS_WITH(detail::Buffer(ctx, VkDeviceSize(1) << 46, false), Catch::Contains("out of memory on"));
     CHECK(ctx.peak_allocated_bytes() == 0);
+    CHECK_NOTHROW(ctx.check_validation());
+}
+
+TEST_CASE("errors name the VkResult and the device", "[gpu][vulkan]") {
+    CHECK(detail::result_name(VK_ERROR_OUT_OF_DEVICE_MEMORY) == "VK_ERROR_OUT_OF_DEVICE_MEMORY");
+    CHECK(detail::result_name(VkResult(-12345)) == "VkResult -12345");
+    detail::VulkanContext ctx("");
+    CHECK_THROWS_WITH(ctx.check(VK_ERROR_DEVICE_LOST, "vkQueueSubmit"),
+                      "Vulkan: vkQueueSubmit failed on " + ctx.device_name() + ": VK_ERROR_DEVICE_LOST");
+    CHECK_THROWS_WITH(detail::Buffer(ctx, VkDeviceSize(1) << 46, false), Catch::Contains("VK_ERROR_OUT_OF_"));
+}
+
+TEST_CASE("buffers account for their memory through moves, and free it", "[gpu][vulkan]") {
+    detail::VulkanContext ctx("");
+    {
+        detail::Buffer a(ctx, 1 << 20, false);
+        const std::uint64_t one = ctx.allocated_bytes();
+        CHECK(one >= (1u << 20));
+        detail::Buffer b(std::move(a));
+        CHECK(ctx.allocated_bytes() == one);
+        CHECK(a.handle() == VK_NULL_HANDLE);
+        detail::Buffer c(ctx, 1 << 20, true);
+        c = std::move(b);  // c's own memory is freed first
+        CHECK(ctx.allocated_bytes() == one);
+        CHECK(c.mapped() == nullptr);
+        detail::grow(ctx, c, 3 << 20, true);
+        CHECK(c.size() == (3u << 20));
+    }
+    CHECK(ctx.allocated_bytes() == 0);
+    CHECK(ctx.peak_allocated_bytes() >= (2u << 20));
     CHECK_NOTHROW(ctx.check_validation());
 }

@@ -1,5 +1,6 @@
 // `vrpd bench`: best-of-N wall time, points/s, darts per sample and peak memory per (radii,
-// device) on the unit torus: one radius r, and two radii Rf < Rc (paper section 3). Each case runs in a child process so its peak RSS is its own.
+// device) on the unit torus: one radius r, and two radii Rf < Rc (paper section 3). Each case runs in a child process
+// so its peak RSS is its own.
 #include <cstring>
 #include <fstream>
 #include <iostream>
@@ -108,7 +109,8 @@ int run_bench(const BenchOptions& o) {
                              "B/sample", "arrays/n", "device name");
     int failures = 0;
     for (const Radii& radii : cases) {
-        const std::string label = radii.rf == radii.rc ? fmt::format("{}", radii.rf) : fmt::format("{}/{}", radii.rf, radii.rc);
+        const std::string label =
+            radii.rf == radii.rc ? fmt::format("{}", radii.rf) : fmt::format("{}/{}", radii.rf, radii.rc);
         for (Backend b : backends) {
             CaseResult c = run_in_child(radii, b, o);
             if (!c.ok) {
@@ -118,21 +120,30 @@ int run_bench(const BenchOptions& o) {
                 continue;
             }
             const double pps = double(c.samples) / c.best_seconds;
-            std::cout << fmt::format("{:>13} {:>7} {:>9} {:>8.5f} {:>9.3f} {:>10.3g} {:>8.2f} {:>7.2f} {:>9.1f} {:>8.1f} {:>8.1f}  {}\n",
-                                     label, backend_name(b), c.samples, double(c.samples) * radii.rc * radii.rc,
-                                     c.best_seconds, pps, 1e6 / pps, double(c.darts) / double(c.samples),
-                                     c.peak_bytes / (1 << 20), c.peak_bytes / double(c.samples),
-                                     c.array_bytes / double(c.samples), c.device);
+            std::cout << fmt::format(
+                "{:>13} {:>7} {:>9} {:>8.5f} {:>9.3f} {:>10.3g} {:>8.2f} {:>7.2f} {:>9.1f} {:>8.1f} {:>8.1f}  {}\n",
+                label, backend_name(b), c.samples, double(c.samples) * radii.rc * radii.rc, c.best_seconds, pps,
+                1e6 / pps, double(c.darts) / double(c.samples), c.peak_bytes / (1 << 20),
+                c.peak_bytes / double(c.samples), c.array_bytes / double(c.samples), c.device);
             std::cout.flush();
-            rows.push_back({{"rf", radii.rf}, {"rc", radii.rc}, {"device", backend_name(b)}, {"device_name", c.device},
-                            {"samples", c.samples}, {"darts", c.darts}, {"levels", c.levels},
-                            {"best_seconds", c.best_seconds}, {"points_per_second", pps},
-                            {"peak_rss_bytes", c.peak_bytes}, {"peak_array_bytes", c.array_bytes}, {"repeat", o.repeat}});
+            rows.push_back({{"rf", radii.rf},
+                            {"rc", radii.rc},
+                            {"device", backend_name(b)},
+                            {"device_name", c.device},
+                            {"samples", c.samples},
+                            {"darts", c.darts},
+                            {"levels", c.levels},
+                            {"best_seconds", c.best_seconds},
+                            {"points_per_second", pps},
+                            {"peak_rss_bytes", c.peak_bytes},
+                            {"peak_array_bytes", c.array_bytes},
+                            {"repeat", o.repeat}});
         }
     }
     if (!o.json.empty()) {
         std::ofstream out(o.json);
-        out << nlohmann::json{{"benchmark", "unit torus, seed " + std::to_string(o.seed)}, {"rows", rows}}.dump(2) << "\n";
+        out << nlohmann::json{{"benchmark", "unit torus, seed " + std::to_string(o.seed)}, {"rows", rows}}.dump(2)
+            << "\n";
         if (!out) throw Error("cannot write " + o.json);
     }
     return failures ? 1 : 0;

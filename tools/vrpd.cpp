@@ -75,7 +75,8 @@ int run_check(const CheckOptions& o) {
     Radii radii{o.radius, o.radius};
     if (o.radius > 0 && (o.rf > 0 || o.rc > 0)) throw Error("give either --radius or --rf and --rc");
     if (o.radius <= 0) radii = {o.rf, o.rc > 0 ? o.rc : o.rf};
-    if (o.tolerance && !(*o.tolerance >= 0)) throw Error(fmt::format("--tolerance must be >= 0 (got {})", *o.tolerance));
+    if (o.tolerance && !(*o.tolerance >= 0))
+        throw Error(fmt::format("--tolerance must be >= 0 (got {})", *o.tolerance));
     radii.tolerance = o.tolerance ? *o.tolerance : kDefaultTolerance * std::max(box.width, box.height);
     if (!o.json.empty()) check_writable(o.json);
     const bool tty = isatty(2);
@@ -85,10 +86,10 @@ int run_check(const CheckOptions& o) {
     const Report r = verify(points, radii, box);
     if (tty) std::cerr << std::string(60, ' ') << "\r";
     std::cout << fmt::format("{} points, n*Rf^2/area {:.5f}\n", r.points, r.density);
-    std::cout << fmt::format("minimum distance {:.9g} (Rf {}, tolerance {:.3g}): {} conflicting pairs\n", r.min_distance,
-                             radii.inhibition, radii.tolerance, r.conflicts);
-    std::cout << fmt::format("largest empty circle radius {:.9g} at ({:.9g}, {:.9g}); Rc {}: {}\n", r.largest_empty_radius,
-                             r.largest_empty_centre.x, r.largest_empty_centre.y, radii.coverage,
+    std::cout << fmt::format("minimum distance {:.9g} (Rf {}, tolerance {:.3g}): {} conflicting pairs\n",
+                             r.min_distance, radii.inhibition, radii.tolerance, r.conflicts);
+    std::cout << fmt::format("largest empty circle radius {:.9g} at ({:.9g}, {:.9g}); Rc {}: {}\n",
+                             r.largest_empty_radius, r.largest_empty_centre.x, r.largest_empty_centre.y, radii.coverage,
                              r.maximal ? "maximal" : "NOT maximal");
     std::string edges_rc;
     if (radii.coverage != radii.inhibition)
@@ -102,18 +103,26 @@ int run_check(const CheckOptions& o) {
                                  r.min_edge / radii.inhibition, r.max_edge / radii.inhibition, edges_rc);
     std::cout << (r.passed() ? "PASS" : "FAIL") << "\n";
     if (!o.json.empty()) {
-        nlohmann::json j{{"points", r.points}, {"density", r.density}, {"rf", radii.inhibition}, {"rc", radii.coverage},
-                         {"tolerance", radii.tolerance},
-                         {"min_distance", r.min_distance}, {"conflicts", r.conflicts},
-                         {"largest_empty_radius", r.largest_empty_radius},
-                         {"largest_empty_centre", {r.largest_empty_centre.x, r.largest_empty_centre.y}},
-                         {"maximal", r.maximal}, {"triangles", r.triangles},
-                         {"triangles_counted", box.boundary == Boundary::Free ? "circumcentre in the box" : "all, once each"},
-                         {"min_angle_degrees", r.min_angle_degrees}, {"max_angle_degrees", r.max_angle_degrees},
-                         {"angle_histogram", {{"bin_degrees", r.angles.bin_width}, {"counts", r.angles.counts}}},
-                         {"min_edge", r.min_edge}, {"max_edge", r.max_edge},
-                         {"edge_histogram", {{"bin_rf", r.edges.bin_width}, {"counts", r.edges.counts}}},
-                         {"passed", r.passed()}};
+        nlohmann::json j{
+            {"points", r.points},
+            {"density", r.density},
+            {"rf", radii.inhibition},
+            {"rc", radii.coverage},
+            {"tolerance", radii.tolerance},
+            {"min_distance", r.min_distance},
+            {"conflicts", r.conflicts},
+            {"largest_empty_radius", r.largest_empty_radius},
+            {"largest_empty_centre", {r.largest_empty_centre.x, r.largest_empty_centre.y}},
+            {"maximal", r.maximal},
+            {"triangles", r.triangles},
+            {"triangles_counted", box.boundary == Boundary::Free ? "circumcentre in the box" : "all, once each"},
+            {"min_angle_degrees", r.min_angle_degrees},
+            {"max_angle_degrees", r.max_angle_degrees},
+            {"angle_histogram", {{"bin_degrees", r.angles.bin_width}, {"counts", r.angles.counts}}},
+            {"min_edge", r.min_edge},
+            {"max_edge", r.max_edge},
+            {"edge_histogram", {{"bin_rf", r.edges.bin_width}, {"counts", r.edges.counts}}},
+            {"passed", r.passed()}};
         std::ofstream out(o.json);
         out << j.dump(2) << "\n";
         if (!out) throw Error("cannot write " + o.json);
@@ -129,8 +138,8 @@ void print_profile(const SamplingStats& stats, std::ostream& out) {
     std::stable_sort(phases.begin(), phases.end(),
                      [](const PhaseTime& a, const PhaseTime& b) { return a.seconds > b.seconds; });
     double timed = 0.0;
-    out << fmt::format("vrpd: profile, {:.3f} s in all\n  {:<18} {:>9} {:>7} {:>7}\n", stats.seconds, "phase", "seconds",
-                       "share", "calls");
+    out << fmt::format("vrpd: profile, {:.3f} s in all\n  {:<18} {:>9} {:>7} {:>7}\n", stats.seconds, "phase",
+                       "seconds", "share", "calls");
     for (const PhaseTime& p : phases) {
         timed += p.seconds;
         out << fmt::format("  {:<18} {:9.3f} {:6.1f}% {:7}\n", p.name, p.seconds, 100.0 * p.seconds / stats.seconds,
@@ -154,7 +163,8 @@ int main(int argc, char** argv) {
     double rf = 0, rc = 0;
     auto* radius_opt = sample_cmd->add_option("--radius,-r", opt.radius, "disk radius r (Rf = Rc = r)");
     auto* rf_opt = sample_cmd->add_option("--rf", rf, "inhibition radius Rf: no two samples closer (paper section 3)");
-    auto* rc_opt = sample_cmd->add_option("--rc", rc, "coverage radius Rc, 1.1 Rf <= Rc <= 4 Rf: every point within Rc of a sample");
+    auto* rc_opt = sample_cmd->add_option(
+        "--rc", rc, "coverage radius Rc, 1.1 Rf <= Rc <= 4 Rf: every point within Rc of a sample");
     sample_cmd->add_option("--extent", extent, "box W,H (default 1,1)");
     sample_cmd->add_option("--boundary", boundary, "periodic (default) or free");
     sample_cmd->add_option("--seed", opt.seed, "random seed (default 0)");
@@ -212,7 +222,8 @@ int main(int argc, char** argv) {
             if (radius_opt->count() == (rf_opt->count() + rc_opt->count() > 0))
                 throw Error("give --radius R, or --rf Rf and --rc Rc");
             if (!radius_opt->count()) {
-                if (!rf_opt->count() || !rc_opt->count()) throw Error("give both --rf and --rc (or --radius for Rf = Rc)");
+                if (!rf_opt->count() || !rc_opt->count())
+                    throw Error("give both --rf and --rc (or --radius for Rf = Rc)");
                 opt.radius = rf;
                 opt.coverage = rc;
             }
@@ -225,21 +236,21 @@ int main(int argc, char** argv) {
             if (output.empty()) write_csv(s, std::cout);
             else write_points(s, output);
             const double area = s.box.width * s.box.height;
-            std::cerr << fmt::format("vrpd: {} samples, n*{}^2/area {:.5f}, {:.3f} s, {:.3g} points/s, {} levels, {} darts, "
-                                     "{:.1f} MiB of arrays, device {}{}\n",
-                                     s.size(), s.coverage == s.radius ? "r" : "Rf",
-                                     double(s.size()) * s.radius * s.radius / area, s.stats.seconds,
-                                     double(s.size()) / s.stats.seconds, s.stats.levels, s.stats.darts,
-                                     double(s.stats.peak_bytes) / (1 << 20), s.device,
-                                     s.choice.empty() ? "" : " (auto: " + s.choice + ")");
+            std::cerr << fmt::format(
+                "vrpd: {} samples, n*{}^2/area {:.5f}, {:.3f} s, {:.3g} points/s, {} levels, {} darts, "
+                "{:.1f} MiB of arrays, device {}{}\n",
+                s.size(), s.coverage == s.radius ? "r" : "Rf", double(s.size()) * s.radius * s.radius / area,
+                s.stats.seconds, double(s.size()) / s.stats.seconds, s.stats.levels, s.stats.darts,
+                double(s.stats.peak_bytes) / (1 << 20), s.device, s.choice.empty() ? "" : " (auto: " + s.choice + ")");
             if (opt.profile) cli::print_profile(s.stats, std::cerr);
             return 0;
         }
         if (*devices_cmd) {
             try {
                 for (const DeviceInfo& d : list_devices())
-                    std::cout << fmt::format("{}: {} ({}, {}){}\n", d.index, d.name, d.type, d.driver,
-                                             d.usable ? "" : " - not usable: needs Vulkan 1.2, shaderInt64, bufferDeviceAddress");
+                    std::cout << fmt::format(
+                        "{}: {} ({}, {}){}\n", d.index, d.name, d.type, d.driver,
+                        d.usable ? "" : " - not usable: needs Vulkan 1.2, shaderInt64, bufferDeviceAddress");
             } catch (const Error& e) {
                 std::cout << "no Vulkan device: " << e.what() << "\n";
             }

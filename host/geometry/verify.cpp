@@ -26,7 +26,8 @@ using P2 = K::Point_2;
 void validate_input(const std::vector<glm::dvec2>& pts, Radii radii, const Box& box) {
     if (!(std::isfinite(radii.inhibition) && radii.inhibition > 0 && std::isfinite(radii.coverage) &&
           radii.coverage >= radii.inhibition))
-        throw Error(fmt::format("radii must satisfy 0 < Rf <= Rc (got Rf = {}, Rc = {})", radii.inhibition, radii.coverage));
+        throw Error(
+            fmt::format("radii must satisfy 0 < Rf <= Rc (got Rf = {}, Rc = {})", radii.inhibition, radii.coverage));
     if (!(radii.tolerance >= 0 && radii.tolerance < radii.inhibition))
         throw Error(fmt::format("the tolerance must satisfy 0 <= tolerance < Rf (got {})", radii.tolerance));
     if (!(std::isfinite(box.width) && box.width > 0 && std::isfinite(box.height) && box.height > 0))
@@ -36,15 +37,18 @@ void validate_input(const std::vector<glm::dvec2>& pts, Radii radii, const Box& 
         const glm::dvec2 p = pts[i];
         if (!std::isfinite(p.x) || !std::isfinite(p.y)) throw Error(fmt::format("point {} is not finite", i + 1));
         if (p.x < 0 || p.y < 0 || p.x >= box.width || p.y >= box.height)
-            throw Error(fmt::format("point {} ({}, {}) is outside the box [0,{}) x [0,{})", i + 1, p.x, p.y, box.width, box.height));
+            throw Error(fmt::format("point {} ({}, {}) is outside the box [0,{}) x [0,{})", i + 1, p.x, p.y, box.width,
+                                    box.height));
     }
     std::vector<std::uint32_t> order(pts.size());
     for (std::uint32_t i = 0; i < order.size(); ++i) order[i] = i;
-    std::sort(order.begin(), order.end(), [&](auto a, auto b) { return std::tie(pts[a].x, pts[a].y) < std::tie(pts[b].x, pts[b].y); });
+    std::sort(order.begin(), order.end(),
+              [&](auto a, auto b) { return std::tie(pts[a].x, pts[a].y) < std::tie(pts[b].x, pts[b].y); });
     for (std::size_t i = 1; i < order.size(); ++i)
         if (pts[order[i]] == pts[order[i - 1]])
-            throw Error(fmt::format("points {} and {} are the same point ({}, {})", std::min(order[i], order[i - 1]) + 1,
-                                    std::max(order[i], order[i - 1]) + 1, pts[order[i]].x, pts[order[i]].y));
+            throw Error(fmt::format("points {} and {} are the same point ({}, {})",
+                                    std::min(order[i], order[i - 1]) + 1, std::max(order[i], order[i - 1]) + 1,
+                                    pts[order[i]].x, pts[order[i]].y));
 }
 
 double axis_gap(double a, double b, double extent, bool periodic) {

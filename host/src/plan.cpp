@@ -55,20 +55,26 @@ void validate(const SampleOptions& o) {
         throw Error(fmt::format("threads must be at most {} (got {})", detail::kMaxThreads, o.threads));
     double short_side = std::min(o.box.width, o.box.height);
     if (o.box.boundary == Boundary::Periodic && o.radius >= short_side / 2.0)
-        throw Error(fmt::format("radius {} is too large for a periodic box of {} x {}: it must be < {} (half the shorter side)",
-                                o.radius, o.box.width, o.box.height, short_side / 2.0));
+        throw Error(
+            fmt::format("radius {} is too large for a periodic box of {} x {}: it must be < {} (half the shorter side)",
+                        o.radius, o.box.width, o.box.height, short_side / 2.0));
     if (o.coverage == 0.0) return;
     if (!std::isfinite(o.coverage) || o.coverage < o.radius)
-        throw Error(fmt::format("coverage radius Rc must be a finite number >= the inhibition radius Rf (got Rc {}, Rf {})",
-                                o.coverage, o.radius));
-    if (o.coverage != o.radius && o.coverage / o.radius < detail::kMinCoverageRatio * (1 - 1e-12))  // 0.011 / 0.01 passes
-        throw Error(fmt::format("Rc / Rf = {:.6g} is below the supported {} (for Rc = Rf, use --radius)", o.coverage / o.radius,
-                                detail::kMinCoverageRatio));
+        throw Error(
+            fmt::format("coverage radius Rc must be a finite number >= the inhibition radius Rf (got Rc {}, Rf {})",
+                        o.coverage, o.radius));
+    if (o.coverage != o.radius &&
+        o.coverage / o.radius < detail::kMinCoverageRatio * (1 - 1e-12))  // 0.011 / 0.01 passes
+        throw Error(fmt::format("Rc / Rf = {:.6g} is below the supported {} (for Rc = Rf, use --radius)",
+                                o.coverage / o.radius, detail::kMinCoverageRatio));
     if (o.coverage > detail::kMaxCoverageRatio * o.radius)
-        throw Error(fmt::format("Rc / Rf = {:.6g} is above the supported {}", o.coverage / o.radius, detail::kMaxCoverageRatio));
+        throw Error(fmt::format("Rc / Rf = {:.6g} is above the supported {}", o.coverage / o.radius,
+                                detail::kMaxCoverageRatio));
     if (o.box.boundary == Boundary::Periodic && o.coverage >= short_side / 4.0)
-        throw Error(fmt::format("Rc {} is too large for a periodic box of {} x {}: with two radii it must be < {} "
-                                "(a quarter of the shorter side)", o.coverage, o.box.width, o.box.height, short_side / 4.0));
+        throw Error(
+            fmt::format("Rc {} is too large for a periodic box of {} x {}: with two radii it must be < {} "
+                        "(a quarter of the shorter side)",
+                        o.coverage, o.box.width, o.box.height, short_side / 4.0));
 }
 }  // namespace vrpd
 
@@ -81,8 +87,9 @@ Plan make_plan(const SampleOptions& o, std::uint32_t max_cell_bits) {
     const double longest = std::max(o.box.width, o.box.height);
     constexpr std::uint64_t max_cells_per_row = kLatticeLimit >> kMinCellBits;
     auto too_wide = [&] {
-        return Error(fmt::format("the box is {:.3g} radii across: at most {} base cells per side fit the 31-bit lattice",
-                                 longest / r, max_cells_per_row));
+        return Error(
+            fmt::format("the box is {:.3g} radii across: at most {} base cells per side fit the 31-bit lattice",
+                        longest / r, max_cells_per_row));
     };
     // Checked in doubles first: a box 10^300 radii across does not convert to an integer count.
     // The tiling may make cells smaller than max_side, so the count is checked again below.
@@ -114,7 +121,8 @@ Plan make_plan(const SampleOptions& o, std::uint32_t max_cell_bits) {
     std::uint32_t bits = std::min(kMinCellBits, max_cell_bits);
     auto fits = [&](std::uint32_t b) {
         const double rc_units = o.coverage / (side / double(1u << b));
-        return (cells_per_row << b) <= kLatticeLimit && (!two || rc_units * rc_units < double(shared::MAX_COVER2) * 0.999);
+        return (cells_per_row << b) <= kLatticeLimit &&
+               (!two || rc_units * rc_units < double(shared::MAX_COVER2) * 0.999);
     };
     while (bits < top && fits(bits + 1)) ++bits;
     if (!fits(bits)) throw Error("internal: no lattice resolution fits the radii");
@@ -133,7 +141,8 @@ Plan make_plan(const SampleOptions& o, std::uint32_t max_cell_bits) {
     } else {
         // Lattice points x with x * quantum < width.
         d.lattice.extent_x = std::uint32_t(std::min<double>(std::ceil(o.box.width / plan.quantum), double(nx << bits)));
-        d.lattice.extent_y = std::uint32_t(std::min<double>(std::ceil(o.box.height / plan.quantum), double(ny << bits)));
+        d.lattice.extent_y =
+            std::uint32_t(std::min<double>(std::ceil(o.box.height / plan.quantum), double(ny << bits)));
     }
     // Squared lattice distances in the domain are < 2^63 (coordinates < 2^31), so a radius whose
     // square reaches 2^63 covers the whole box: clamping it there is exact, and sums cannot wrap.
@@ -145,7 +154,8 @@ Plan make_plan(const SampleOptions& o, std::uint32_t max_cell_bits) {
     d.radii.inhibition2 = squared_units(r);
     d.radii.coverage2 = two ? squared_units(o.coverage) : d.radii.inhibition2;
     d.radii.kind = two ? shared::RADII_TWO : shared::RADII_ONE;
-    if (two && d.radii.coverage2 > shared::MAX_COVER2) throw Error("internal: Rc is past the lattice steps the exact T test handles");
+    if (two && d.radii.coverage2 > shared::MAX_COVER2)
+        throw Error("internal: Rc is past the lattice steps the exact T test handles");
     const std::uint64_t cell_side = std::uint64_t(1) << bits;
     // A sample must cover its whole base cell, so that an occupied base cell needs no darts.
     if (d.radii.inhibition2 <= 2 * (cell_side - 1) * (cell_side - 1))
@@ -162,8 +172,9 @@ Plan make_plan(const SampleOptions& o, std::uint32_t max_cell_bits) {
     if (conflict > shared::MAX_REACH || (d.lattice.periodic && (conflict > nx || conflict > ny)))
         throw Error("internal: a disk reaches further than the neighbourhood the kernels scan");
     if (two && d.lattice.periodic && (2 * influence + 1 > nx || 2 * influence + 1 > ny))
-        throw Error(fmt::format("Rc {} is too large for a periodic box of {} x {}: the 2 Rc neighbourhood must not wrap onto itself",
-                                o.coverage, o.box.width, o.box.height));
+        throw Error(fmt::format(
+            "Rc {} is too large for a periodic box of {} x {}: the 2 Rc neighbourhood must not wrap onto itself",
+            o.coverage, o.box.width, o.box.height));
     d.radii.reach = conflict | cover << 8 | influence << 16;
     for (std::uint32_t dy = 0; dy <= conflict; ++dy)
         d.radii.reach |= std::uint32_t(shared::computed_row_reach(d, int(dy), int(conflict), d.radii.inhibition2))

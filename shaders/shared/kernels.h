@@ -28,7 +28,9 @@ struct Darts { uint* word; };
 struct Uints { uint* value; };
 struct Points { uvec2* point; };
 // Host threads may write one flag concurrently (all write 1): an atomic store keeps that defined.
-inline void set_flag(Uints flags, uint i) { std::atomic_ref<uint>(flags.value[i]).store(1u, std::memory_order_relaxed); }
+inline void set_flag(Uints flags, uint i) {
+    std::atomic_ref<uint>(flags.value[i]).store(1u, std::memory_order_relaxed);
+}
 // The cpu backend's resolution decides darts while other threads read their states (see
 // HostEngine::resolve), and a block's state word is shared by darts that different threads
 // write: state words are read and or-ed atomically.

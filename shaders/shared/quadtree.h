@@ -27,7 +27,8 @@ struct ChildBoxes {
 
 // Clears from `mask` the children that the disk of the sample at offset o covers wholly (exact
 // corner test), and from `open_corners` (two radii) the corners of the children it covers.
-VRPD_FN void cover_children(Domain dom, ChildBoxes b, uint fanout, ivec2 o, VRPD_INOUT(uint) mask, VRPD_INOUT(uint) open_corners) {
+VRPD_FN void cover_children(Domain dom, ChildBoxes b, uint fanout, ivec2 o, VRPD_INOUT(uint) mask,
+                            VRPD_INOUT(uint) open_corners) {
     uint64_t fx0 = far2(o.x, b.lo0.x, b.hi0.x);
     uint64_t fy0 = far2(o.y, b.lo0.y, b.hi0.y);
     if (covers(dom.radii, fx0 + fy0)) mask &= ~1u;
@@ -62,7 +63,9 @@ VRPD_FN void cover_children(Domain dom, ChildBoxes b, uint fanout, ivec2 o, VRPD
 // darts are random, so the samples are the same, for less work (docs/performance.md). Two radii
 // test: their active cells also say which base cells get darts, and each T test costs far more
 // than a scan.
-VRPD_FN bool cover_tested(Domain dom, uint fanout, uint side) { return fanout == 4u || side == 1u || two_radii(dom.radii); }
+VRPD_FN bool cover_tested(Domain dom, uint fanout, uint side) {
+    return fanout == 4u || side == 1u || two_radii(dom.radii);
+}
 
 // Which of the `fanout` children (4, or 1: the cell itself) of the active cell at `corner` stay
 // active, as a bit mask. A child is dropped if it lies off the domain or (cover_tested) one
@@ -88,18 +91,22 @@ VRPD_FN uint surviving_children(Domain dom, Grid grid, uvec2 base, uvec2 corner,
     uint y1 = corner.y + side;
     ChildBoxes b;
     b.lo0 = ivec2(corner - origin);
-    b.hi0 = ivec2(uvec2(clip_hi(x1 - pad, dom.lattice.extent_x, dom.lattice.periodic), clip_hi(y1 - pad, dom.lattice.extent_y, dom.lattice.periodic)) - origin);
+    b.hi0 = ivec2(uvec2(clip_hi(x1 - pad, dom.lattice.extent_x, dom.lattice.periodic),
+                        clip_hi(y1 - pad, dom.lattice.extent_y, dom.lattice.periodic)) -
+                  origin);
     bool x1_in = fanout == 4u && (dom.lattice.periodic != 0u || x1 < dom.lattice.extent_x);
     bool y1_in = fanout == 4u && (dom.lattice.periodic != 0u || y1 < dom.lattice.extent_y);
     b.lo1 = ivec2(x1_in ? int(x1 - origin.x) : b.lo0.x, y1_in ? int(y1 - origin.y) : b.lo0.y);
-    b.hi1 = ivec2(x1_in ? int(clip_hi(x1 + side - pad, dom.lattice.extent_x, dom.lattice.periodic) - origin.x) : b.hi0.x,
-                  y1_in ? int(clip_hi(y1 + side - pad, dom.lattice.extent_y, dom.lattice.periodic) - origin.y) : b.hi0.y);
+    b.hi1 =
+        ivec2(x1_in ? int(clip_hi(x1 + side - pad, dom.lattice.extent_x, dom.lattice.periodic) - origin.x) : b.hi0.x,
+              y1_in ? int(clip_hi(y1 + side - pad, dom.lattice.extent_y, dom.lattice.periodic) - origin.y) : b.hi0.y);
     // Two radii: bit 3 j + i stays set while no sample covers the lattice point (x_i, y_j) of the
     // 3 x 3 corners of the children (x_0 = lo0.x, x_1 = hi0.x, x_2 = hi1.x): a child with an
     // uncovered corner holds a point of U and stays without the exact test.
     uint open_corners = 0x1FFu;
     if (samples <= MAX_CELL_SAMPLES) {
-        for (uint k = 0u; k < samples && mask != 0u; k++) cover_children(dom, b, fanout, cell_sample_at[k], mask, open_corners);
+        for (uint k = 0u; k < samples && mask != 0u; k++)
+            cover_children(dom, b, fanout, cell_sample_at[k], mask, open_corners);
     }
 #ifndef VRPD_ONE_RADIUS  // one radius: MAX_CELL_SAMPLES holds any neighbourhood (gather_cell_samples)
     else {
@@ -116,7 +123,8 @@ VRPD_FN uint surviving_children(Domain dom, Grid grid, uvec2 base, uvec2 corner,
         if ((open_corners & ((3u << k) | (3u << (k + 3u)))) != 0u) continue;
         uvec2 cc = child_corner(corner, side, c);
         ivec2 hi = ivec2(int(side), int(side));
-        if (dom.lattice.periodic == 0u) hi = min(hi, ivec2(int(dom.lattice.extent_x - 1u - cc.x), int(dom.lattice.extent_y - 1u - cc.y)));
+        if (dom.lattice.periodic == 0u)
+            hi = min(hi, ivec2(int(dom.lattice.extent_x - 1u - cc.x), int(dom.lattice.extent_y - 1u - cc.y)));
         uint n = gather_near_box(dom, grid, base, cc, hi);
         if (n > MAX_DISKS) continue;
         uint t = reaches_uncovered(n, dom.radii.coverage2, ivec2(0, 0), hi, false);

@@ -34,8 +34,8 @@ VRPD_PRIVATE ivec2 undecided_at[EARLY_UNDECIDED];
 // MAX_DISKS + 1 if they do not fit (the scan then stops). `conflict`: an accepted dart is closer
 // than Rf. `undecided` counts the undecided darts before d there, the first EARLY_UNDECIDED of
 // which go to undecided_at; `undecided_conflict`: one of those is closer than Rf.
-VRPD_FN uint gather_accepted(Domain dom, Grid grid, Darts darts, uint d, VRPD_OUT(bool) conflict, VRPD_OUT(uint) undecided,
-                             VRPD_OUT(bool) undecided_conflict) {
+VRPD_FN uint gather_accepted(Domain dom, Grid grid, Darts darts, uint d, VRPD_OUT(bool) conflict,
+                             VRPD_OUT(uint) undecided, VRPD_OUT(bool) undecided_conflict) {
     uvec4 me = dart_at(darts, d);
     uvec2 p = uvec2(me.x, me.y);
     uvec2 cell = base_cell_of(dom, p);
@@ -59,7 +59,8 @@ VRPD_FN uint gather_accepted(Domain dom, Grid grid, Darts darts, uint d, VRPD_OU
             uint64_t gap2 = distance2(dom.lattice, p, uvec2(other.x, other.y));
             if (gap2 >= limit2) continue;
             if (other.w == DART_UNDECIDED) {
-                if (undecided < EARLY_UNDECIDED) undecided_at[undecided] = offset_to(dom.lattice, p, uvec2(other.x, other.y));
+                if (undecided < EARLY_UNDECIDED)
+                    undecided_at[undecided] = offset_to(dom.lattice, p, uvec2(other.x, other.y));
                 undecided_conflict = undecided_conflict || inhibits(dom.radii, gap2);
                 undecided++;
                 continue;
@@ -120,9 +121,9 @@ VRPD_FN uint state_given_accepted(Domain dom, Grid grid, Darts darts, uint d, uv
     return t == T_INSIDE ? DART_ACCEPTED : (t == T_OUTSIDE ? DART_REJECTED : DART_TOO_COMPLEX);
 }
 
-// One step of the exact parallel resolution (resolve_dart) with two radii. A dart is accepted iff it is free and in T given the samples and the darts
-// accepted before it. Both only shrink as earlier darts are accepted, so: rejected as soon as the
-// accepted ones exclude it; accepted once it is free of, and in T despite, all the undecided too.
+// One step of the exact parallel resolution (resolve_dart) with two radii. A dart is accepted iff it is free and in T
+// given the samples and the darts accepted before it. Both only shrink as earlier darts are accepted, so: rejected as
+// soon as the accepted ones exclude it; accepted once it is free of, and in T despite, all the undecided too.
 VRPD_FN uint resolve_dart_two_radii(Domain global, Grid grid, Darts darts, uint d) {
     DartSite s = dart_site(global, darts, d);
     Domain dom = s.dom;

@@ -159,8 +159,8 @@ VRPD_FN ivec2 swizzle(ivec2 p, bool swap) { return swap ? ivec2(p.y, p.x) : p; }
 // (u, v) where u is across the side (swap: u is y); the side runs over v in [v0, v1]. Is the
 // crossing p = (s, c.v + tau sqrt(N)), N = R2 - (s - c.u)^2, on the side, in the dart's closed
 // disk (if in_disk), and outside every open disk but c's (skip)? Each test is a sign of a + b sqrt(N).
-VRPD_FN bool side_crossing_uncovered(ivec2 centre, uint skip, int s, int v0, int v1, bool swap, int tau, uint n, uint64_t r2,
-                                     bool in_disk) {
+VRPD_FN bool side_crossing_uncovered(ivec2 centre, uint skip, int s, int v0, int v1, bool swap, int tau, uint n,
+                                     uint64_t r2, bool in_disk) {
     ivec2 c = swizzle(centre, swap);
     int64_t du = int64_t(s) - int64_t(c.x);
     if (uint64_t(du * du) > r2) return false;
@@ -178,7 +178,8 @@ VRPD_FN bool side_crossing_uncovered(ivec2 centre, uint skip, int s, int v0, int
         int64_t ku = s64 - int64_t(o.x);
         if (uint64_t(ku * ku) >= r2) continue;
         int64_t kv = cv - int64_t(o.y);
-        if (sign_of_root_sum(ku * ku + kv * kv + int64_t(nn) - int64_t(r2), uint64_t(1), 2 * t * kv, nn) < 0) return false;
+        if (sign_of_root_sum(ku * ku + kv * kv + int64_t(nn) - int64_t(r2), uint64_t(1), 2 * t * kv, nn) < 0)
+            return false;
     }
     return t_steps <= T_TEST_BUDGET;
 }
@@ -202,7 +203,8 @@ VRPD_FN bool boundary_vertex_uncovered(uint n, uint64_t r2, ivec2 lo, ivec2 hi, 
         int v0 = swap ? lo.x : lo.y;
         int v1 = swap ? hi.x : hi.y;
         for (int tau = -1; tau <= 1; tau += 2) {
-            if (in_disk && side_crossing_uncovered(ivec2(0, 0), 0xFFFFFFFFu, s, v0, v1, swap, tau, n, r2, true)) return true;
+            if (in_disk && side_crossing_uncovered(ivec2(0, 0), 0xFFFFFFFFu, s, v0, v1, swap, tau, n, r2, true))
+                return true;
             for (uint i = 0u; i < n && t_step(); i++)
                 if (side_crossing_uncovered(disk_at[i], i, s, v0, v1, swap, tau, n, r2, in_disk)) return true;
         }
@@ -238,7 +240,8 @@ VRPD_FN uint reaches_uncovered(uint n, uint64_t r2, ivec2 lo, ivec2 hi, bool in_
     for (uint i = 0u; i < n && in_disk && t_step(); i++) {
         if (norm2(disk_at[i]) == uint64_t(0)) continue;
         for (int sigma = -1; sigma <= 1; sigma += 2)
-            if (crossing_in_box(origin, disk_at[i], sigma, lo, hi, r2) && crossing_uncovered(origin, disk_at[i], sigma, i, i, n, r2))
+            if (crossing_in_box(origin, disk_at[i], sigma, lo, hi, r2) &&
+                crossing_uncovered(origin, disk_at[i], sigma, i, i, n, r2))
                 return T_INSIDE;
     }
     for (uint i = 0u; i < n && t_step(); i++) {
@@ -248,8 +251,8 @@ VRPD_FN uint reaches_uncovered(uint n, uint64_t r2, ivec2 lo, ivec2 hi, bool in_
             uint64_t l = norm2(ivec2(b.x - a.x, b.y - a.y));
             if (l == uint64_t(0) || l > uint64_t(4) * r2) continue;
             for (int sigma = -1; sigma <= 1; sigma += 2)
-                if ((!in_disk || crossing_side(a, b, origin, sigma, r2) <= 0) && crossing_in_box(a, b, sigma, lo, hi, r2) &&
-                    crossing_uncovered(a, b, sigma, i, j, n, r2))
+                if ((!in_disk || crossing_side(a, b, origin, sigma, r2) <= 0) &&
+                    crossing_in_box(a, b, sigma, lo, hi, r2) && crossing_uncovered(a, b, sigma, i, j, n, r2))
                     return T_INSIDE;
         }
     }

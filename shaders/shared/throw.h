@@ -46,8 +46,9 @@ VRPD_FN StateBits add_state(Darts darts, StateBits s, uint j, uint state) {
 // earlier round; gathers their states in `states` and counts the undecided ones. `no_samples`:
 // the grid holds no sample yet (a run's first round), so only the domain is tested, not an empty
 // grid (docs/performance.md).
-VRPD_FN void throw_cell(Domain dom, Grid grid, uvec2 base, Darts darts, uint stream, uvec2 corner, uint side, uint first,
-                        uint count, VRPD_INOUT(StateBits) states, VRPD_INOUT(uint) undecided, bool no_samples) {
+VRPD_FN void throw_cell(Domain dom, Grid grid, uvec2 base, Darts darts, uint stream, uvec2 corner, uint side,
+                        uint first, uint count, VRPD_INOUT(StateBits) states, VRPD_INOUT(uint) undecided,
+                        bool no_samples) {
     for (uint i = 0u; i < count; i++) {
         uvec4 dart = make_dart(stream, i, corner, side);
         uvec2 p = uvec2(dart.x, dart.y);
@@ -76,7 +77,8 @@ VRPD_FN uint throw_base_cell(CellArgs a, Cells cells, Uints scan, Darts darts, G
         if (cell_first == cell_end) continue;
         uvec2 corner = cells.cell[i];
         uint stream = cell_stream(a.round_key, corner);
-        throw_cell(dom, grid, base, darts, stream, corner, a.side, cell_first, cell_end - cell_first, states, undecided, false);
+        throw_cell(dom, grid, base, darts, stream, corner, a.side, cell_first, cell_end - cell_first, states, undecided,
+                   false);
     }
     or_dart_states(darts, states.word, states.bits);
     return undecided;

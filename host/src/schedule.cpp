@@ -95,7 +95,8 @@ Sampling detail::sample_plan(const SampleOptions& options, const Plan& plan) {
         const std::uint32_t side = 1u << (plan.deepest_level - level);
         for (std::uint32_t r = 0; r < s.rounds && active > 0;) {
             if (round >= kMaxRounds) throw Error(fmt::format("internal: not maximal after {} rounds", round));
-            const bool crowded = share < 1.0 && level > 0 && last_darts > 0 && double(active) > kCrowded * double(last_darts);
+            const bool crowded =
+                share < 1.0 && level > 0 && last_darts > 0 && double(active) > kCrowded * double(last_darts);
             const bool refine = !crowded && r + 1 == s.rounds && level < plan.deepest_level;
             // Two radii: while active cells fill half the base grid at level 0, listing the base
             // cells near them costs more than the few darts it saves.

@@ -1,7 +1,7 @@
 // The host engines: `cpu` runs the GPU's kernel bodies (shaders/shared/sampler.h) over a thread
 // pool, in mask mode at levels 0-2 as the GPU does, and decides each dart once (see resolve);
-// `serial` accepts the same darts one at a time in arrival order, the textbook definition of the
-// process, over explicit active lists at every level: kept simple as the oracle.
+// `serial` accepts the same darts one at a time in arrival order (serial_oracle.h), the textbook
+// definition of the process, over explicit active lists at every level: kept simple as the oracle.
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -11,6 +11,7 @@
 
 #include "engine.h"
 #include "shared/sampler.h"
+#include "serial_oracle.h"
 #include "thread_pool.h"
 
 namespace vrpd::detail {
@@ -139,7 +140,8 @@ private:
         // Throw, rejecting darts covered by earlier rounds.
         pool_.parallel_for(n, [&](std::size_t b, std::size_t e, unsigned) {
             for (std::size_t i = b; i < e; ++i)
-                if (first_in_base_cell(dom, cells, uint(i))) throw_base_cell(args, cells, scan(), darts(), grid(), uint(i));
+                if (first_in_base_cell(dom, cells, uint(i)))
+                    throw_base_cell(args, cells, scan(), darts(), grid(), uint(i));
         });
         std::vector<uint>().swap(scan_);
         return total;
@@ -325,7 +327,8 @@ private:
         } else {
             pool_.parallel_for(n, [&](std::size_t b, std::size_t e, unsigned) {
                 for (std::size_t i = b; i < e; ++i)
-                    if (first_in_base_cell(dom, cells(), uint(i))) flag_dart_cells(args, cells(), scan(), grid(), uint(i));
+                    if (first_in_base_cell(dom, cells(), uint(i)))
+                        flag_dart_cells(args, cells(), scan(), grid(), uint(i));
             });
         }
         dart_cells_.resize(exclusive_scan(bases));
@@ -351,15 +354,7 @@ private:
         const Domain dom = plan_.domain;
         const std::size_t total = dart_count_;
         if (resolution_ == Resolution::Serial) {
-            std::vector<uint> work;
-            for (uint j = 0; j < total; ++j)
-                if (dart_at(darts(), j).w == DART_UNDECIDED) work.push_back(j);
-            std::sort(work.begin(), work.end(), [&](uint a, uint b) {
-                return arrives_before(dart_at(darts(), a).z, a, dart_at(darts(), b).z, b);
-            });
-            note_peak(bytes(work));
-            for (uint d : work)
-                set_dart_state(darts(), d, serial_decision(dom, grid(), darts(), d));
+            note_peak(resolve_in_arrival_order(dom, grid(), darts(), uint(total)));
             return;
         }
         // Each thread decides the undecided darts of its part of the round (spatial order), one at

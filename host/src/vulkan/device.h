@@ -1,0 +1,93 @@
+// A Vulkan device for vrpd: the instance (with the validation layers and their messages when
+// VRPD_VALIDATION is set), device selection, the compute queue, and one command buffer with one
+// fence per submit. Buffers (buffer.h) and kernels (kernel.h) are made on it.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "handles.h"
+#include "loader.h"
+#include "phase_times.h"
+#include "vrpd/vrpd.h"
+
+namespace vrpd::detail {
+
+class Kernel;
+class Buffer;
+class Profiler;
+
+class VulkanContext {
+public:
+    // Opens the loader and the instance; throws Error if there is no loader or no driver.
+    VulkanContext();
+    // The same, then open_device(selector).
+    explicit VulkanContext(const std::string& selector) : VulkanContext() { open_device(selector); }
+    ~VulkanContext();
+    VulkanContext(const VulkanContext&) = delete;
+    VulkanContext& operator=(const VulkanContext&) = delete;
+
+    std::vector<DeviceInfo> devices() const;
+    // Opens the device chosen by `selector` (index or name substring; empty: $VRPD_DEVICE, else the
+    // best usable device: discrete, integrated, virtual, then CPU).
+    void open_device(const std::string& selector);
+
+    const VulkanFunctions& vk() const { return vk_; }
+    VkDevice device() const { return device_.get(); }
+    VkPhysicalDevice physical() const { return physical_; }
+    std::uint32_t queue_family() const { return queue_family_; }
+    const std::string& device_name() const { return device_name_; }
+    // Throws Error("Vulkan: WHAT failed on DEVICE: VK_...") unless r is VK_SUCCESS.
+    void check(VkResult r, const char* what) const;
+    std::uint32_t memory_type(std::uint32_t allowed, bool host_visible) const;
+    std::uint64_t device_heap_bytes() const;
+    // Device memory held by vrpd's buffers now, and at most so far (Buffer reports its allocations).
+    void note_allocation(std::int64_t bytes);
+    std::uint64_t allocated_bytes() const { return allocated_; }
+    std::uint64_t peak_allocated_bytes() const { return peak_allocated_; }
+
+    // Recording into the one command buffer, and submitting it (waits on a fence).
+    VkCommandBuffer begin();
+    void submit_and_wait();
+    // Makes every shader write before it visible to every shader read and indirect read after it.
+    void barrier();
+    void dispatch(const Kernel& k, const void* push, std::uint32_t groups);
+    void dispatch_indirect(const Kernel& k, const void* push, const Buffer& args, VkDeviceSize offset);
+
+    // Validation messages (VRPD_VALIDATION=1); throws Error with the first if there were any.
+    void check_validation();
+
+    // From now on, times every dispatch with device timestamps (profiler.h). Throws Error if the
+    // queue has no timestamps.
+    void start_profile();
+    std::vector<PhaseTime> profile() const;
+
+private:
+    static VKAPI_ATTR VkBool32 VKAPI_CALL on_message(VkDebugUtilsMessageSeverityFlagBitsEXT,
+                                                     VkDebugUtilsMessageTypeFlagsEXT,
+                                                     const VkDebugUtilsMessengerCallbackDataEXT*, void*);
+
+    // In creation order, so that destruction runs in reverse: the messenger outlives the device
+    // and hears about its destruction.
+    Loader loader_;
+    VulkanFunctions vk_;
+    std::vector<std::string> messages_;
+    OwnedInstance instance_;
+    OwnedMessenger messenger_;
+    VkPhysicalDevice physical_ = VK_NULL_HANDLE;
+    VkPhysicalDeviceMemoryProperties memory_{};
+    std::uint32_t queue_family_ = 0;
+    std::string device_name_;
+    OwnedDevice device_;
+    VkQueue queue_ = VK_NULL_HANDLE;
+    OwnedCommandPool pool_;
+    VkCommandBuffer cmd_ = VK_NULL_HANDLE;  // freed with its pool
+    OwnedFence fence_;
+    std::unique_ptr<Profiler> profiler_;
+    std::uint64_t allocated_ = 0;
+    std::uint64_t peak_allocated_ = 0;
+};
+
+}  // namespace vrpd::detail

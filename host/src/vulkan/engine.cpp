@@ -1,0 +1,327 @@
+// The Vulkan engine: see engine.h.
+#include "vulkan/vulkan_engine.h"
+
+#include <cstddef>
+#include <cstring>
+
+#include <fmt/format.h>
+
+#include "apply_decisions.h"
+#include "apply_masks.h"
+#include "commit_cells.h"
+#include "commit_masked.h"
+#include "count_darts.h"
+#include "count_masked.h"
+#include "emit_samples.h"
+#include "flag_dart_cells.h"
+#include "flag_free_cells.h"
+#include "flag_masked.h"
+#include "init_cells.h"
+#include "list_dart_cells.h"
+#include "list_masked.h"
+#include "mark_masked.h"
+#include "mark_ranges.h"
+#include "refine_cells.h"
+#include "refine_cells_one.h"
+#include "refine_masked.h"
+#include "resolve_darts.h"
+#include "resolve_darts_one.h"
+#include "scatter_cells.h"
+#include "scatter_masked.h"
+#include "throw_darts.h"
+#include "throw_masked.h"
+#include "throw_masked_empty.h"
+#include "work_args.h"
+
+namespace vrpd::detail {
+namespace {
+
+using namespace shared;
+
+constexpr std::uint32_t kResolvePassesPerSubmit = 4;
+
+std::uint32_t groups(std::uint64_t n, std::uint32_t per_group) {
+    return std::uint32_t((n + per_group - 1) / per_group);
+}
+
+}  // namespace
+
+using namespace shared;
+
+VulkanEngine::VulkanEngine(const Plan& plan, const std::string& selector)
+    : plan_(plan),
+      ctx_(selector),
+      VRPD_KERNEL(init_cells, CellArgs, WORKGROUP_SIZE),
+      VRPD_KERNEL(flag_dart_cells, CellArgs, WORKGROUP_SIZE),
+      VRPD_KERNEL(flag_free_cells, CellArgs, WORKGROUP_SIZE),
+      VRPD_KERNEL(list_dart_cells, CellArgs, WORKGROUP_SIZE),
+      VRPD_KERNEL(count_darts, CellArgs, WORKGROUP_SIZE),
+      VRPD_KERNEL(mark_ranges, CellArgs, WORKGROUP_SIZE),
+      VRPD_KERNEL(apply_decisions, DartArgs, WORKGROUP_SIZE),
+      VRPD_KERNEL(throw_darts, CellArgs, WORKGROUP_SIZE),
+      VRPD_KERNEL(work_args, WorkArgs, 1),
+      resolve_darts_(ctx_, "resolve_darts",
+                     two_ ? spirv_words(spirv_resolve_darts) : spirv_words(spirv_resolve_darts_one), sizeof(DartArgs),
+                     WORKGROUP_SIZE),
+      VRPD_KERNEL(commit_cells, CellArgs, WORKGROUP_SIZE),
+      VRPD_KERNEL(emit_samples, DartArgs, WORKGROUP_SIZE),
+      refine_cells_(ctx_, "refine_cells", two_ ? spirv_words(spirv_refine_cells) : spirv_words(spirv_refine_cells_one),
+                    sizeof(CellArgs), WORKGROUP_SIZE),
+      VRPD_KERNEL(scatter_cells, CellArgs, WORKGROUP_SIZE),
+      VRPD_KERNEL(count_masked, CellArgs, WORKGROUP_SIZE),
+      VRPD_KERNEL(mark_masked, CellArgs, WORKGROUP_SIZE),
+      VRPD_KERNEL(throw_masked, CellArgs, WORKGROUP_SIZE),
+      VRPD_KERNEL(throw_masked_empty, CellArgs, WORKGROUP_SIZE),
+      VRPD_KERNEL(commit_masked, CellArgs, WORKGROUP_SIZE),
+      VRPD_KERNEL(refine_masked, CellArgs, WORKGROUP_SIZE),
+      VRPD_KERNEL(apply_masks, CellArgs, WORKGROUP_SIZE),
+      VRPD_KERNEL(scatter_masked, CellArgs, WORKGROUP_SIZE),
+      VRPD_KERNEL(flag_masked, CellArgs, WORKGROUP_SIZE),
+      VRPD_KERNEL(list_masked, CellArgs, WORKGROUP_SIZE),
+      masked_(!two_radii(plan.domain.radii)) {
+    if (estimated_device_bytes(plan) > ctx_.device_heap_bytes())
+        throw Error(fmt::format("the run needs about {:.1f} GiB but {} has {:.1f} GiB of device memory",
+                                double(estimated_device_bytes(plan)) / (1 << 30), ctx_.device_name(),
+                                double(ctx_.device_heap_bytes()) / (1 << 30)));
+    counters_ = Buffer(ctx_, COUNTER_WORDS * 4, true);
+    grid_ = Buffer(ctx_, plan.base_cells * sizeof(uvec2), false);
+}
+
+std::uint64_t VulkanEngine::start() {
+    const std::uint64_t n = plan_.base_cells;
+    // The samples' buffer starts at the expected count and grows by a quarter if a round overflows it.
+    grow(ctx_, samples_, expected_samples(plan_) * sizeof(uvec2));
+    if (!masked_) grow(ctx_, cells_, n * sizeof(uvec2));
+    if (masked_) grow(ctx_, scratch_, n * 4);
+    VkCommandBuffer cmd = ctx_.begin();
+    // Every grid word starts empty: (GRID_EMPTY, GRID_EMPTY); no dart has been too complex, and
+    // no base cell crowded.
+    ctx_.vk().vkCmdFillBuffer(cmd, grid_.handle(), 0, VK_WHOLE_SIZE, GRID_EMPTY);
+    ctx_.vk().vkCmdFillBuffer(cmd, counters_.handle(), COUNTER_TOO_COMPLEX * 4, 8, 0);
+    if (masked_) {
+        // Mask mode: every base cell's mask is 1, its one level-0 cell.
+        ctx_.vk().vkCmdFillBuffer(cmd, scratch_.handle(), 0, n * 4, 1u);
+        ctx_.barrier();  // the fills before apply_masks reads and writes them
+        CellArgs a = cell_args(0, Regions{0, 0, 0, scratch_.address()}, std::uint32_t(n), 0, 0, 0);
+        ctx_.dispatch(apply_masks_, &a, groups(n, WORKGROUP_SIZE));
+    } else {
+        CellArgs a = cell_args(cells_.address(), {}, std::uint32_t(n), 0, 0, 0);
+        ctx_.dispatch(init_cells_, &a, groups(n, WORKGROUP_SIZE));
+    }
+    ctx_.barrier();  // grid words and first active list before the first round reads them
+    ctx_.submit_and_wait();
+    active_ = std::uint32_t(n);
+    return n;
+}
+
+RoundResult VulkanEngine::round(const RoundSpec& spec) {
+    const bool two = two_radii(plan_.domain.radii);
+    const bool masked = masked_;
+    // One radius: the darts go to the active cells, or in mask mode to the base cells' active
+    // sub-cells. Two radii: to the base cells near the active cells.
+    const std::uint32_t bases = std::uint32_t(plan_.base_cells);
+    // Mask mode's kernels run over the base cells, or over the list of the active ones (masked.glsl).
+    const bool by_list = masked && listed_bases_ > 0;
+    const std::uint32_t n = masked ? (by_list ? listed_bases_ : bases) : (two ? list_dart_cells(spec) : active_);
+    const std::uint64_t targets =
+        masked ? (by_list ? base_list_.address() : 0) : (two ? dart_cells_.address() : cells_.address());
+    const std::uint32_t side = two ? 1u << plan_.domain.cell_bits : spec.side;
+    // Cells whose children refinement counts: the list's, or in mask mode none (the masks go
+    // to the ranks region, over the base cells).
+    const std::uint32_t listed = masked ? 0 : active_;
+
+    // Submit 1: dart counts and their prefix sums.
+    const Scratch counts(n, 0, listed, masked);
+    grow(ctx_, scratch_, counts.end);
+    primitives_.reserve_scan(std::uint64_t(n) + 1);
+    ctx_.begin();
+    CellArgs a = cell_args(targets, counts.in(scratch_, 0), n, spec.round, side, spec.exp_neg_lambda);
+    ctx_.dispatch(masked ? count_masked_ : count_darts_, &a, groups(std::uint64_t(n) + 1, WORKGROUP_SIZE));
+    ctx_.barrier();  // counts before the scan
+    primitives_.scan(scratch_.address(), std::uint64_t(n) + 1, COUNTER_DARTS);
+    ctx_.submit_and_wait();
+    if (counter(COUNTER_CROWDED)) throw Error("internal: a base cell got more than 65535 darts in one round");
+    const std::uint32_t darts = counter(COUNTER_DARTS);
+    if (darts >= MAX_ROUND_DARTS) throw Error("a round would throw more than 2^30 darts");
+
+    // Submit 2..: throw (rejecting darts covered by earlier samples), resolve in arrival order.
+    const Scratch at(n, darts, listed, masked);
+    grow(ctx_, scratch_, at.end, true);  // keeps the prefix sums
+    // The darts get a buffer of their own, freed once they are emitted: the next active list
+    // is then allocated in their place. When mask mode ends, refine_masked parks half of each
+    // base cell's 64-bit mask there too.
+    const bool leaves = masked && masked_leaves(plan_.domain, spec.side / 2, spec.refine ? 4u : 1u);
+    darts_ = Buffer(ctx_, std::max<std::uint64_t>(dart_words(darts) * 4, leaves ? std::uint64_t(n) * 4 : 0), false);
+    const std::uint64_t ranks = scratch_.address() + at.ranks;
+    const std::uint64_t dart_list = darts_.address();
+    const std::uint64_t work[2] = {scratch_.address() + at.work0, scratch_.address() + at.work1};
+    VkCommandBuffer cmd = ctx_.begin();
+    ctx_.vk().vkCmdFillBuffer(cmd, darts_.handle(), 0, VK_WHOLE_SIZE, 0);  // the darts' states start undecided
+    ctx_.vk().vkCmdFillBuffer(cmd, counters_.handle(), (COUNTER_WORK0 + 3) * 4, 4, 0);
+    ctx_.vk().vkCmdFillBuffer(cmd, counters_.handle(), COUNTER_ACTIVE * 4, 4, 0);  // refine_masked's sum
+    // param: exp(-lambda) for throw_masked, which counts its darts again.
+    a = cell_args(targets, at.in(scratch_, dart_list), n, spec.round, side, spec.exp_neg_lambda);
+    ctx_.dispatch(masked ? mark_masked_ : mark_ranges_, &a, groups(n, WORKGROUP_SIZE));
+    ctx_.barrier();  // dart ranges and the empty work list before throw_darts reads and appends
+    const Kernel& thrower = !masked ? throw_darts_ : (emitted_ == 0 ? throw_masked_empty_ : throw_masked_);
+    ctx_.dispatch(thrower, &a, groups(n, WORKGROUP_SIZE));
+    ctx_.barrier();  // darts, grid dart ranges and work list before resolution
+    std::uint32_t in = 0;
+    // Each pass decides at least the earliest undecided dart, so `darts` passes end any round;
+    // more means corrupted states (a bug), which fails the run instead of looping.
+    for (std::uint64_t passes = 0;; passes += kResolvePassesPerSubmit) {
+        if (passes > darts) throw Error("internal: the resolution of a round did not end");
+        for (std::uint32_t p = 0; p < kResolvePassesPerSubmit; ++p, in ^= 1) {
+            const std::uint32_t in_slot = in ? COUNTER_WORK1 : COUNTER_WORK0;
+            const std::uint32_t out_slot = in ? COUNTER_WORK0 : COUNTER_WORK1;
+            WorkArgs w{counters_.address(), in_slot, out_slot};
+            ctx_.dispatch(work_args_, &w, 1);
+            ctx_.barrier();  // indirect command and emptied output list before the pass
+            DartArgs d = dart_args(dart_list, darts, passes == 0 && p == 0 ? 1u : 0u);
+            d.work_in = work[in];
+            d.work_out = work[in ^ 1];
+            d.work_in_slot = in_slot;
+            d.work_out_slot = out_slot;
+            ctx_.dispatch_indirect(resolve_darts_, &d, counters_, in_slot * 4);
+            ctx_.barrier();  // decisions before they are applied
+            ctx_.dispatch_indirect(apply_decisions_, &d, counters_, in_slot * 4);
+            ctx_.barrier();  // states and the next work list before the next pass
+        }
+        ctx_.submit_and_wait();
+        if (counter((in ? COUNTER_WORK1 : COUNTER_WORK0) + 3) == 0) break;
+        ctx_.begin();
+    }
+
+    // Commit: grid words become samples or empty again; the accepted darts are flagged and ranked.
+    primitives_.reserve_scan(std::uint64_t(std::max(darts, active_)) + 1);
+    ctx_.begin();
+    a.param = darts;  // the commit kernels end the flags with a 0 at flags[darts]
+    ctx_.dispatch(masked ? commit_masked_ : commit_cells_, &a, groups(n, WORKGROUP_SIZE));
+    ctx_.barrier();  // accepted flags and grid words before the scan
+    primitives_.scan(ranks, std::uint64_t(darts) + 1, COUNTER_ACCEPTED);
+    ctx_.submit_and_wait();
+    if (counter(COUNTER_TOO_COMPLEX)) throw Error(kTooComplex);
+    const std::uint32_t accepted = counter(COUNTER_ACCEPTED);
+
+    // Emit the accepted darts as samples, put them in arrival order, and count the children
+    // of each active cell that stay active.
+    const std::uint64_t need = (emitted_ + accepted) * sizeof(uvec2);
+    if (samples_.size() < need) grow(ctx_, samples_, std::max(need, samples_.size() + samples_.size() / 4), true);
+    primitives_.reserve_sort(accepted);
+    ctx_.begin();
+    DartArgs d = dart_args(dart_list, darts, std::uint32_t(emitted_));
+    d.scan = ranks;
+    d.sample_keys = scratch_.address() + at.keys;
+    ctx_.dispatch(emit_samples_, &d, groups(darts, WORKGROUP_SIZE));
+    ctx_.barrier();  // the round's samples and keys before the sort; the ranks are read
+    // The round's samples into arrival order (stable by key), through the spent darts' buffer.
+    if (accepted > 1)
+        primitives_.sort(d.samples + emitted_ * sizeof(uvec2), d.sample_keys, dart_list, accepted, COUNTER_SORT);
+    emitted_ += accepted;
+    const std::uint32_t fanout = spec.refine ? 4 : 1;
+    const std::uint32_t child_side = spec.refine ? spec.side / 2 : spec.side;
+    active_ = masked ? refine_masked(spec, ranks, child_side, fanout, n, targets)
+                     : refine_listed(spec, at.in(scratch_, 0), ranks, child_side, fanout);
+    return {darts, active_};
+}
+
+std::vector<uvec2> VulkanEngine::samples() {
+    // The round's working memory is not needed for the read-back: free it first.
+    scratch_ = Buffer();
+    primitives_.release_sort();
+    darts_ = Buffer();
+    std::vector<uvec2> out(emitted_);
+    if (emitted_ == 0) return out;
+    Buffer staging(ctx_, emitted_ * sizeof(uvec2), true);
+    VkCommandBuffer cmd = ctx_.begin();
+    VkBufferCopy all{0, 0, emitted_ * sizeof(uvec2)};
+    ctx_.vk().vkCmdCopyBuffer(cmd, samples_.handle(), staging.handle(), 1, &all);
+    ctx_.barrier();  // the copy before the host reads the staging buffer
+    ctx_.submit_and_wait();
+    std::memcpy(out.data(), staging.mapped(), emitted_ * sizeof(uvec2));
+    return out;
+}
+
+// Ends the round's last submit (begun by round, with the emission and the sort recorded) with
+// the count of each active cell's surviving children; then allocates the next active list to
+// its exact size, in the place of the spent darts, and writes it. Returns its length.
+std::uint32_t VulkanEngine::refine_listed(const RoundSpec& spec, const Regions& r, std::uint64_t ranks,
+                                          std::uint32_t child_side, std::uint32_t fanout) {
+    const std::uint32_t active = active_;
+    if (std::uint64_t(active) * fanout >= GRID_TAG) throw Error("more than 2^31 active cells");
+    CellArgs a = cell_args(cells_.address(), r, active, spec.round, child_side, fanout);
+    ctx_.dispatch(refine_cells_, &a, groups(std::uint64_t(active) + 1, WORKGROUP_SIZE));
+    ctx_.barrier();  // surviving-children counts and masks before their scan
+    primitives_.scan(ranks, std::uint64_t(active) + 1, COUNTER_ACTIVE);
+    ctx_.submit_and_wait();
+    darts_ = Buffer();
+    const std::uint32_t kept = counter(COUNTER_ACTIVE);
+    Buffer next(ctx_, std::uint64_t(kept) * sizeof(uvec2), false);
+    a.cells_out = next.address();
+    ctx_.begin();
+    ctx_.dispatch(scatter_cells_, &a, groups(active, WORKGROUP_SIZE));
+    ctx_.barrier();  // the next active list before the next round and the host
+    ctx_.submit_and_wait();
+    cells_ = std::move(next);
+    return kept;
+}
+
+// Ends a submit that flags base cells (flags[0, bases] at a.scan): scans the flags, gives
+// `list` the exact size of the flagged cells' list (`entry` bytes each) and fills it by
+// `lister`, which writes through a's field `out`. Returns the count.
+std::uint32_t VulkanEngine::list_flagged(CellArgs a, const Kernel& lister, std::uint32_t total_slot, Buffer& list,
+                                         std::uint64_t entry, std::uint64_t CellArgs::*out) {
+    const std::uint64_t bases = plan_.base_cells;
+    ctx_.barrier();  // flags before their scan
+    primitives_.scan(a.scan, bases + 1, total_slot);
+    ctx_.submit_and_wait();
+    const std::uint32_t count = counter(total_slot);
+    list = Buffer();  // free first: the peak is then the new size, not both
+    list = Buffer(ctx_, std::uint64_t(count) * entry, false);
+    a.cell_count = std::uint32_t(bases);
+    a.*out = list.address();
+    ctx_.begin();
+    ctx_.dispatch(lister, &a, groups(bases, WORKGROUP_SIZE));
+    ctx_.barrier();  // the list before the round's kernels read it
+    ctx_.submit_and_wait();
+    return count;
+}
+
+// Two radii: lists the base cells that get darts this round (flag_dart_cells or
+// flag_free_cells, a scan of the flags, list_dart_cells) and returns their count. The flags
+// lie at the start of the scratch buffer; the list gets a buffer of its exact size.
+std::uint32_t VulkanEngine::list_dart_cells(const RoundSpec& spec) {
+    const std::uint64_t bases = plan_.base_cells;
+    grow(ctx_, scratch_, (bases + 1) * 4);
+    primitives_.reserve_scan(bases + 1);
+    const std::uint64_t flags = scratch_.address();
+    VkCommandBuffer cmd = ctx_.begin();
+    CellArgs a = cell_args(cells_.address(), {}, active_, spec.round, spec.side, 0);
+    a.scan = flags;
+    if (spec.every_free_cell) {
+        a.cell_count = std::uint32_t(bases);
+        ctx_.dispatch(flag_free_cells_, &a, groups(bases + 1, WORKGROUP_SIZE));
+    } else {
+        ctx_.vk().vkCmdFillBuffer(cmd, scratch_.handle(), 0, (bases + 1) * 4, 0);
+        ctx_.barrier();  // cleared flags before they are set
+        ctx_.dispatch(flag_dart_cells_, &a, groups(std::uint64_t(active_) + 1, WORKGROUP_SIZE));
+    }
+    return list_flagged(a, list_dart_cells_, COUNTER_DART_CELLS, dart_cells_, sizeof(uvec2), &CellArgs::cells_out);
+}
+
+CellArgs VulkanEngine::cell_args(std::uint64_t cells, const Regions& r, std::uint32_t n, std::uint32_t round,
+                   std::uint32_t side, std::uint32_t param) const {
+    return {plan_.domain, cells, 0, r.darts, r.scan, grid_.address(), r.work, counters_.address(), r.masks,
+            n, round_key(plan_.seed, round), side, param};
+}
+
+DartArgs VulkanEngine::dart_args(std::uint64_t darts, std::uint32_t count, std::uint32_t param) const {
+    return {plan_.domain, darts, grid_.address(), 0, 0, counters_.address(), 0, samples_.address(), 0, count, 0, 0,
+            param};
+}
+
+std::unique_ptr<Engine> make_vulkan_engine(const Plan& plan, const std::string& device) {
+    return std::make_unique<VulkanEngine>(plan, device);
+}
+
+}  // namespace vrpd::detail

@@ -1,0 +1,44 @@
+// A compute kernel: a pipeline with a push-constant block and no descriptor sets (buffers are
+// passed by device address), its workgroup size given as specialization constant 0.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <string>
+
+#include "handles.h"
+
+namespace vrpd::detail {
+
+class VulkanContext;
+
+class Kernel {
+public:
+    Kernel(VulkanContext& ctx, std::string name, std::span<const std::uint32_t> spirv, std::uint32_t push_size,
+           std::uint32_t workgroup);
+    VkPipeline pipeline() const { return pipeline_.get(); }
+    VkPipelineLayout layout() const { return layout_.get(); }
+    std::uint32_t push_size() const { return push_size_; }
+    const std::string& name() const { return name_; }
+
+private:
+    std::string name_;
+    std::uint32_t push_size_;
+    OwnedPipelineLayout layout_;
+    OwnedPipeline pipeline_;
+};
+
+}  // namespace vrpd::detail
+
+namespace vrpd::detail {
+// A SPIR-V array (spirv_<name>, generated at build time) as a span of words.
+template <std::size_t N>
+std::span<const std::uint32_t> spirv_words(const std::uint32_t (&code)[N]) {
+    return {code, N};
+}
+}  // namespace vrpd::detail
+
+// The initializer of kernel member name_ (in a constructor's list, where the generated header
+// spirv_<name> is included), on the member `ctx_` declared before it; its name, in profiles, is
+// its shader's.
+#define VRPD_KERNEL(name, push, workgroup) name##_(ctx_, #name, spirv_words(spirv_##name), sizeof(push), workgroup)

@@ -1,0 +1,73 @@
+// The Vulkan engine's mask mode (shared/mask_mode.h): at levels 0 to MASK_LEVELS - 1 the
+// active cells are masks in the grid words, and the kernels run over the base cells, or at the
+// last level over the list of those with active sub-cells.
+#include "vulkan/vulkan_engine.h"
+
+namespace vrpd::detail {
+namespace {
+
+using namespace shared;
+
+std::uint32_t groups(std::uint64_t n, std::uint32_t per_group) {
+    return std::uint32_t((n + per_group - 1) / per_group);
+}
+
+}  // namespace
+
+using namespace shared;
+
+// Mask mode's counterpart: the base cells' new masks go to the ranks region and then to their
+// words. At the last mask-mode level the children go to an explicit active list instead: their
+// 64-bit masks pass through the ranks region and the spent darts' buffer (see round) to the
+// words, their counts are ranked, and mask mode ends. Returns the active count.
+// The round's targets are `n` base cells, or the `n` listed at `targets` (masked.glsl).
+std::uint32_t VulkanEngine::refine_masked(const RoundSpec& spec, std::uint64_t ranks, std::uint32_t child_side,
+                                          std::uint32_t fanout, std::uint32_t n, std::uint64_t targets) {
+    CellArgs a = cell_args(targets, Regions{ranks, 0, darts_.address(), ranks}, n, spec.round, child_side, fanout);
+    const bool leaves = masked_leaves(plan_.domain, child_side, fanout);
+    ctx_.dispatch(refine_masked_, &a, groups(std::uint64_t(n) + 1, WORKGROUP_SIZE));
+    ctx_.barrier();  // the new masks (and the active sum) before they reach the words
+    ctx_.dispatch(apply_masks_, &a, groups(n, WORKGROUP_SIZE));
+    ctx_.barrier();  // the words (and the counts) before the next round, or the scan
+    if (leaves) primitives_.scan(ranks, std::uint64_t(n) + 1, COUNTER_ACTIVE);
+    ctx_.submit_and_wait();
+    darts_ = Buffer();
+    const std::uint32_t kept = counter(COUNTER_ACTIVE);
+    // Children of the last mask-mode level: from the next round on, the kernels run over the
+    // list of the base cells that hold them (a superset of the active ones while the level's
+    // rounds last: masks only lose bits).
+    const bool last_level = fanout == 4u && (child_side << (MASK_LEVELS - 1u)) == (1u << plan_.domain.cell_bits);
+    if (!leaves) {
+        if (last_level && kept > 0) list_active_bases();
+        return kept;
+    }
+    if (kept >= GRID_TAG) throw Error("more than 2^31 active cells");
+    cells_ = Buffer(ctx_, std::uint64_t(kept) * sizeof(uvec2), false);
+    a.cells_out = cells_.address();
+    ctx_.begin();
+    ctx_.dispatch(scatter_masked_, &a, groups(n, WORKGROUP_SIZE));
+    ctx_.barrier();  // the active list and the emptied words before the next round
+    ctx_.submit_and_wait();
+    masked_ = false;
+    base_list_ = Buffer();
+    listed_bases_ = 0;
+    return kept;
+}
+
+// Lists the base cells with active sub-cells, in base cell order (flag_masked, a scan of the
+// flags, list_masked), for the kernels of the last mask-mode level. At r = 0.001 a quarter of
+// the base cells are active there (474 k of 2.0 M); over all of them, most SIMD batches of a
+// kernel ran for one or two working lanes. The flags lie at the start of the scratch buffer;
+// the list gets a buffer of its exact size.
+void VulkanEngine::list_active_bases() {
+    const std::uint64_t bases = plan_.base_cells;
+    grow(ctx_, scratch_, (bases + 1) * 4);
+    primitives_.reserve_scan(bases + 1);
+    ctx_.begin();
+    CellArgs a = cell_args(0, {}, std::uint32_t(bases), 0, 0, 0);
+    a.scan = scratch_.address();
+    ctx_.dispatch(flag_masked_, &a, groups(bases + 1, WORKGROUP_SIZE));
+    listed_bases_ = list_flagged(a, list_masked_, COUNTER_LISTED, base_list_, sizeof(uint), &CellArgs::work);
+}
+
+}  // namespace vrpd::detail
