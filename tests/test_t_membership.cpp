@@ -1,0 +1,263 @@
+// Exact membership in T = S ∩ (U ⊕ Rc) (paper section 3, Eq. 9; shared/t_membership.h): the
+// 128-bit arithmetic it rests on, the test against dense brute force, and the device's answers
+// against the host's.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <cstring>
+#include <random>
+
+#include "coverage_probe.h"
+#include "resolve_probe.h"
+#include "shared/sampler.h"
+#include "support.h"
+#include "vulkan/buffer.h"
+#include "vulkan/device.h"
+#include "vulkan/kernel.h"
+
+using namespace vrpd;
+using vrpd::test::options;
+
+namespace {
+
+int reference_sign(std::int64_t a, std::uint64_t l, std::int64_t b, std::uint64_t m) {
+    const long double approx = (long double)a * std::sqrt((long double)l) + (long double)b * std::sqrt((long double)m);
+    const int sa = l == 0 ? 0 : (a > 0) - (a < 0);
+    const int sb = m == 0 ? 0 : (b > 0) - (b < 0);
+    if (sa == sb || sb == 0) return sa;
+    if (sa == 0) return sb;
+    using u128 = unsigned __int128;
+    const u128 ua = u128(std::uint64_t(a < 0 ? -a : a));
+    const u128 ub = u128(std::uint64_t(b < 0 ? -b : b));
+    const u128 lhs = ua * ua * l;
+    const u128 rhs = ub * ub * m;
+    if (lhs == rhs) return 0;
+    const int exact = lhs > rhs ? sa : sb;
+    // The long double estimate must agree wherever it is clearly away from 0 (guards the reference).
+    if (std::abs(approx) > 1e-6L * (std::abs((long double)a) * std::sqrt((long double)l)))
+        REQUIRE(exact == (approx > 0 ? 1 : -1));
+    return exact;
+}
+
+struct Config {
+    std::vector<glm::ivec2> disks;  // centres, offsets from the origin
+    glm::ivec2 lo, hi;              // the box, as offsets from the origin (FAR_SIDE: no side)
+    bool in_disk = true;            // the region: the dart's closed disk in the box, or a cell (the box)
+};
+
+// Does the region (the closed disk of radius sqrt(r2) around the origin, within the box; or the
+// box alone) hold a point outside every open disk? Dense grid in doubles (polar for a disk); only
+// points clear of every circle and side by a margin count, so rounding cannot make it see an
+// uncovered point that is not there.
+bool brute_force_reaches(const Config& c, double r2) {
+    const double r = std::sqrt(r2);
+    const double margin = 1e-7 * r;
+    auto clear = [&](double x, double y) {
+        if (x < c.lo.x + margin || y < c.lo.y + margin || x > c.hi.x - margin || y > c.hi.y - margin) return false;
+        for (const glm::ivec2& d : c.disks)
+            if (std::hypot(x - d.x, y - d.y) < r + margin) return false;
+        return true;
+    };
+    if (!c.in_disk) {
+        const int steps = 200;
+        for (int i = 0; i <= steps; ++i)
+            for (int j = 0; j <= steps; ++j)
+                if (clear(c.lo.x + (c.hi.x - c.lo.x) * double(i) / steps,
+                          c.lo.y + (c.hi.y - c.lo.y) * double(j) / steps))
+                    return true;
+        return false;
+    }
+    const int rings = 160, spokes = 640;
+    for (int k = 0; k <= rings; ++k) {
+        const double rho = r * k / rings * (1 - 1e-7);
+        for (int a = 0; a < (k == 0 ? 1 : spokes); ++a) {
+            const double t = 2 * M_PI * a / spokes;
+            if (clear(rho * std::cos(t), rho * std::sin(t))) return true;
+        }
+    }
+    return false;
+}
+
+std::string describe(const Config& c) {
+    std::string text = "box (" + std::to_string(c.lo.x) + "," + std::to_string(c.lo.y) + ")-(" +
+                       std::to_string(c.hi.x) + "," + std::to_string(c.hi.y) + "), disks";
+    for (const glm::ivec2& d : c.disks) text += " (" + std::to_string(d.x) + "," + std::to_string(d.y) + ")";
+    return text;
+}
+
+// The exact test's answer: T_INSIDE, T_OUTSIDE or T_UNKNOWN.
+shared::uint exact_test(const Config& c, std::uint64_t r2) {
+    for (std::size_t i = 0; i < c.disks.size(); ++i) shared::disk_at[i] = c.disks[i];
+    return shared::reaches_uncovered(shared::uint(c.disks.size()), r2, c.lo, c.hi, c.in_disk);
+}
+
+// Random configurations as the sampler meets them: disk centres >= Rf apart and >= Rf from the
+// dart, within 2 Rc of it, inside the box. A cell (not in_disk): a square of side up to Rf / sqrt(2)
+// with its corner at the origin, the disks anywhere within 2 Rc of the corner.
+Config random_config(std::mt19937_64& rng, double rc, double rf, bool boxed, bool in_disk = true) {
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    Config c;
+    const int far = shared::FAR_SIDE;
+    c.lo = {-far, -far};
+    c.hi = {far, far};
+    if (boxed) {
+        // Each side near the dart (within 1.3 Rc) or far, as at the box's sides and corners.
+        std::uniform_real_distribution<double> side(0.0, 1.3 * rc);
+        auto pick = [&]() { return rng() % 3 == 0 ? far : int(side(rng)); };
+        c.lo = {-pick(), -pick()};
+        c.hi = {pick(), pick()};
+    }
+    if (!in_disk) {
+        std::uniform_real_distribution<double> side(1.0, rf / std::sqrt(2.0));
+        const int s = int(side(rng));
+        c.in_disk = false;
+        c.lo = {0, 0};
+        c.hi = {boxed ? 1 + int(rng() % s) : s, s};  // boxed: a free boundary cuts the cell
+    }
+    const int wanted = 1 + int(rng() % (rng() % 2 ? 8 : 48));
+    for (int tries = 0; tries < 400 && int(c.disks.size()) < wanted; ++tries) {
+        const glm::dvec2 p{2 * rc * u(rng), 2 * rc * u(rng)};
+        const glm::ivec2 q{int(std::lround(p.x)), int(std::lround(p.y))};
+        auto d2 = [](glm::ivec2 a, glm::ivec2 b) { const glm::dvec2 v(a - b);
+            return std::hypot(v.x, v.y); };
+        if (d2(q, {0, 0}) > 2 * rc || (in_disk && d2(q, {0, 0}) < rf)) continue;
+        if (in_disk && (q.x < c.lo.x || q.y < c.lo.y || q.x > c.hi.x || q.y > c.hi.y)) continue;
+        bool apart = true;
+        for (const glm::ivec2& d : c.disks) apart = apart && d2(q, d) >= rf;
+        if (apart) c.disks.push_back(q);
+    }
+    return c;
+}
+
+}  // namespace
+
+// The device multiplies 64-bit words through 32-bit halves; the host natively.
+TEST_CASE("the 128-bit product from 32-bit halves is exact", "[two-radii]") {
+    std::mt19937_64 rng(11);
+    for (int i = 0; i < 200000; ++i) {
+        const int bits_a = 1 + int(rng() % 64);
+        const int bits_b = 1 + int(rng() % 64);
+        const std::uint64_t a = bits_a == 64 ? rng() : rng() % (std::uint64_t(1) << bits_a);
+        const std::uint64_t b = bits_b == 64 ? rng() : rng() % (std::uint64_t(1) << bits_b);
+        std::uint64_t hi, lo;
+        shared::mul_wide_halves(a, b, hi, lo);
+        const unsigned __int128 p = static_cast<unsigned __int128>(a) * b;
+        INFO(a << " * " << b);
+        REQUIRE((hi == std::uint64_t(p >> 64) && lo == std::uint64_t(p)));
+    }
+    std::uint64_t hi, lo;
+    shared::mul_wide_halves(~std::uint64_t(0), ~std::uint64_t(0), hi, lo);
+    CHECK((hi == ~std::uint64_t(0) - 1 && lo == 1));
+}
+
+TEST_CASE("sign of a sqrt(l) + b sqrt(m) is exact up to the 2^124 products the test meets", "[two-radii]") {
+    std::mt19937_64 rng(7);
+    const std::uint64_t r2 = shared::MAX_COVER2;
+    for (int i = 0; i < 200000; ++i) {
+        // |a|, |b| up to 2^42 and l, m up to 4 r2 = 2^40: the bounds t_membership.h relies on.
+        const std::int64_t a = std::int64_t(rng() % (std::uint64_t(1) << 43)) - (std::int64_t(1) << 42);
+        const std::int64_t b = std::int64_t(rng() % (std::uint64_t(1) << 43)) - (std::int64_t(1) << 42);
+        const std::uint64_t l = rng() % (4 * r2 + 1);
+        // Half the cases near the tie a^2 l = b^2 m, where a float test would go wrong.
+        std::uint64_t m = rng() % (4 * r2 + 1);
+        if (i % 2 && b != 0 && l != 0) {
+            const long double t = (long double)a * a * l / ((long double)b * b);
+            if (t < 4.0L * r2) m = std::uint64_t(t) + rng() % 3 - 1;
+        }
+        INFO(a << " " << l << " " << b << " " << m);
+        REQUIRE(shared::sign_of_root_sum(a, l, b, m) == reference_sign(a, l, b, m));
+    }
+    // Exact ties: 3 sqrt(4) - 2 sqrt(9) = 0, at the largest magnitudes as well.
+    CHECK(shared::sign_of_root_sum(3, 4, -2, 9) == 0);
+    const std::int64_t big = std::int64_t(1) << 41;
+    CHECK(shared::sign_of_root_sum(big, 4 * r2, -2 * big, r2) == 0);
+    CHECK(shared::sign_of_root_sum(big, 4 * r2, -2 * big, r2 + 1) == -1);
+    CHECK(shared::sign_of_root_sum(big, 4 * r2 + 1, -2 * big, r2) == 1);
+}
+
+TEST_CASE("T membership: the exact test agrees with dense brute force", "[two-radii]") {
+    std::mt19937_64 rng(11);
+    for (const double rc : {1000.0, double((1 << 19) - 1)}) {
+        const std::uint64_t r2 = std::uint64_t(rc * rc);
+        REQUIRE(r2 <= shared::MAX_COVER2);
+        for (const double ratio : {1.5, 2.0, 4.0}) {
+            for (const bool boxed : {false, true}) {
+                for (const bool in_disk : {true, false}) {
+                    int reaches = 0, covered = 0, missed = 0;
+                    for (int i = 0; i < 200; ++i) {
+                        const Config c = random_config(rng, rc, rc / ratio, boxed, in_disk);
+                        const shared::uint answer = exact_test(c, r2);
+                        INFO("Rc " << rc << " ratio " << ratio << " case " << i << ": " << describe(c));
+                        REQUIRE(answer != shared::T_UNKNOWN);
+                        const bool exact = answer == shared::T_INSIDE;
+                        const bool dense = brute_force_reaches(c, double(r2));
+                        // A dense point clearly uncovered in the region: the exact test must see it.
+                        if (dense) REQUIRE(exact);
+                        (exact ? reaches : covered)++;
+                        // The grid can miss slivers thinner than its spacing: count them.
+                        if (exact && !dense) ++missed;
+                    }
+                    INFO("Rc " << rc << " ratio " << ratio << " boxed " << boxed << " in_disk " << in_disk << ": "
+                               << reaches << " reach U, " << covered << " do not, " << missed
+                               << " slivers the grid missed");
+                    // Both answers are common, so neither direction goes untested.
+                    CHECK(reaches >= 20);
+                    CHECK(covered >= 20);
+                    CHECK(missed <= reaches / 20);
+                }
+            }
+        }
+    }
+}
+
+TEST_CASE("T membership: the device gives the host's answer on every configuration", "[two-radii][gpu]") {
+    // Configurations of both kinds, with and without box sides, small and large Rc.
+    std::mt19937_64 rng(5);
+    std::vector<Config> configs;
+    std::vector<std::uint64_t> r2s;
+    for (const double rc : {1000.0, double((1 << 19) - 1)})
+        for (const double ratio : {1.5, 2.0, 4.0})
+            for (const bool boxed : {false, true})
+                for (const bool in_disk : {true, false})
+                    for (int i = 0; i < 200; ++i) {
+                        configs.push_back(random_config(rng, rc, rc / ratio, boxed, in_disk));
+                        r2s.push_back(std::uint64_t(rc * rc));
+                    }
+    constexpr std::size_t kWords = 68;  // PROBE_WORDS of coverage_probe.comp
+    detail::VulkanContext ctx("");
+    detail::Kernel probe(ctx, "coverage_probe", {spirv_coverage_probe, std::size(spirv_coverage_probe)}, 20, 64);
+    detail::Buffer in(ctx, configs.size() * kWords * sizeof(glm::ivec2), true);
+    detail::Buffer out(ctx, configs.size() * 4, true);
+    auto* words = static_cast<glm::ivec2*>(in.mapped());
+    std::vector<shared::uint> host(configs.size());
+    for (std::size_t i = 0; i < configs.size(); ++i) {
+        const Config& c = configs[i];
+        REQUIRE(c.disks.size() <= kWords - 4);
+        glm::ivec2* w = words + i * kWords;
+        w[0] = {int(c.disks.size()), c.in_disk ? 1 : 0};
+        w[1] = {int(std::uint32_t(r2s[i])), int(std::uint32_t(r2s[i] >> 32))};
+        w[2] = c.lo;
+        w[3] = c.hi;
+        for (std::size_t k = 0; k < c.disks.size(); ++k) w[4 + k] = c.disks[k];
+        host[i] = exact_test(c, r2s[i]);
+    }
+    struct {
+        std::uint64_t probes, results;
+        std::uint32_t count;
+    } push{in.address(), out.address(), std::uint32_t(configs.size())};
+    ctx.begin();
+    ctx.dispatch(probe, &push, std::uint32_t((configs.size() + 63) / 64));
+    ctx.barrier();  // results before the host reads them
+    ctx.submit_and_wait();
+    ctx.check_validation();
+    const auto* results = static_cast<const std::uint32_t*>(out.mapped());
+    std::size_t reaches = 0;
+    for (std::size_t i = 0; i < configs.size(); ++i) {
+        INFO("configuration " << i << ": " << describe(configs[i]));
+        REQUIRE(results[i] == host[i]);
+        reaches += host[i] == shared::T_INSIDE;
+    }
+    CHECK(reaches > configs.size() / 5);
+    CHECK(reaches < configs.size() * 4 / 5);
+}
+
