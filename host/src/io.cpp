@@ -1,6 +1,8 @@
 // Point-file reading and writing (see vrpd/io.h).
 #include "vrpd/io.h"
 
+#include <algorithm>
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
@@ -10,12 +12,13 @@
 #include <fstream>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 namespace vrpd {
 namespace {
 
 constexpr char kMagic[4] = {'V', 'R', 'P', 'D'};
-constexpr std::uint32_t kVersion = 1;
+constexpr std::uint32_t kVersion = 2;
 
 bool ends_with(const std::string& s, const char* suffix) {
     std::size_t n = std::strlen(suffix);
@@ -38,36 +41,126 @@ template <class T> T get_le(const unsigned char* b) {
     return v;
 }
 
+// The columns of a sampling's rows: x, y, then its attributes.
+struct Column {
+    const char* name;
+    const std::vector<double>* values;  // null for x and y
+};
+std::vector<Column> columns_of(const Sampling& s) {
+    std::vector<Column> c{{"x", nullptr}, {"y", nullptr}};
+    for (const Column& a : {Column{"t", &s.birth}, Column{"r", &s.local_radius}}) {
+        if (a.values->empty()) continue;
+        if (a.values->size() != s.size())
+            throw Error(fmt::format("internal: column {} has {} values for {} samples", a.name, a.values->size(), s.size()));
+        c.push_back(a);
+    }
+    return c;
+}
+
+double value_of(const Sampling& s, const Column& c, std::size_t i, std::size_t k) {
+    if (c.values) return (*c.values)[i];
+    const glm::dvec2 p = s.point(i);
+    return k == 0 ? p.x : p.y;
+}
+
 void write_bin(const Sampling& s, std::ostream& out) {
+    const std::vector<Column> columns = columns_of(s);
     out.write(kMagic, 4);
     put_le<std::uint32_t>(out, kVersion);
     put_le<std::uint64_t>(out, s.size());
-    for (std::size_t i = 0; i < s.size(); ++i) {
-        glm::dvec2 p = s.point(i);
-        put_le<double>(out, p.x);
-        put_le<double>(out, p.y);
+    put_le<std::uint32_t>(out, std::uint32_t(columns.size()));
+    for (const Column& c : columns) {
+        put_le<std::uint8_t>(out, std::uint8_t(std::strlen(c.name)));
+        out.write(c.name, std::streamsize(std::strlen(c.name)));
+    }
+    for (std::size_t i = 0; i < s.size(); ++i)
+        for (std::size_t k = 0; k < columns.size(); ++k) put_le<double>(out, value_of(s, columns[k], i, k));
+}
+
+// Moves the columns after x,y of `names` and `rows` (row-major, C a row) into a PointSet.
+PointSet point_set(const std::string& path, const std::vector<std::string>& names, const std::vector<double>& rows) {
+    const std::size_t c = names.size();
+    PointSet set;
+    set.points.resize(rows.size() / c);
+    set.columns.assign(names.begin() + 2, names.end());
+    set.values.assign(c - 2, std::vector<double>(set.points.size()));
+    for (std::size_t i = 0; i < set.points.size(); ++i) {
+        for (std::size_t k = 0; k < c; ++k)
+            if (!std::isfinite(rows[i * c + k]))
+                throw Error(fmt::format("{}: point {} has a value that is not finite ({})", path, i, names[k]));
+        set.points[i] = {rows[i * c], rows[i * c + 1]};
+        for (std::size_t k = 2; k < c; ++k) set.values[k - 2][i] = rows[i * c + k];
+    }
+    return set;
+}
+
+// A column list must start with x, y and name each column once, in letters, digits and '_'.
+void check_columns(const std::string& where, const std::vector<std::string>& names) {
+    if (names.size() < 2 || names[0] != "x" || names[1] != "y")
+        throw Error(fmt::format("{}: the first two columns must be x,y", where));
+    for (std::size_t k = 0; k < names.size(); ++k) {
+        const std::string& n = names[k];
+        const bool word = !n.empty() && std::all_of(n.begin(), n.end(), [](unsigned char ch) {
+            return std::isalnum(ch) || ch == '_';
+        });
+        if (!word) throw Error(fmt::format("{}: column {} has no valid name (letters, digits, _)", where, k + 1));
+        if (std::find(names.begin(), names.begin() + std::ptrdiff_t(k), n) != names.begin() + std::ptrdiff_t(k))
+            throw Error(fmt::format("{}: column {} is named twice", where, n));
     }
 }
 
-std::vector<glm::dvec2> read_bin(const std::string& path, const std::string& bytes) {
+PointSet read_bin(const std::string& path, const std::string& bytes) {
     const auto* b = reinterpret_cast<const unsigned char*>(bytes.data());
     if (bytes.size() < 16 || std::memcmp(b, kMagic, 4) != 0) throw Error(path + ": not a vrpd .bin file (bad header)");
-    if (get_le<std::uint32_t>(b + 4) != kVersion) throw Error(path + ": unsupported .bin version");
-    std::uint64_t n = get_le<std::uint64_t>(b + 8);
-    if (n > (bytes.size() - 16) / 16 || bytes.size() != 16 + 16 * n)
-        throw Error(fmt::format("{}: .bin says {} points but holds {} bytes", path, n, bytes.size()));
-    std::vector<glm::dvec2> pts(n);
-    for (std::uint64_t i = 0; i < n; ++i) {
-        pts[i] = {get_le<double>(b + 16 + 16 * i), get_le<double>(b + 24 + 16 * i)};
-        if (!std::isfinite(pts[i].x) || !std::isfinite(pts[i].y))
-            throw Error(fmt::format("{}: point {} is not finite", path, i));
+    const std::uint32_t version = get_le<std::uint32_t>(b + 4);
+    const std::uint64_t n = get_le<std::uint64_t>(b + 8);
+    std::vector<std::string> names{"x", "y"};
+    std::size_t at = 16;
+    if (version == 2) {
+        if (bytes.size() < 20) throw Error(path + ": .bin version 2 without its column count");
+        const std::uint32_t c = get_le<std::uint32_t>(b + 16);
+        at = 20;
+        names.clear();
+        for (std::uint32_t k = 0; k < c; ++k) {
+            if (at >= bytes.size() || at + 1 + b[at] > bytes.size())
+                throw Error(fmt::format("{}: .bin column list ends early (column {} of {})", path, k + 1, c));
+            names.emplace_back(bytes.data() + at + 1, b[at]);
+            at += 1 + b[at];
+        }
+        check_columns(path, names);
+    } else if (version != 1) {
+        throw Error(fmt::format("{}: unsupported .bin version {}", path, version));
     }
-    return pts;
+    const std::uint64_t row = 8 * names.size();
+    if (n > (bytes.size() - at) / row || bytes.size() != at + row * n)
+        throw Error(fmt::format("{}: .bin says {} points of {} columns but holds {} bytes", path, n, names.size(),
+                                bytes.size()));
+    std::vector<double> rows(n * names.size());
+    for (std::size_t k = 0; k < rows.size(); ++k) rows[k] = get_le<double>(b + at + 8 * k);
+    return point_set(path, names, rows);
 }
 
-std::vector<glm::dvec2> read_csv(const std::string& path, const std::string& text) {
-    std::vector<glm::dvec2> pts;
-    std::size_t pos = 0, line = 0;
+std::vector<std::string> split_header(std::string_view row) {
+    std::vector<std::string> names;
+    std::size_t pos = 0;
+    for (;;) {
+        std::size_t comma = row.find(',', pos);
+        std::string_view field = row.substr(pos, comma == std::string_view::npos ? std::string_view::npos : comma - pos);
+        while (!field.empty() && field.front() == ' ') field.remove_prefix(1);
+        while (!field.empty() && field.back() == ' ') field.remove_suffix(1);
+        names.emplace_back(field);
+        if (comma == std::string_view::npos) return names;
+        pos = comma + 1;
+    }
+}
+
+PointSet read_csv(const std::string& path, const std::string& text) {
+    std::vector<std::string> names{"x", "y"};
+    std::vector<double> rows;
+    std::size_t pos = text.starts_with("\xEF\xBB\xBF") ? 3 : 0;  // a UTF-8 byte order mark
+    std::size_t line = 0;
+    const std::string expected_default = "two finite numbers `x,y`";
+    std::string expected = expected_default;
     while (pos < text.size()) {
         std::size_t end = text.find('\n', pos);
         if (end == std::string::npos) end = text.size();
@@ -76,27 +169,35 @@ std::vector<glm::dvec2> read_csv(const std::string& path, const std::string& tex
         ++line;
         if (!row.empty() && row.back() == '\r') row.remove_suffix(1);
         if (row.empty()) continue;
-        if (line == 1 && (row == "x,y" || row == "x, y")) continue;
-        double v[2];
+        if (line == 1 && !row.empty() && (std::isalpha((unsigned char)row.front()) || row.front() == '_')) {
+            names = split_header(row);
+            check_columns(fmt::format("{}:1", path), names);
+            expected = fmt::format("{} finite numbers `{}`", names.size(), fmt::join(names, ","));
+            continue;
+        }
         const char* p = row.data();
         const char* last = row.data() + row.size();
-        for (int k = 0; k < 2; ++k) {
+        for (std::size_t k = 0; k < names.size(); ++k) {
             while (p < last && *p == ' ') ++p;
-            auto [next, ec] = std::from_chars(p, last, v[k]);
-            if (ec != std::errc() || !std::isfinite(v[k]))
-                throw Error(fmt::format("{}:{}: expected two finite numbers `x,y`, got `{}`", path, line, row));
+            double v = 0;
+            auto [next, ec] = std::from_chars(p, last, v);
+            if (ec != std::errc() || !std::isfinite(v))
+                throw Error(fmt::format("{}:{}: expected {}, got `{}`", path, line, expected, row));
+            rows.push_back(v);
             p = next;
             while (p < last && *p == ' ') ++p;
-            if (k == 0) {
+            if (k + 1 < names.size()) {
                 if (p == last || *p != ',')
-                    throw Error(fmt::format("{}:{}: expected two columns `x,y`, got `{}`", path, line, row));
+                    throw Error(fmt::format("{}:{}: expected {} columns `{}`, got `{}`", path, line, names.size(),
+                                            fmt::join(names, ","), row));
                 ++p;
             }
         }
-        if (p != last) throw Error(fmt::format("{}:{}: expected two columns `x,y`, got `{}`", path, line, row));
-        pts.push_back({v[0], v[1]});
+        if (p != last)
+            throw Error(fmt::format("{}:{}: expected {} columns `{}`, got `{}`", path, line, names.size(),
+                                    fmt::join(names, ","), row));
     }
-    return pts;
+    return point_set(path, names, rows);
 }
 
 std::filesystem::path partial_path(const std::string& path) {
@@ -111,13 +212,20 @@ std::filesystem::path partial_path(const std::string& path) {
 }  // namespace
 
 void write_csv(const Sampling& s, std::ostream& out) {
-    std::string buf = "x,y\n";
-    char num[64];
+    const std::vector<Column> columns = columns_of(s);
+    std::string buf;
+    for (std::size_t k = 0; k < columns.size(); ++k) {
+        buf += k ? "," : "";
+        buf += columns[k].name;
+    }
+    buf += "\n";
+    char num[32 * 4];
     for (std::size_t i = 0; i < s.size(); ++i) {
-        glm::dvec2 p = s.point(i);
-        char* e = std::to_chars(num, num + sizeof num, p.x).ptr;
-        *e++ = ',';
-        e = std::to_chars(e, num + sizeof num, p.y).ptr;
+        char* e = num;
+        for (std::size_t k = 0; k < columns.size(); ++k) {
+            if (k) *e++ = ',';
+            e = std::to_chars(e, num + sizeof num, value_of(s, columns[k], i, k)).ptr;
+        }
         *e++ = '\n';
         buf.append(num, e);
         if (buf.size() > (1 << 20)) {
@@ -162,7 +270,7 @@ void write_points(const Sampling& s, const std::string& path) {
     }
 }
 
-std::vector<glm::dvec2> read_points(const std::string& path) {
+PointSet read_point_set(const std::string& path) {
     std::error_code ec;
     if (std::filesystem::is_directory(path, ec)) throw Error(path + ": is a directory");
     std::ifstream in(path, std::ios::binary);
@@ -170,6 +278,14 @@ std::vector<glm::dvec2> read_points(const std::string& path) {
     std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     if (bytes.size() >= 4 && std::memcmp(bytes.data(), kMagic, 4) == 0) return read_bin(path, bytes);
     return read_csv(path, bytes);
+}
+
+std::vector<glm::dvec2> read_points(const std::string& path) { return read_point_set(path).points; }
+
+const std::vector<double>* PointSet::column(std::string_view name) const {
+    for (std::size_t k = 0; k < columns.size(); ++k)
+        if (columns[k] == name) return &values[k];
+    return nullptr;
 }
 
 }  // namespace vrpd

@@ -1,10 +1,17 @@
-// Point files: CSV (header `x,y`, one sample per row in acceptance order, shortest decimal that
-// round-trips the double) and binary (.bin, little-endian):
-//   bytes 0-3 "VRPD", 4-7 uint32 version = 1, 8-15 uint64 count, then count x (float64 x, float64 y).
+// Point files, with named columns: the position x, y, then the attributes a sampling carries
+// (Sampling::birth as "t", Sampling::local_radius as "r"), one sample per row in acceptance order.
+//   CSV: a header naming the columns (`x,y`, `x,y,t`, `x,y,t,r`, ...), then one row per sample,
+//        each number the shortest decimal that round-trips the double. A file without a header
+//        has the two columns x,y.
+//   .bin (little-endian), version 2: bytes 0-3 "VRPD", 4-7 uint32 version = 2, 8-15 uint64
+//        count, 16-19 uint32 column count C, then C names (uint8 length, then its bytes), then
+//        count rows of C float64. Version 1 (no column list: count x (float64 x, float64 y) from
+//        byte 16) still reads.
 #pragma once
 
 #include <ostream>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <glm/vec2.hpp>
@@ -22,8 +29,20 @@ void write_points(const Sampling& s, const std::string& path);
 // Throws Error unless `path` can be created or replaced (checked before a long run).
 void check_writable(const std::string& path);
 
-// Reads a point file: vrpd's .bin, or a CSV of two numeric columns (an optional header line `x,y`).
-// Throws Error naming the line of the first malformed row, NaN or inf.
+// A point file's contents: the positions, and the columns after x,y by name.
+struct PointSet {
+    std::vector<glm::dvec2> points;
+    std::vector<std::string> columns;         // the attribute columns' names, in file order
+    std::vector<std::vector<double>> values;  // values[c][i]: column c of point i
+    // The values of column `name`, or null if the file has none.
+    const std::vector<double>* column(std::string_view name) const;
+};
+
+// Reads a point file: vrpd's .bin (version 1 or 2), or a CSV as above. Throws Error naming the
+// line (or point) of the first malformed row, NaN or inf.
+PointSet read_point_set(const std::string& path);
+
+// The positions of read_point_set(path).
 std::vector<glm::dvec2> read_points(const std::string& path);
 
 }  // namespace vrpd

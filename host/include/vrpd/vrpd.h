@@ -80,6 +80,11 @@ struct Sampling {
     std::string choice;               // with Backend::Auto, why it picked that backend; else empty
     SamplingStats stats;
 
+    // Per-sample attributes beside the position: each empty when the run has none, else one value
+    // per sample, in sample order. Point files carry them as named columns (vrpd/io.h).
+    std::vector<double> birth;         // column "t": the scale t at which the sample was born (section 4)
+    std::vector<double> local_radius;  // column "r": the radius at the sample (section 5)
+
     std::size_t size() const { return lattice.size(); }
     glm::dvec2 point(std::size_t i) const {
         return {double(lattice[i].x) * quantum, double(lattice[i].y) * quantum};
