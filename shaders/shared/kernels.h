@@ -49,8 +49,9 @@ VRPD_BEGIN
 // undecided to final, so a reader sees either; position and key do not change in a round.
 VRPD_FN uvec4 dart_at(Darts darts, uint j) {
     uint r = dart_record(j);
-    uint states = load_state_word(darts, dart_state_word(j));
-    return uvec4(darts.word[r], darts.word[r + 1u], darts.word[r + 2u], (states >> dart_state_shift(j)) & 3u);
+    uvec4 dart = uvec4(darts.word[r], darts.word[r + 1u], darts.word[r + 2u], 0u);
+    dart.w = (load_state_word(darts, dart_state_word(j)) >> dart_state_shift(j)) & 3u;
+    return dart;
 }
 // Ors state bits into state word w (dart_state_word), for the darts whose states they set.
 VRPD_FN void or_dart_states(Darts darts, uint w, uint bits) {

@@ -71,16 +71,15 @@ VRPD_FN Domain local_domain(Domain dom, uvec2 cell) {
 }
 
 // Visits the base cells (dx, dy) around base cell `cell` within `reach` rows and columns whose
-// points may lie closer than sqrt(limit2) to a point of `cell`, row by row, as `nb`, their index.
-// The body follows as a block; `continue` goes to the next cell, `return` ends the scan.
-// (GLSL has neither closures nor function pointers; a loop macro keeps the scan written once
-// while every compiler still sees two plain nested loops.)
-#define VRPD_FOR_EACH_NEIGHBOUR(dom, cell, reach, limit2, dx, dy, nb)                                      \
-    for (bool vrpd_inner = inner_cell(dom, cell), vrpd_once = true; vrpd_once; vrpd_once = false)          \
-        for (uint nb = 0u; vrpd_once; vrpd_once = false)                                                   \
-            for (int dy = -(reach); dy <= (reach); dy++)                                                   \
-                for (int dx = -row_reach(dom, dy, reach, limit2), vrpd_row_end = -dx; dx <= vrpd_row_end; dx++) \
-                    if ((nb = neighbour_index(dom, cell, vrpd_inner, dx, dy)) != GRID_EMPTY)
+// points may lie closer than sqrt(limit2) to a point of `cell`, row by row, as `nb`, their index
+// (an int: base cells number fewer than 2^31). The body follows as a block; `continue` goes to the
+// next cell, `return` ends the scan. GLSL has neither closures nor function pointers: a loop
+// macro keeps the scan written once while every compiler sees two plain nested loops (the
+// index and the inner-cell test ride in the outer loop's declaration).
+#define VRPD_FOR_EACH_NEIGHBOUR(dom, cell, reach, limit2, dx, dy, nb)                                          \
+    for (int dy = -(reach), nb = 0, vrpd_inner = inner_cell(dom, cell) ? 1 : 0; dy <= (reach); dy++)           \
+        for (int dx = -row_reach(dom, dy, reach, limit2), vrpd_row_end = -dx; dx <= vrpd_row_end; dx++)         \
+            if ((nb = int(neighbour_index(dom, cell, vrpd_inner != 0, dx, dy))) != int(GRID_EMPTY))
 
 VRPD_END
 #endif

@@ -29,10 +29,11 @@ static_assert(sizeof(Radii) == 24 && offsetof(Radii, coverage2) == 8 && offsetof
 #endif
 
 // A kernel built for one radius only defines VRPD_ONE_RADIUS before its includes: two_radii() is
-// then false at compile time and the code that serves two radii (T tests, corner bookkeeping,
-// the grid-scan fallback of a cell test) leaves its SPIR-V. llvmpipe runs every branch of a SIMD
-// batch whether a lane takes it or not, so code merely never taken costs there. The kernel
-// variants are listed in one table in CMakeLists.txt.
+// then false, and the code that serves two radii (T tests, corner bookkeeping, the grid-scan
+// fallback of a cell test) is left out of its SPIR-V by #ifndef VRPD_ONE_RADIUS where kernels
+// reach it (glslang does not fold a call, so the guard is what keeps the code out; the driver
+// would otherwise compile it, and llvmpipe runs every branch of a SIMD batch whether a lane
+// takes it or not). The kernel variants are listed in one table in CMakeLists.txt.
 #ifdef VRPD_ONE_RADIUS
 VRPD_FN bool two_radii(Radii r) { return false; }
 #else

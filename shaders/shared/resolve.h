@@ -20,7 +20,9 @@ VRPD_BEGIN
 // first earlier undecided dart in conflict leaves d undecided: no accepted one can follow it
 // (what stopping there saves: docs/performance.md).
 VRPD_FN uint resolve_dart(Domain global, Grid grid, Darts darts, uint d, bool none_accepted) {
+#ifndef VRPD_ONE_RADIUS  // glslang does not fold two_radii(): only the guard keeps T's code out of SPIR-V
     if (two_radii(global.radii)) return resolve_dart_two_radii(global, grid, darts, d);
+#endif
     DartSite s = dart_site(global, darts, d);
     bool waiting = false;
     int reach = conflict_reach(s.dom.radii);
