@@ -82,6 +82,8 @@ namespace vrpd::detail {
 
 Plan make_plan(const SampleOptions& o, std::uint32_t max_cell_bits) {
     validate(o);
+    // The lattice and base grid come from the smallest radius the run meets (radii.h): Rf, with
+    // one radius or two. Base cells of diagonal below it hold at most one sample.
     const double r = o.radius;
     const double max_side = r / std::sqrt(2.0);
     const double longest = std::max(o.box.width, o.box.height);

@@ -30,15 +30,15 @@ VRPD_BEGIN
 const uint64_t MAX_COVER2 = uint64_t(1) << 38;
 
 // Centres (offsets from the dart, |offset|^2 <= 4 R2) of the disks a test considers. Samples are
-// >= Rf apart, so (4 Rc / Rf + 1)^2 = 289 could fit around a dart at Rc = 4 Rf; measured, the most
-// a test met was 25 (Rc = 4 Rf, Rf = 0.001, 1.6 M tests) and 19 at Rc = 2 Rf.
+// >= Rf apart, so (4 Rc / Rf + 1)^2 = 289 could fit around a dart at Rc = 4 Rf; tests meet far
+// fewer (docs/performance.md).
 const uint MAX_DISKS = 64u;
 VRPD_PRIVATE ivec2 disk_at[MAX_DISKS];
 
 // The test's cost is bounded: it takes at most T_TEST_BUDGET loop steps, counted alike on every
-// device, and answers T_UNKNOWN past them. Measured, the most a test took was 1 970 steps (mean
-// 330; Rc = 4 Rf, 1.6 M tests). The bound matters on lavapipe: llvmpipe ends every loop of a
-// shader once 65 535 iterations have run in one SIMD batch of invocations, without an error.
+// device, and answers T_UNKNOWN past them; tests take far fewer (docs/performance.md). The bound
+// matters on lavapipe: llvmpipe ends every loop of a shader once 65 535 iterations have run in
+// one SIMD batch of invocations, without an error.
 const uint T_TEST_BUDGET = 8192u;
 const uint T_OUTSIDE = 0u;  // the dart is not in T
 const uint T_INSIDE = 1u;
