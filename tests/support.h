@@ -2,12 +2,34 @@
 #pragma once
 
 #include <cstdint>
+#include <cstdlib>
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+#include <system_error>
 #include <vector>
 
 #include "plan.h"
 #include "vrpd/vrpd.h"
 
 namespace vrpd::test {
+
+// A fresh directory for a test process, removed with its contents when it goes. (A directory
+// named by the pid outlived its run and was found again when the pid came round.)
+struct ScratchDir {
+    std::filesystem::path path;
+    explicit ScratchDir(const std::string& prefix) {
+        std::string name = (std::filesystem::temp_directory_path() / (prefix + "_XXXXXX")).string();
+        if (!::mkdtemp(name.data())) throw std::runtime_error("cannot create a scratch directory");
+        path = name;
+    }
+    ScratchDir(const ScratchDir&) = delete;
+    ScratchDir& operator=(const ScratchDir&) = delete;
+    ~ScratchDir() {
+        std::error_code ignored;
+        std::filesystem::remove_all(path, ignored);
+    }
+};
 
 inline SampleOptions options(double radius, std::uint32_t seed, Backend backend, Box box = {}) {
     SampleOptions o;

@@ -13,6 +13,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "support.h"
 #include "vrpd/io.h"
 
 namespace fs = std::filesystem;
@@ -24,24 +25,8 @@ struct Run {
     std::string err;
 };
 
-// A fresh directory per test process, removed at exit. (A directory named by the pid outlived
-// its run and was found again when the pid came round: a file left there failed a check that
-// the CLI wrote nothing.)
-struct ScratchDir {
-    fs::path path;
-    ScratchDir() {
-        std::string name = (fs::temp_directory_path() / "vrpd_cli_test_XXXXXX").string();
-        if (!::mkdtemp(name.data())) throw std::runtime_error("cannot create a scratch directory");
-        path = name;
-    }
-    ~ScratchDir() {
-        std::error_code ignored;
-        fs::remove_all(path, ignored);
-    }
-};
-
 fs::path scratch() {
-    static const ScratchDir dir;
+    static const vrpd::test::ScratchDir dir("vrpd_cli_test");
     return dir.path;
 }
 

@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <system_error>
 
+#include "support.h"
 #include "vrpd/io.h"
 
 namespace fs = std::filesystem;
@@ -15,22 +16,8 @@ using namespace vrpd;
 
 namespace {
 
-// A fresh directory per test process, removed at exit.
-struct ScratchDir {
-    fs::path path;
-    ScratchDir() {
-        std::string d = (fs::temp_directory_path() / "vrpd_io_test_XXXXXX").string();
-        if (!::mkdtemp(d.data())) throw std::runtime_error("cannot create a scratch directory");
-        path = d;
-    }
-    ~ScratchDir() {
-        std::error_code ignored;
-        fs::remove_all(path, ignored);
-    }
-};
-
 fs::path scratch_file(const std::string& name) {
-    static const ScratchDir dir;
+    static const vrpd::test::ScratchDir dir("vrpd_io_test");
     return dir.path / name;
 }
 

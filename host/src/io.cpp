@@ -51,7 +51,8 @@ std::vector<Column> columns_of(const Sampling& s) {
     for (const Column& a : {Column{"t", &s.birth}, Column{"r", &s.local_radius}}) {
         if (a.values->empty()) continue;
         if (a.values->size() != s.size())
-            throw Error(fmt::format("internal: column {} has {} values for {} samples", a.name, a.values->size(), s.size()));
+            throw Error(fmt::format("internal: column {} has {} values for {} samples", a.name, a.values->size(),
+                                    s.size()));
         c.push_back(a);
     }
     return c;
@@ -145,7 +146,7 @@ std::vector<std::string> split_header(std::string_view row) {
     std::size_t pos = 0;
     for (;;) {
         std::size_t comma = row.find(',', pos);
-        std::string_view field = row.substr(pos, comma == std::string_view::npos ? std::string_view::npos : comma - pos);
+        std::string_view field = row.substr(pos, comma == std::string_view::npos ? comma : comma - pos);
         while (!field.empty() && field.front() == ' ') field.remove_prefix(1);
         while (!field.empty() && field.back() == ' ') field.remove_suffix(1);
         names.emplace_back(field);

@@ -81,5 +81,13 @@ VRPD_FN Domain local_domain(Domain dom, uvec2 cell) {
         for (int dx = -row_reach(dom, dy, reach, limit2), vrpd_row_end = -dx; dx <= vrpd_row_end; dx++)         \
             if ((nb = int(neighbour_index(dom, cell, vrpd_inner != 0, dx, dy))) != int(GRID_EMPTY))
 
+// This round's darts [first, end) in a grid word, or an empty range if it holds none.
+VRPD_FN uvec2 darts_in(uvec2 word) { return grid_is_darts(word) ? grid_darts(word) : uvec2(0u, 0u); }
+
+// Visits this round's darts, as index j, in the base cells VRPD_FOR_EACH_NEIGHBOUR visits.
+#define VRPD_FOR_EACH_NEARBY_DART(dom, grid, cell, reach, limit2, j)                              \
+    VRPD_FOR_EACH_NEIGHBOUR(dom, cell, reach, limit2, vrpd_dx, vrpd_dy, vrpd_nb)                  \
+        for (uint j = darts_in(grid.word[vrpd_nb]).x, vrpd_end = darts_in(grid.word[vrpd_nb]).y; j < vrpd_end; j++)
+
 VRPD_END
 #endif

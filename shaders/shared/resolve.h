@@ -26,20 +26,15 @@ VRPD_FN uint resolve_dart(Domain global, Grid grid, Darts darts, uint d, bool no
     DartSite s = dart_site(global, darts, d);
     bool waiting = false;
     int reach = conflict_reach(s.dom.radii);
-    VRPD_FOR_EACH_NEIGHBOUR(s.dom, s.cell, reach, s.dom.radii.inhibition2, dx, dy, nb) {
-        uvec2 w = grid.word[nb];
-        if (!grid_is_darts(w)) continue;
-        uvec2 range = grid_darts(w);
-        for (uint j = range.x; j < range.y; j++) {
-            if (j == d) continue;
-            uvec4 other = dart_at(darts, j);
-            if (!live_before(other, j, s.dart.z, d) ||
-                !inhibits(s.dom.radii, distance2(s.dom.lattice, uvec2(other.x, other.y), s.p)))
-                continue;
-            if (other.w == DART_ACCEPTED) return DART_REJECTED;
-            if (none_accepted) return DART_UNDECIDED;
-            waiting = true;
-        }
+    VRPD_FOR_EACH_NEARBY_DART(s.dom, grid, s.cell, reach, s.dom.radii.inhibition2, j) {
+        if (j == d) continue;
+        uvec4 other = dart_at(darts, j);
+        if (!live_before(other, j, s.dart.z, d) ||
+            !inhibits(s.dom.radii, distance2(s.dom.lattice, uvec2(other.x, other.y), s.p)))
+            continue;
+        if (other.w == DART_ACCEPTED) return DART_REJECTED;
+        if (none_accepted) return DART_UNDECIDED;
+        waiting = true;
     }
     return waiting ? DART_UNDECIDED : DART_ACCEPTED;
 }
@@ -52,16 +47,11 @@ VRPD_FN uint undecided_before(Domain global, Grid grid, Darts darts, uint d) {
     DartSite s = dart_site(global, darts, d);
     int reach = int(influence_reach(s.dom.radii));
     uint64_t limit2 = two_radii(s.dom.radii) ? influence2(s.dom.radii) : s.dom.radii.inhibition2;
-    VRPD_FOR_EACH_NEIGHBOUR(s.dom, s.cell, reach, limit2, dx, dy, nb) {
-        uvec2 w = grid.word[nb];
-        if (!grid_is_darts(w)) continue;
-        uvec2 range = grid_darts(w);
-        for (uint j = range.x; j < range.y; j++) {
-            uvec4 other = dart_at(darts, j);
-            if (other.w == DART_UNDECIDED && live_before(other, j, s.dart.z, d) &&
-                distance2(s.dom.lattice, s.p, uvec2(other.x, other.y)) < limit2)
-                return j;
-        }
+    VRPD_FOR_EACH_NEARBY_DART(s.dom, grid, s.cell, reach, limit2, j) {
+        uvec4 other = dart_at(darts, j);
+        if (other.w == DART_UNDECIDED && live_before(other, j, s.dart.z, d) &&
+            distance2(s.dom.lattice, s.p, uvec2(other.x, other.y)) < limit2)
+            return j;
     }
     return GRID_EMPTY;
 }
@@ -72,16 +62,11 @@ VRPD_FN uint serial_decision(Domain global, Grid grid, Darts darts, uint d) {
     DartSite s = dart_site(global, darts, d);
     if (two_radii(global.radii)) return state_given_accepted(s.dom, grid, darts, d, s.p, s.cell);
     int reach = conflict_reach(s.dom.radii);
-    VRPD_FOR_EACH_NEIGHBOUR(s.dom, s.cell, reach, s.dom.radii.inhibition2, dx, dy, nb) {
-        uvec2 w = grid.word[nb];
-        if (!grid_is_darts(w)) continue;
-        uvec2 range = grid_darts(w);
-        for (uint j = range.x; j < range.y; j++) {
-            uvec4 other = dart_at(darts, j);
-            if (j != d && other.w == DART_ACCEPTED &&
-                inhibits(s.dom.radii, distance2(s.dom.lattice, uvec2(other.x, other.y), s.p)))
-                return DART_REJECTED;
-        }
+    VRPD_FOR_EACH_NEARBY_DART(s.dom, grid, s.cell, reach, s.dom.radii.inhibition2, j) {
+        uvec4 other = dart_at(darts, j);
+        if (j != d && other.w == DART_ACCEPTED &&
+            inhibits(s.dom.radii, distance2(s.dom.lattice, uvec2(other.x, other.y), s.p)))
+            return DART_REJECTED;
     }
     return DART_ACCEPTED;
 }

@@ -34,19 +34,12 @@
 #include "work_args.h"
 
 namespace vrpd::detail {
+
+using namespace shared;
+
 namespace {
-
-using namespace shared;
-
 constexpr std::uint32_t kResolvePassesPerSubmit = 4;
-
-std::uint32_t groups(std::uint64_t n, std::uint32_t per_group) {
-    return std::uint32_t((n + per_group - 1) / per_group);
-}
-
 }  // namespace
-
-using namespace shared;
 
 VulkanEngine::VulkanEngine(const Plan& plan, const std::string& selector)
     : plan_(plan),
@@ -103,10 +96,10 @@ std::uint64_t VulkanEngine::start() {
         ctx_.vk().vkCmdFillBuffer(cmd, scratch_.handle(), 0, n * 4, 1u);
         ctx_.barrier();  // the fills before apply_masks reads and writes them
         CellArgs a = cell_args(0, Regions{0, 0, 0, scratch_.address()}, std::uint32_t(n), 0, 0, 0);
-        ctx_.dispatch(apply_masks_, &a, groups(n, WORKGROUP_SIZE));
+        ctx_.dispatch(apply_masks_, &a, dispatch_groups(n, WORKGROUP_SIZE));
     } else {
         CellArgs a = cell_args(cells_.address(), {}, std::uint32_t(n), 0, 0, 0);
-        ctx_.dispatch(init_cells_, &a, groups(n, WORKGROUP_SIZE));
+        ctx_.dispatch(init_cells_, &a, dispatch_groups(n, WORKGROUP_SIZE));
     }
     ctx_.barrier();  // grid words and first active list before the first round reads them
     ctx_.submit_and_wait();
@@ -136,7 +129,7 @@ RoundResult VulkanEngine::round(const RoundSpec& spec) {
     primitives_.reserve_scan(std::uint64_t(n) + 1);
     ctx_.begin();
     CellArgs a = cell_args(targets, counts.in(scratch_, 0), n, spec.round, side, spec.exp_neg_lambda);
-    ctx_.dispatch(masked ? count_masked_ : count_darts_, &a, groups(std::uint64_t(n) + 1, WORKGROUP_SIZE));
+    ctx_.dispatch(masked ? count_masked_ : count_darts_, &a, dispatch_groups(std::uint64_t(n) + 1, WORKGROUP_SIZE));
     ctx_.barrier();  // counts before the scan
     primitives_.scan(scratch_.address(), std::uint64_t(n) + 1, COUNTER_DARTS);
     ctx_.submit_and_wait();
@@ -161,10 +154,10 @@ RoundResult VulkanEngine::round(const RoundSpec& spec) {
     ctx_.vk().vkCmdFillBuffer(cmd, counters_.handle(), COUNTER_ACTIVE * 4, 4, 0);  // refine_masked's sum
     // param: exp(-lambda) for throw_masked, which counts its darts again.
     a = cell_args(targets, at.in(scratch_, dart_list), n, spec.round, side, spec.exp_neg_lambda);
-    ctx_.dispatch(masked ? mark_masked_ : mark_ranges_, &a, groups(n, WORKGROUP_SIZE));
+    ctx_.dispatch(masked ? mark_masked_ : mark_ranges_, &a, dispatch_groups(n, WORKGROUP_SIZE));
     ctx_.barrier();  // dart ranges and the empty work list before throw_darts reads and appends
     const Kernel& thrower = !masked ? throw_darts_ : (emitted_ == 0 ? throw_masked_empty_ : throw_masked_);
-    ctx_.dispatch(thrower, &a, groups(n, WORKGROUP_SIZE));
+    ctx_.dispatch(thrower, &a, dispatch_groups(n, WORKGROUP_SIZE));
     ctx_.barrier();  // darts, grid dart ranges and work list before resolution
     std::uint32_t in = 0;
     // Each pass decides at least the earliest undecided dart, so `darts` passes end any round;
@@ -196,7 +189,7 @@ RoundResult VulkanEngine::round(const RoundSpec& spec) {
     primitives_.reserve_scan(std::uint64_t(std::max(darts, active_)) + 1);
     ctx_.begin();
     a.param = darts;  // the commit kernels end the flags with a 0 at flags[darts]
-    ctx_.dispatch(masked ? commit_masked_ : commit_cells_, &a, groups(n, WORKGROUP_SIZE));
+    ctx_.dispatch(masked ? commit_masked_ : commit_cells_, &a, dispatch_groups(n, WORKGROUP_SIZE));
     ctx_.barrier();  // accepted flags and grid words before the scan
     primitives_.scan(ranks, std::uint64_t(darts) + 1, COUNTER_ACCEPTED);
     ctx_.submit_and_wait();
@@ -212,7 +205,7 @@ RoundResult VulkanEngine::round(const RoundSpec& spec) {
     DartArgs d = dart_args(dart_list, darts, std::uint32_t(emitted_));
     d.scan = ranks;
     d.sample_keys = scratch_.address() + at.keys;
-    ctx_.dispatch(emit_samples_, &d, groups(darts, WORKGROUP_SIZE));
+    ctx_.dispatch(emit_samples_, &d, dispatch_groups(darts, WORKGROUP_SIZE));
     ctx_.barrier();  // the round's samples and keys before the sort; the ranks are read
     // The round's samples into arrival order (stable by key), through the spent darts' buffer.
     if (accepted > 1)
@@ -250,7 +243,7 @@ std::uint32_t VulkanEngine::refine_listed(const RoundSpec& spec, const Regions& 
     const std::uint32_t active = active_;
     if (std::uint64_t(active) * fanout >= GRID_TAG) throw Error("more than 2^31 active cells");
     CellArgs a = cell_args(cells_.address(), r, active, spec.round, child_side, fanout);
-    ctx_.dispatch(refine_cells_, &a, groups(std::uint64_t(active) + 1, WORKGROUP_SIZE));
+    ctx_.dispatch(refine_cells_, &a, dispatch_groups(std::uint64_t(active) + 1, WORKGROUP_SIZE));
     ctx_.barrier();  // surviving-children counts and masks before their scan
     primitives_.scan(ranks, std::uint64_t(active) + 1, COUNTER_ACTIVE);
     ctx_.submit_and_wait();
@@ -259,7 +252,7 @@ std::uint32_t VulkanEngine::refine_listed(const RoundSpec& spec, const Regions& 
     Buffer next(ctx_, std::uint64_t(kept) * sizeof(uvec2), false);
     a.cells_out = next.address();
     ctx_.begin();
-    ctx_.dispatch(scatter_cells_, &a, groups(active, WORKGROUP_SIZE));
+    ctx_.dispatch(scatter_cells_, &a, dispatch_groups(active, WORKGROUP_SIZE));
     ctx_.barrier();  // the next active list before the next round and the host
     ctx_.submit_and_wait();
     cells_ = std::move(next);
@@ -281,7 +274,7 @@ std::uint32_t VulkanEngine::list_flagged(CellArgs a, const Kernel& lister, std::
     a.cell_count = std::uint32_t(bases);
     a.*out = list.address();
     ctx_.begin();
-    ctx_.dispatch(lister, &a, groups(bases, WORKGROUP_SIZE));
+    ctx_.dispatch(lister, &a, dispatch_groups(bases, WORKGROUP_SIZE));
     ctx_.barrier();  // the list before the round's kernels read it
     ctx_.submit_and_wait();
     return count;
@@ -300,11 +293,11 @@ std::uint32_t VulkanEngine::list_dart_cells(const RoundSpec& spec) {
     a.scan = flags;
     if (spec.every_free_cell) {
         a.cell_count = std::uint32_t(bases);
-        ctx_.dispatch(flag_free_cells_, &a, groups(bases + 1, WORKGROUP_SIZE));
+        ctx_.dispatch(flag_free_cells_, &a, dispatch_groups(bases + 1, WORKGROUP_SIZE));
     } else {
         ctx_.vk().vkCmdFillBuffer(cmd, scratch_.handle(), 0, (bases + 1) * 4, 0);
         ctx_.barrier();  // cleared flags before they are set
-        ctx_.dispatch(flag_dart_cells_, &a, groups(std::uint64_t(active_) + 1, WORKGROUP_SIZE));
+        ctx_.dispatch(flag_dart_cells_, &a, dispatch_groups(std::uint64_t(active_) + 1, WORKGROUP_SIZE));
     }
     return list_flagged(a, list_dart_cells_, COUNTER_DART_CELLS, dart_cells_, sizeof(uvec2), &CellArgs::cells_out);
 }

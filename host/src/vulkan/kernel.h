@@ -31,6 +31,10 @@ private:
 }  // namespace vrpd::detail
 
 namespace vrpd::detail {
+// Workgroups of `per_group` invocations that cover n items.
+inline std::uint32_t dispatch_groups(std::uint64_t n, std::uint32_t per_group) {
+    return std::uint32_t((n + per_group - 1) / per_group);
+}
 // A SPIR-V array (spirv_<name>, generated at build time) as a span of words.
 template <std::size_t N>
 std::span<const std::uint32_t> spirv_words(const std::uint32_t (&code)[N]) {

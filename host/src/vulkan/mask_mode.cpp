@@ -4,15 +4,6 @@
 #include "vulkan/vulkan_engine.h"
 
 namespace vrpd::detail {
-namespace {
-
-using namespace shared;
-
-std::uint32_t groups(std::uint64_t n, std::uint32_t per_group) {
-    return std::uint32_t((n + per_group - 1) / per_group);
-}
-
-}  // namespace
 
 using namespace shared;
 
@@ -25,9 +16,9 @@ std::uint32_t VulkanEngine::refine_masked(const RoundSpec& spec, std::uint64_t r
                                           std::uint32_t fanout, std::uint32_t n, std::uint64_t targets) {
     CellArgs a = cell_args(targets, Regions{ranks, 0, darts_.address(), ranks}, n, spec.round, child_side, fanout);
     const bool leaves = masked_leaves(plan_.domain, child_side, fanout);
-    ctx_.dispatch(refine_masked_, &a, groups(std::uint64_t(n) + 1, WORKGROUP_SIZE));
+    ctx_.dispatch(refine_masked_, &a, dispatch_groups(std::uint64_t(n) + 1, WORKGROUP_SIZE));
     ctx_.barrier();  // the new masks (and the active sum) before they reach the words
-    ctx_.dispatch(apply_masks_, &a, groups(n, WORKGROUP_SIZE));
+    ctx_.dispatch(apply_masks_, &a, dispatch_groups(n, WORKGROUP_SIZE));
     ctx_.barrier();  // the words (and the counts) before the next round, or the scan
     if (leaves) primitives_.scan(ranks, std::uint64_t(n) + 1, COUNTER_ACTIVE);
     ctx_.submit_and_wait();
@@ -45,7 +36,7 @@ std::uint32_t VulkanEngine::refine_masked(const RoundSpec& spec, std::uint64_t r
     cells_ = Buffer(ctx_, std::uint64_t(kept) * sizeof(uvec2), false);
     a.cells_out = cells_.address();
     ctx_.begin();
-    ctx_.dispatch(scatter_masked_, &a, groups(n, WORKGROUP_SIZE));
+    ctx_.dispatch(scatter_masked_, &a, dispatch_groups(n, WORKGROUP_SIZE));
     ctx_.barrier();  // the active list and the emptied words before the next round
     ctx_.submit_and_wait();
     masked_ = false;
@@ -66,7 +57,7 @@ void VulkanEngine::list_active_bases() {
     ctx_.begin();
     CellArgs a = cell_args(0, {}, std::uint32_t(bases), 0, 0, 0);
     a.scan = scratch_.address();
-    ctx_.dispatch(flag_masked_, &a, groups(bases + 1, WORKGROUP_SIZE));
+    ctx_.dispatch(flag_masked_, &a, dispatch_groups(bases + 1, WORKGROUP_SIZE));
     listed_bases_ = list_flagged(a, list_masked_, COUNTER_LISTED, base_list_, sizeof(uint), &CellArgs::work);
 }
 

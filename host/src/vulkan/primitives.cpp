@@ -8,15 +8,8 @@
 #include "sort_scatter.h"
 
 namespace vrpd::detail {
-namespace {
 
 using namespace shared;
-
-std::uint32_t groups(std::uint64_t n, std::uint32_t per_group) {
-    return std::uint32_t((n + per_group - 1) / per_group);
-}
-
-}  // namespace
 
 Primitives::Primitives(VulkanContext& ctx, const Buffer& counters)
     : ctx_(ctx),
@@ -28,11 +21,11 @@ Primitives::Primitives(VulkanContext& ctx, const Buffer& counters)
       VRPD_KERNEL(sort_scatter, SortArgs, 1) {}
 
 void Primitives::reserve_scan(std::uint64_t count) {
-    grow(ctx_, block_sums_, std::uint64_t(groups(count, SCAN_BLOCK)) * 4);
+    grow(ctx_, block_sums_, std::uint64_t(dispatch_groups(count, SCAN_BLOCK)) * 4);
 }
 
 void Primitives::scan(std::uint64_t data, std::uint64_t count, std::uint32_t total_slot) {
-    const std::uint32_t blocks = groups(count, SCAN_BLOCK);
+    const std::uint32_t blocks = dispatch_groups(count, SCAN_BLOCK);
     if (block_sums_.size() < std::uint64_t(blocks) * 4)
         throw Error("internal: scan buffers not sized before recording");
     ScanArgs s{data, block_sums_.address(), counters_.address(), std::uint32_t(count), blocks, total_slot, 0};
@@ -40,19 +33,19 @@ void Primitives::scan(std::uint64_t data, std::uint64_t count, std::uint32_t tot
     ctx_.barrier();  // block scans and sums before the sums are scanned
     ctx_.dispatch(scan_sums_, &s, 1);
     ctx_.barrier();  // block offsets before they are added
-    ctx_.dispatch(scan_add_, &s, groups(count, WORKGROUP_SIZE));
+    ctx_.dispatch(scan_add_, &s, dispatch_groups(count, WORKGROUP_SIZE));
     ctx_.barrier();  // the prefix sums before their readers
 }
 
 void Primitives::reserve_sort(std::uint32_t count) {
-    const std::uint64_t bins = std::uint64_t(SORT_BUCKETS) * groups(count, SCAN_BLOCK);
+    const std::uint64_t bins = std::uint64_t(SORT_BUCKETS) * dispatch_groups(count, SCAN_BLOCK);
     grow(ctx_, histogram_, (bins + 1) * 4);
     reserve_scan(bins + 1);
 }
 
 void Primitives::sort(std::uint64_t points, std::uint64_t keys, std::uint64_t tmp, std::uint32_t count,
                       std::uint32_t total_slot) {
-    const std::uint32_t tiles = groups(count, SCAN_BLOCK);
+    const std::uint32_t tiles = dispatch_groups(count, SCAN_BLOCK);
     const std::uint64_t bins = std::uint64_t(SORT_BUCKETS) * tiles;
     SortArgs s{points, keys, tmp, tmp + std::uint64_t(count) * sizeof(uvec2), histogram_.address(), count, 0, tiles, 0};
     for (std::uint32_t pass = 0; pass < 4; ++pass) {
