@@ -234,3 +234,71 @@ TEST_CASE("bench and check write JSON that says what they measured", "[cli]") {
     CHECK(r["largest_empty_radius"].get<double>() < 0.05);
     CHECK(r["min_angle_degrees"].get<double>() > 30.0);
 }
+
+TEST_CASE("output targets: devices and FIFOs written in place, links followed, long names, lost output is an error",
+          "[cli]") {
+    const fs::path dir = scratch();
+    const std::string vrpd = VRPD_CLI;
+    auto sh = [](const std::string& cmd) { return WEXITSTATUS(std::system(("bash -c '" + cmd + "'").c_str())); };
+    CHECK(sh(vrpd + " sample --radius 0.1 --device cpu -o /dev/null 2> /dev/null") == 0);
+    CHECK(fs::is_character_file("/dev/null"));
+
+    const fs::path target = dir / "target.csv", link = dir / "link.csv";
+    { std::ofstream(target) << "old\n"; }
+    fs::create_symlink(target, link);
+    CHECK(sh(vrpd + " sample --radius 0.1 --device cpu -o " + link.string() + " 2> /dev/null") == 0);
+    CHECK(fs::is_symlink(link));
+    CHECK(slurp(target).rfind("x,y\n", 0) == 0);
+
+    const fs::path fifo = dir / "fifo.csv", drained = dir / "drained.csv";
+    REQUIRE(sh("mkfifo " + fifo.string()) == 0);
+    CHECK(sh("cat " + fifo.string() + " > " + drained.string() + " & " + vrpd + " sample --radius 0.1 --device cpu -o " +
+             fifo.string() + " 2> /dev/null; wait") == 0);
+    CHECK(fs::is_fifo(fifo));
+    CHECK(slurp(drained).rfind("x,y\n", 0) == 0);
+
+    const fs::path long_name = dir / (std::string(250, 'a') + ".csv");
+    CHECK(sh(vrpd + " sample --radius 0.1 --device cpu -o " + long_name.string() + " 2> /dev/null") == 0);
+    CHECK(fs::exists(long_name));
+
+    for (const std::string& cmd : {vrpd + " sample --radius 0.01 --device cpu", vrpd + " sample --radius 0.01 -o -",
+                                   vrpd + " check " + long_name.string() + " --radius 0.1", vrpd + " devices"}) {
+        INFO(cmd);
+        const fs::path err = dir / "full.txt";
+        CHECK(sh(cmd + " > /dev/full 2> " + err.string()) == 2);
+        CHECK(slurp(err) == "vrpd: error: cannot write standard output: No space left on device\n");
+    }
+    for (const auto& entry : fs::directory_iterator(dir))
+        CHECK(entry.path().filename().string().rfind(".vrpd-", 0) == std::string::npos);  // no temporary left
+}
+
+TEST_CASE("radii, seeds and limits: refused with one line, never taken silently, never a crash or a hang", "[cli]") {
+    const fs::path points = scratch() / "limits.csv";
+    REQUIRE(cli("sample --radius 0.05 --device cpu -o " + points.string()).code == 0);
+    for (const std::string& args :
+         {"check " + points.string() + " --rf 0.05 --rc nan", "check " + points.string() + " --rf 0.05 --rc 0",
+          "check " + points.string() + " --rf 0.05 --rc -1", "check " + points.string() + " --radius -0.05",
+          std::string("sample --rf 0.01 --rc 0"), std::string("sample --radius 0.1 --seed -18446744073709551615")}) {
+        INFO(args);
+        const Run r = cli(args);
+        CHECK(r.code == 2);
+        CHECK(r.err.rfind("vrpd: error: ", 0) == 0);
+        CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+    }
+    CHECK_THAT(cli("check " + points.string() + " --radius -0.05").err, Catch::Contains("got -0.05"));
+    // A memory limit the run does not fit, and more threads than the limit lets start.
+    const fs::path out = scratch() / "limited.csv";
+    const auto limited = [&](const std::string& limit, const std::string& args) {
+        const fs::path err = scratch() / "limited.txt";
+        const int status = std::system(("bash -c 'ulimit -v " + limit + "; timeout 120 " + VRPD_CLI + " " + args +
+                                        " -o " + out.string() + "' 2> " + err.string()).c_str());
+        return Run{WEXITSTATUS(status), slurp(err)};
+    };
+    const Run memory = limited("400000", "sample --radius 0.0003 --device cpu --threads 2");
+    CHECK(memory.code == 2);
+    CHECK_THAT(memory.err, Catch::Contains("address-space limit"));
+    const Run threads = limited("1000000", "sample --radius 0.1 --device cpu --threads 1024");
+    CHECK(threads.code == 2);
+    CHECK_THAT(threads.err, Catch::Contains("cannot start 1024 host threads"));
+    CHECK_FALSE(fs::exists(out));
+}

@@ -1,7 +1,9 @@
 // The vrpd command line: sample, check (with the geometry target), devices, bench.
 #include <algorithm>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <iostream>
 #include <optional>
@@ -56,8 +58,8 @@ void parse_extent(const std::string& text, Box& box) {
 #ifdef VRPD_HAVE_GEOMETRY
 struct CheckOptions {
     std::string file;
-    double radius = 0, rf = 0, rc = 0;
-    std::optional<double> tolerance;  // default: kDefaultTolerance
+    std::optional<double> radius, rf, rc;  // each as given, if given
+    std::optional<double> tolerance;       // default: kDefaultTolerance
     std::string extent = "1,1", boundary = "periodic", json;
 };
 
@@ -72,9 +74,14 @@ int run_check(const CheckOptions& o) {
     Box box;
     box.boundary = parse_boundary(o.boundary);
     parse_extent(o.extent, box);
-    Radii radii{o.radius, o.radius};
-    if (o.radius > 0 && (o.rf > 0 || o.rc > 0)) throw Error("give either --radius or --rf and --rc");
-    if (o.radius <= 0) radii = {o.rf, o.rc > 0 ? o.rc : o.rf};
+    if (o.radius.has_value() == (o.rf || o.rc)) throw Error("give --radius R, or --rf Rf (and --rc Rc)");
+    if (o.rc && !o.rf) throw Error("--rc needs --rf");
+    for (const auto& [name, value] : {std::pair{"--radius", o.radius}, {"--rf", o.rf}, {"--rc", o.rc}})
+        if (value && !(std::isfinite(*value) && *value > 0))
+            throw Error(fmt::format("{} must be a finite number > 0 (got {})", name, *value));
+    Radii radii = o.radius ? Radii{*o.radius, *o.radius} : Radii{*o.rf, o.rc ? *o.rc : *o.rf};
+    if (radii.coverage < radii.inhibition)
+        throw Error(fmt::format("--rc must be >= --rf (got Rf {}, Rc {})", radii.inhibition, radii.coverage));
     if (o.tolerance && !(*o.tolerance >= 0))
         throw Error(fmt::format("--tolerance must be >= 0 (got {})", *o.tolerance));
     radii.tolerance = o.tolerance ? *o.tolerance : kDefaultTolerance * std::max(box.width, box.height);
@@ -131,6 +138,27 @@ int run_check(const CheckOptions& o) {
 }
 #endif
 
+// Flushes and closes standard output, so that a write or close error (a full disk) is an error
+// too; returns `code` if all went out.
+int finish_output(int code) {
+    std::cout.flush();
+    if (!std::cout) throw Error(fmt::format("cannot write standard output: {}", std::strerror(errno)));
+    if (std::fclose(stdout) != 0) throw Error(fmt::format("cannot write standard output: {}", std::strerror(errno)));
+    return code;
+}
+
+// SIGINT, SIGTERM and SIGHUP remove the temporary of a write in progress, then end the process
+// as the signal would have.
+void remove_partial_file_on_signals() {
+    for (int sig : {SIGINT, SIGTERM, SIGHUP}) {
+        std::signal(sig, [](int s) {
+            remove_partial_file();
+            std::signal(s, SIG_DFL);
+            std::raise(s);
+        });
+    }
+}
+
 // The phases' times, longest first, and the rest of the run's wall time (setup, host work
 // between phases, submits, read-backs).
 void print_profile(const SamplingStats& stats, std::ostream& out) {
@@ -153,6 +181,7 @@ void print_profile(const SamplingStats& stats, std::ostream& out) {
 
 int main(int argc, char** argv) {
     using namespace vrpd;
+    cli::remove_partial_file_on_signals();
     CLI::App app{"vrpd: maximal Poisson-disk sampling on Vulkan compute"};
     app.set_version_flag("--version", std::string("vrpd ") + version());
     app.require_subcommand(1);
@@ -167,11 +196,12 @@ int main(int argc, char** argv) {
         "--rc", rc, "coverage radius Rc, 1.1 Rf <= Rc <= 4 Rf: every point within Rc of a sample");
     sample_cmd->add_option("--extent", extent, "box W,H (default 1,1)");
     sample_cmd->add_option("--boundary", boundary, "periodic (default) or free");
-    sample_cmd->add_option("--seed", opt.seed, "random seed (default 0)");
+    sample_cmd->add_option("--seed", opt.seed, "random seed, 0 to 4294967295 (default 0)")
+        ->check(CLI::Range(0.0, 4294967295.0));
     sample_cmd->add_option("--device", device,
                            "auto (default: a hardware GPU if present, else cpu), gpu (Vulkan, lavapipe included; "
                            "$VRPD_DEVICE picks the device), cpu or serial");
-    sample_cmd->add_option("-o,--output", output, "FILE.csv or FILE.bin (default: CSV to stdout)");
+    sample_cmd->add_option("-o,--output", output, "FILE.csv or FILE.bin, or - for CSV to stdout (the default)");
     sample_cmd->add_option("--threads", opt.threads, "host threads for --device cpu (default: one per core)")
         ->check(CLI::Range(1u, 1024u));
     sample_cmd->add_flag("--profile", opt.profile,
@@ -227,14 +257,16 @@ int main(int argc, char** argv) {
                 opt.radius = rf;
                 opt.coverage = rc;
             }
+            if (rc_opt->count() && !(std::isfinite(rc) && rc > 0))
+                throw Error(fmt::format("--rc must be a finite number > 0 (got {})", rc));
             opt.backend = cli::parse_backend(device);
             opt.box.boundary = cli::parse_boundary(boundary);
             cli::parse_extent(extent, opt.box);
             validate(opt);
-            if (!output.empty()) check_writable(output);
+            if (output.empty()) output = "-";
+            check_writable(output);
             Sampling s = sample(opt);
-            if (output.empty()) write_csv(s, std::cout);
-            else write_points(s, output);
+            write_points(s, output);
             const double area = s.box.width * s.box.height;
             std::cerr << fmt::format(
                 "vrpd: {} samples, n*{}^2/area {:.5f}, {:.3f} s, {:.3g} points/s, {} levels, {} darts, "
@@ -243,7 +275,7 @@ int main(int argc, char** argv) {
                 s.stats.seconds, double(s.size()) / s.stats.seconds, s.stats.levels, s.stats.darts,
                 double(s.stats.peak_bytes) / (1 << 20), s.device, s.choice.empty() ? "" : " (auto: " + s.choice + ")");
             if (opt.profile) cli::print_profile(s.stats, std::cerr);
-            return 0;
+            return cli::finish_output(0);
         }
         if (*devices_cmd) {
             try {
@@ -256,11 +288,11 @@ int main(int argc, char** argv) {
             }
             const BackendChoice c = choose_backend(SampleOptions{});
             std::cout << fmt::format("--device auto: {} ({})\n", cli::backend_name(c.backend), c.reason);
-            return 0;
+            return cli::finish_output(0);
         }
-        if (*bench_cmd) return cli::run_bench(bench);
+        if (*bench_cmd) return cli::finish_output(cli::run_bench(bench));
 #ifdef VRPD_HAVE_GEOMETRY
-        if (*check_cmd) return cli::run_check(check);
+        if (*check_cmd) return cli::finish_output(cli::run_check(check));
 #endif
     } catch (const Error& e) {
         std::cerr << "vrpd: error: " << e.what() << "\n";

@@ -10,6 +10,9 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -201,13 +204,35 @@ PointSet read_csv(const std::string& path, const std::string& text) {
     return point_set(path, names, rows);
 }
 
-std::filesystem::path partial_path(const std::string& path) {
-    const std::filesystem::path target(path);
-    if (std::filesystem::is_directory(target)) throw Error(path + ": is a directory");
-    std::string name = ".";
-    name += target.filename().string();
-    name += ".partial";
-    return target.parent_path() / name;
+// The temporary a write is going to, for remove_partial_file (a signal handler may read it).
+char partial_file[4096];
+
+// Where a write of `path` goes: directly to a device, FIFO or socket (never replaced), or through
+// a temporary in the real directory of a regular file (links resolved, so a link keeps pointing
+// at the new file).
+struct Target {
+    bool direct;
+    std::filesystem::path file;  // the file to write directly, or to replace
+};
+
+Target target_of(const std::string& path) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    const fs::file_status st = fs::status(path, ec);
+    if (fs::is_directory(st)) throw Error(path + ": is a directory");
+    if (fs::exists(st) && !fs::is_regular_file(st)) return {true, path};
+    const fs::path real = fs::weakly_canonical(fs::absolute(path), ec);
+    if (ec) throw Error(fmt::format("cannot write {}: {}", path, ec.message()));
+    return {false, real};
+}
+
+// Creates a temporary beside `file` (a short name: any name the file system takes will do).
+std::string make_temporary(const std::filesystem::path& file, const std::string& path) {
+    std::string name = (file.parent_path() / ".vrpd-XXXXXX").string();
+    const int fd = ::mkstemp(name.data());
+    if (fd < 0) throw Error(fmt::format("cannot write {}: {}", path, std::strerror(errno)));
+    ::close(fd);
+    return name;
 }
 
 }  // namespace
@@ -238,37 +263,57 @@ void write_csv(const Sampling& s, std::ostream& out) {
 }
 
 void check_writable(const std::string& path) {
-    const std::filesystem::path tmp = partial_path(path);
-    {
-        std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-        if (!out) throw Error(fmt::format("cannot write {}: {}", path, std::strerror(errno)));
+    if (path == "-") return;
+    const Target t = target_of(path);
+    if (t.direct) {
+        if (::access(t.file.c_str(), W_OK) != 0) throw Error(fmt::format("cannot write {}: {}", path, std::strerror(errno)));
+        return;
     }
     std::error_code ignored;
-    std::filesystem::remove(tmp, ignored);
+    std::filesystem::remove(make_temporary(t.file, path), ignored);
 }
 
 void write_points(const Sampling& s, const std::string& path) {
     namespace fs = std::filesystem;
-    const fs::path target(path);
-    const fs::path tmp = partial_path(path);
+    if (path == "-") {
+        write_csv(s, std::cout);
+        if (!std::cout.flush()) throw Error(fmt::format("cannot write standard output: {}", std::strerror(errno)));
+        return;
+    }
+    const bool bin = ends_with(path, ".bin");
+    const Target t = target_of(path);
+    if (t.direct) {
+        std::ofstream out(t.file, std::ios::binary);
+        if (out) bin ? write_bin(s, out) : write_csv(s, out);
+        if (!out.flush()) throw Error(fmt::format("cannot write {}: {}", path, std::strerror(errno)));
+        return;
+    }
+    const std::string tmp = make_temporary(t.file, path);
+    std::snprintf(partial_file, sizeof partial_file, "%s", tmp.c_str());
+    auto fail = [&](const std::string& why) {
+        std::error_code ignored;
+        fs::remove(tmp, ignored);
+        partial_file[0] = 0;
+        throw Error(fmt::format("cannot write {}: {}", path, why));
+    };
     {
         std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-        if (!out) throw Error(fmt::format("cannot write {}: {}", path, std::strerror(errno)));
-        if (ends_with(path, ".bin")) write_bin(s, out);
-        else write_csv(s, out);
-        out.flush();
-        if (!out) {
-            std::error_code ignored;
-            fs::remove(tmp, ignored);
-            throw Error(fmt::format("cannot write {}: {}", path, std::strerror(errno)));
-        }
+        if (out) bin ? write_bin(s, out) : write_csv(s, out);
+        out.close();
+        if (!out) fail(std::strerror(errno));
     }
+    // mkstemp makes the file private; give it the mode a new file would have.
+    const mode_t mask = ::umask(0);
+    ::umask(mask);
+    ::chmod(tmp.c_str(), 0666 & ~mask);
     std::error_code ec;
-    fs::rename(tmp, target, ec);
-    if (ec) {
-        fs::remove(tmp, ec);
-        throw Error(fmt::format("cannot write {}: {}", path, ec.message()));
-    }
+    fs::rename(tmp, t.file, ec);
+    if (ec) fail(ec.message());
+    partial_file[0] = 0;
+}
+
+void remove_partial_file() noexcept {
+    if (partial_file[0] != 0) ::unlink(partial_file);
 }
 
 PointSet read_point_set(const std::string& path) {

@@ -3,6 +3,8 @@
 #include "plan.h"
 
 #include <cmath>
+#include <fstream>
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <fmt/format.h>
@@ -210,8 +212,25 @@ std::uint64_t estimated_device_bytes(const Plan& plan) {
     return plan.base_cells * 48 + (std::uint64_t(16) << 20);
 }
 
-std::uint64_t host_memory_bytes() {
-    return std::uint64_t(sysconf(_SC_PHYS_PAGES)) * std::uint64_t(sysconf(_SC_PAGE_SIZE));
+namespace {
+// A cgroup's memory limit from its control file: a number of bytes, or "max" (none).
+std::uint64_t cgroup_limit(const char* path) {
+    std::ifstream in(path);
+    std::uint64_t bytes = 0;
+    return in >> bytes ? bytes : UINT64_MAX;
+}
+}  // namespace
+
+MemoryLimit host_memory_limit() {
+    MemoryLimit limit{std::uint64_t(sysconf(_SC_PHYS_PAGES)) * std::uint64_t(sysconf(_SC_PAGE_SIZE)), "physical memory"};
+    rlimit as{};
+    if (getrlimit(RLIMIT_AS, &as) == 0 && as.rlim_cur != RLIM_INFINITY && as.rlim_cur < limit.bytes)
+        limit = {std::uint64_t(as.rlim_cur), "address-space limit (ulimit -v)"};
+    for (const char* file : {"/sys/fs/cgroup/memory.max", "/sys/fs/cgroup/memory/memory.limit_in_bytes"}) {
+        const std::uint64_t bytes = cgroup_limit(file);
+        if (bytes < limit.bytes) limit = {bytes, "cgroup memory limit"};
+    }
+    return limit;
 }
 
 }  // namespace vrpd::detail

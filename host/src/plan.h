@@ -34,7 +34,12 @@ std::uint64_t estimated_bytes(const Plan& plan);
 // Peak bytes of device memory the Vulkan engine is expected to hold.
 std::uint64_t estimated_device_bytes(const Plan& plan);
 
-// Physical memory of this machine in bytes.
-std::uint64_t host_memory_bytes();
+// The memory a run may use: the least of physical memory, the process's address-space limit
+// (RLIMIT_AS, `ulimit -v`) and its cgroup's limit, with the name of the one that binds.
+struct MemoryLimit {
+    std::uint64_t bytes;
+    const char* what;
+};
+MemoryLimit host_memory_limit();
 
 }  // namespace vrpd::detail

@@ -76,10 +76,13 @@ Sampling sample(const SampleOptions& options) { return detail::sample_plan(optio
 Sampling detail::sample_plan(const SampleOptions& options, const Plan& plan) {
     const auto t0 = std::chrono::steady_clock::now();
     const std::uint64_t need = detail::estimated_bytes(plan);
-    const std::uint64_t have = detail::host_memory_bytes();
-    if (need > have / 10 * 8)
-        throw Error(fmt::format("radius {} needs about {:.1f} GiB ({} base cells); this machine has {:.1f} GiB",
-                                options.radius, double(need) / (1 << 30), plan.base_cells, double(have) / (1 << 30)));
+    // Runs stay within 80 % of the memory they may use: the estimate is of the arrays' peak.
+    const detail::MemoryLimit have = detail::host_memory_limit();
+    if (need > have.bytes / 10 * 8)
+        throw Error(fmt::format("radius {} needs about {:.2f} GiB ({} base cells), over 80 % of the {:.2f} GiB of "
+                                "this process's {}",
+                                options.radius, double(need) / (1 << 30), plan.base_cells,
+                                double(have.bytes) / (1 << 30), have.what));
 
     const BackendChoice choice = choose_backend(options);
     std::unique_ptr<Engine> engine = make_engine(options, choice.backend, plan);

@@ -22,12 +22,18 @@ namespace vrpd {
 
 void write_csv(const Sampling& s, std::ostream& out);
 
-// Writes FILE as binary if it ends in ".bin", else CSV. Writes a temporary beside it and renames
-// it into place, so a failed run leaves no partial file. Throws Error with the reason.
+// Writes FILE as binary if it ends in ".bin", else CSV; "-" is CSV to standard output. A regular
+// file (a symbolic link's target, for a link) is written to a temporary in its directory and
+// renamed into place, so a failed run leaves no partial file; a device, FIFO or socket is written
+// directly, never replaced. Throws Error with the reason, write errors included.
 void write_points(const Sampling& s, const std::string& path);
 
-// Throws Error unless `path` can be created or replaced (checked before a long run).
+// Throws Error unless `path` can be written as write_points would (checked before a long run).
 void check_writable(const std::string& path);
+
+// Removes the temporary of a write_points in progress, if any. Async-signal-safe: for a program's
+// SIGINT and SIGTERM handlers, so that an interrupted write leaves no file behind.
+void remove_partial_file() noexcept;
 
 // A point file's contents: the positions, and the columns after x,y by name.
 struct PointSet {

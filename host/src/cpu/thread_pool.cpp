@@ -1,6 +1,10 @@
 // ThreadPool: see thread_pool.h.
 #include "thread_pool.h"
 
+#include <fmt/format.h>
+
+#include "vrpd/vrpd.h"
+
 namespace vrpd::detail {
 namespace {
 std::pair<std::size_t, std::size_t> chunk(std::size_t n, unsigned parts, unsigned i) {
@@ -10,16 +14,38 @@ std::pair<std::size_t, std::size_t> chunk(std::size_t n, unsigned parts, unsigne
 
 ThreadPool::ThreadPool(unsigned threads) {
     if (threads == 0) threads = 1;
-    for (unsigned i = 1; i < threads; ++i) workers_.emplace_back([this, i] { work(i); });
+    try {
+        workers_.reserve(threads - 1);
+        for (unsigned i = 1; i < threads; ++i) workers_.emplace_back([this, i] { work(i); });
+    } catch (const std::exception& e) {
+        const std::size_t started = workers_.size() + 1;
+        stop();
+        throw Error(fmt::format("cannot start {} host threads ({} started: {}); use fewer (--threads)", threads,
+                                started, e.what()));
+    }
 }
 
-ThreadPool::~ThreadPool() {
+ThreadPool::~ThreadPool() { stop(); }
+
+void ThreadPool::stop() {
     {
         std::lock_guard lock(mutex_);
         stop_ = true;
     }
     wake_.notify_all();
     for (auto& t : workers_) t.join();
+    workers_.clear();
+}
+
+void ThreadPool::run_chunk(std::size_t n, unsigned id,
+                           const std::function<void(std::size_t, std::size_t, unsigned)>& body) {
+    try {
+        auto [b, e] = chunk(n, size(), id);
+        body(b, e, id);
+    } catch (...) {
+        std::lock_guard lock(mutex_);
+        if (!error_) error_ = std::current_exception();
+    }
 }
 
 void ThreadPool::parallel_for(std::size_t n, const std::function<void(std::size_t, std::size_t, unsigned)>& body) {
@@ -33,14 +59,15 @@ void ThreadPool::parallel_for(std::size_t n, const std::function<void(std::size_
         job_ = &body;
         job_size_ = n;
         pending_ = unsigned(workers_.size());
+        error_ = nullptr;
         ++generation_;
     }
     wake_.notify_all();
-    auto [b, e] = chunk(n, size(), 0);
-    body(b, e, 0);
+    run_chunk(n, 0, body);
     std::unique_lock lock(mutex_);
-    done_.wait(lock, [this] { return pending_ == 0; });
+    done_.wait(lock, [this] { return pending_ == 0; });  // no chunk may outlive the data it uses
     job_ = nullptr;
+    if (error_) std::rethrow_exception(std::exchange(error_, nullptr));
 }
 
 void ThreadPool::work(unsigned id) {
@@ -56,8 +83,7 @@ void ThreadPool::work(unsigned id) {
             job = job_;
             n = job_size_;
         }
-        auto [b, e] = chunk(n, size(), id);
-        (*job)(b, e, id);
+        run_chunk(n, id, *job);
         {
             std::lock_guard lock(mutex_);
             --pending_;

@@ -1,9 +1,12 @@
 // A fixed pool of worker threads for the host engine's data-parallel loops. parallel_for splits
 // [0, n) into contiguous chunks; the calling thread takes a share, so a 1-core machine still works.
+// An exception in any share (out of memory, say) reaches the caller once every share has stopped.
 #pragma once
 
 #include <condition_variable>
 #include <cstddef>
+#include <exception>
+#include <utility>
 #include <functional>
 #include <mutex>
 #include <thread>
@@ -13,17 +16,23 @@ namespace vrpd::detail {
 
 class ThreadPool {
 public:
+    // Throws Error naming the count if the threads cannot all be started (those that were are
+    // stopped first).
     explicit ThreadPool(unsigned threads = std::thread::hardware_concurrency());
     ~ThreadPool();
     ThreadPool(const ThreadPool&) = delete;
     ThreadPool& operator=(const ThreadPool&) = delete;
 
     unsigned size() const { return unsigned(workers_.size()) + 1; }
-    // Calls body(begin, end, worker) on disjoint chunks covering [0, n); worker < size().
+    // Calls body(begin, end, worker) on disjoint chunks covering [0, n); worker < size(). Returns
+    // when every chunk is done; rethrows the first exception a chunk threw, after all are done.
     void parallel_for(std::size_t n, const std::function<void(std::size_t, std::size_t, unsigned)>& body);
 
 private:
     void work(unsigned id);
+    void stop();
+    // Runs one chunk, keeping its exception (the first of the job's) instead of letting it out.
+    void run_chunk(std::size_t n, unsigned id, const std::function<void(std::size_t, std::size_t, unsigned)>& body);
 
     std::vector<std::thread> workers_;
     std::mutex mutex_;
@@ -33,6 +42,7 @@ private:
     std::size_t generation_ = 0;
     unsigned pending_ = 0;
     bool stop_ = false;
+    std::exception_ptr error_;  // the first exception of the current job
 };
 
 }  // namespace vrpd::detail
