@@ -113,3 +113,20 @@ TEST_CASE("point files: bad headers, short rows and bad .bin column lists are re
     write_text(b, bytes);
     CHECK_THROWS_WITH(read_point_set(b.string()), Catch::Contains("unsupported .bin version 3"));
 }
+
+TEST_CASE("point files: a long or binary line is refused in a short, printable message, and a stream without "
+          "newlines ends at the line limit", "[io]") {
+    const fs::path p = scratch_file("long.csv");
+    write_text(p, "x,y\n1," + std::string(5'000'000, '9') + "\n");
+    try {
+        read_point_set(p.string());
+        FAIL("a 5 MB line was read");
+    } catch (const Error& e) {
+        const std::string what = e.what();
+        CHECK(what.size() < 200);
+        CHECK_THAT(what, Catch::Contains("long.csv:2: a line longer than 4096 characters"));
+    }
+    write_text(p, std::string("x,y\n1,\x1b[31mred") + '\0' + "\n");
+    CHECK_THROWS_WITH(read_point_set(p.string()), Catch::Contains("got `1,\\x1b[31mred\\x00`"));
+    CHECK_THROWS_WITH(read_point_set("/dev/zero"), Catch::Contains("/dev/zero:1: a line longer than 4096 characters"));
+}

@@ -34,6 +34,10 @@ TEST_CASE("bad options are refused with a reason", "[options]") {
     crowd.threads = 1u << 20;
     refuses(crowd, "threads");
     CHECK_NOTHROW(validate(options(0.4, 0, Backend::Cpu, {1.0, 1.0, Boundary::Free})));
+    // Lengths whose squares or the box's area would leave the normal doubles.
+    refuses(options(1e-301, 0, Backend::Cpu, {1e-300, 1e-300, Boundary::Periodic}), "outside the extents");
+    refuses(options(1e101, 0, Backend::Cpu, {1e102, 1e102, Boundary::Free}), "outside the extents");
+    refuses(options(1e-101, 0, Backend::Cpu, {1e-100, 1e-100, Boundary::Free}), "below the smallest length");
 }
 
 TEST_CASE("a periodic box must be tiled by the base cells", "[options]") {

@@ -281,3 +281,19 @@ TEST_CASE("two radii: mean count matches an independent brute-force process", "[
                       << "), standard error of the difference " << se);
     CHECK(std::abs(vm - nm) < 4 * se + 0.6);
 }
+
+TEST_CASE("two radii in a free box whose diagonal is shorter than Rf: one sample, uniform, the same everywhere",
+          "[two-radii][gpu]") {
+    // Every pair of points of the box conflicts and one sample covers it at any Rc >= Rf.
+    std::vector<glm::dvec2> firsts;
+    for (std::uint32_t seed = 0; seed < 6; ++seed) {
+        const Sampling cpu = sample(two_radii(10, 11, seed, Backend::Cpu, {1, 1, Boundary::Free}));
+        REQUIRE(cpu.size() == 1);
+        CHECK(sample(two_radii(10, 11, seed, Backend::Serial, {1, 1, Boundary::Free})).lattice == cpu.lattice);
+        CHECK(sample(two_radii(10, 11, seed, Backend::Gpu, {1, 1, Boundary::Free})).lattice == cpu.lattice);
+        const glm::dvec2 p = cpu.point(0);
+        CHECK((p.x >= 0 && p.x < 1 && p.y >= 0 && p.y < 1));
+        for (const glm::dvec2& q : firsts) CHECK(q != p);  // seeds give other points
+        firsts.push_back(p);
+    }
+}

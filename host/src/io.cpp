@@ -158,27 +158,42 @@ std::vector<std::string> split_header(std::string_view row) {
     }
 }
 
-PointSet read_csv(const std::string& path, const std::string& text) {
+// A row as an error message shows it: cut to 60 characters, control bytes as \xNN.
+std::string shown_row(std::string_view row) {
+    constexpr std::size_t kShown = 60;
+    std::string out = "`";
+    for (std::size_t i = 0; i < row.size() && i < kShown; ++i) {
+        const unsigned char ch = (unsigned char)row[i];
+        if (ch < 0x20 || ch == 0x7f) out += fmt::format("\\x{:02x}", ch);
+        else out += char(ch);
+    }
+    out += row.size() > kShown ? "`..." : "`";
+    return out;
+}
+
+// A CSV row longer than this is not a point file's (a few numbers of at most 24 characters).
+constexpr std::size_t kMaxLine = 4096;
+
+PointSet read_csv(const std::string& path, std::string_view head, std::istream& in) {
     std::vector<std::string> names{"x", "y"};
     std::vector<double> rows;
-    std::size_t pos = text.starts_with("\xEF\xBB\xBF") ? 3 : 0;  // a UTF-8 byte order mark
+    std::string expected = "two finite numbers `x,y`";
     std::size_t line = 0;
-    const std::string expected_default = "two finite numbers `x,y`";
-    std::string expected = expected_default;
-    while (pos < text.size()) {
-        std::size_t end = text.find('\n', pos);
-        if (end == std::string::npos) end = text.size();
-        std::string_view row(text.data() + pos, end - pos);
-        pos = end + 1;
+    auto parse = [&](std::string_view row) {
         ++line;
+        if (line == 1 && row.starts_with("\xEF\xBB\xBF")) row.remove_prefix(3);  // a UTF-8 byte order mark
         if (!row.empty() && row.back() == '\r') row.remove_suffix(1);
-        if (row.empty()) continue;
-        if (line == 1 && !row.empty() && (std::isalpha((unsigned char)row.front()) || row.front() == '_')) {
+        if (row.empty()) return;
+        if (line == 1 && (std::isalpha((unsigned char)row.front()) || row.front() == '_')) {
             names = split_header(row);
             check_columns(fmt::format("{}:1", path), names);
             expected = fmt::format("{} finite numbers `{}`", names.size(), fmt::join(names, ","));
-            continue;
+            return;
         }
+        const auto wrong_columns = [&] {
+            return Error(fmt::format("{}:{}: expected {} columns `{}`, got {}", path, line, names.size(),
+                                     fmt::join(names, ","), shown_row(row)));
+        };
         const char* p = row.data();
         const char* last = row.data() + row.size();
         for (std::size_t k = 0; k < names.size(); ++k) {
@@ -186,21 +201,46 @@ PointSet read_csv(const std::string& path, const std::string& text) {
             double v = 0;
             auto [next, ec] = std::from_chars(p, last, v);
             if (ec != std::errc() || !std::isfinite(v))
-                throw Error(fmt::format("{}:{}: expected {}, got `{}`", path, line, expected, row));
+                throw Error(fmt::format("{}:{}: expected {}, got {}", path, line, expected, shown_row(row)));
             rows.push_back(v);
             p = next;
             while (p < last && *p == ' ') ++p;
             if (k + 1 < names.size()) {
-                if (p == last || *p != ',')
-                    throw Error(fmt::format("{}:{}: expected {} columns `{}`, got `{}`", path, line, names.size(),
-                                            fmt::join(names, ","), row));
+                if (p == last || *p != ',') throw wrong_columns();
                 ++p;
             }
         }
-        if (p != last)
-            throw Error(fmt::format("{}:{}: expected {} columns `{}`, got `{}`", path, line, names.size(),
-                                    fmt::join(names, ","), row));
+        if (p != last) throw wrong_columns();
+    };
+    // Read in chunks (`head` first), a line at a time, so that memory stays bounded by the rows,
+    // not the bytes: a stream without newlines is refused at the line limit.
+    std::string row;
+    std::vector<char> chunk(1 << 16);
+    std::copy(head.begin(), head.end(), chunk.begin());
+    std::streamsize filled = std::streamsize(head.size());
+    for (;;) {
+        if (filled == 0) {
+            in.read(chunk.data(), std::streamsize(chunk.size()));
+            filled = in.gcount();
+            if (filled == 0) break;
+        }
+        const char* p = chunk.data();
+        const char* end = p + filled;
+        filled = 0;
+        while (p < end) {
+            const char* nl = static_cast<const char*>(std::memchr(p, '\n', std::size_t(end - p)));
+            row.append(p, nl ? nl : end);
+            if (row.size() > kMaxLine)
+                throw Error(fmt::format("{}:{}: a line longer than {} characters: {}", path, line + 1, kMaxLine,
+                                        shown_row(row)));
+            if (!nl) break;
+            parse(row);
+            row.clear();
+            p = nl + 1;
+        }
     }
+    if (in.bad()) throw Error(fmt::format("cannot read {}: {}", path, std::strerror(errno)));
+    if (!row.empty()) parse(row);
     return point_set(path, names, rows);
 }
 
@@ -321,9 +361,15 @@ PointSet read_point_set(const std::string& path) {
     if (std::filesystem::is_directory(path, ec)) throw Error(path + ": is a directory");
     std::ifstream in(path, std::ios::binary);
     if (!in) throw Error(fmt::format("cannot read {}: {}", path, std::strerror(errno)));
-    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    if (bytes.size() >= 4 && std::memcmp(bytes.data(), kMagic, 4) == 0) return read_bin(path, bytes);
-    return read_csv(path, bytes);
+    char magic[4] = {};
+    in.read(magic, 4);
+    const std::streamsize got = in.gcount();
+    if (got == 4 && std::memcmp(magic, kMagic, 4) == 0) {
+        std::string bytes(magic, 4);
+        bytes.append(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+        return read_bin(path, bytes);
+    }
+    return read_csv(path, std::string_view(magic, std::size_t(got)), in);  // those bytes start the CSV
 }
 
 std::vector<glm::dvec2> read_points(const std::string& path) { return read_point_set(path).points; }

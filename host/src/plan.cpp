@@ -22,7 +22,9 @@ constexpr double kMaxCoverageRatio = 4.0;
 // Below it T, the free points within Rc of U, is a thin crescent, and the darts, spread over
 // whole base cells, take long to fill it, past the memory the plan assumes (docs/performance.md).
 constexpr double kMinCoverageRatio = 1.1;
-constexpr unsigned kMaxThreads = 1024;  // a host thread each: far above any machine's cores, below its limits
+constexpr unsigned kMaxThreads = 1024;
+constexpr double kSmallestLength = 1e-100;
+constexpr double kLargestLength = 1e100;  // a host thread each: far above any machine's cores, below its limits
 
 bool finite_positive(double v) { return std::isfinite(v) && v > 0.0; }
 
@@ -53,6 +55,15 @@ void validate(const SampleOptions& o) {
     if (o.radius <= 0.0) throw Error(fmt::format("radius must be > 0 (got {})", o.radius));
     if (!detail::finite_positive(o.box.width) || !detail::finite_positive(o.box.height))
         throw Error(fmt::format("extent must be two finite numbers > 0 (got {},{})", o.box.width, o.box.height));
+    // Extents, their squares and the box's area stay normal doubles; a radius far above the box is
+    // fine (the plan clamps its square), one below the smallest extent is refused by the cell count.
+    for (const auto& [name, v] : {std::pair{"width", o.box.width}, {"height", o.box.height}})
+        if (!(v >= detail::kSmallestLength && v <= detail::kLargestLength))
+            throw Error(fmt::format("{} {} is outside the extents vrpd takes, {} to {}", name, v, detail::kSmallestLength,
+                                    detail::kLargestLength));
+    for (const auto& [name, v] : {std::pair{"radius", o.radius}, {"coverage radius", o.coverage}})
+        if (std::isfinite(v) && v != 0.0 && v < detail::kSmallestLength)
+            throw Error(fmt::format("{} {} is below the smallest length vrpd takes, {}", name, v, detail::kSmallestLength));
     if (o.threads > detail::kMaxThreads)
         throw Error(fmt::format("threads must be at most {} (got {})", detail::kMaxThreads, o.threads));
     double short_side = std::min(o.box.width, o.box.height);
@@ -120,7 +131,11 @@ Plan make_plan(const SampleOptions& o, std::uint32_t max_cell_bits) {
     if (cells_per_row > max_cells_per_row) throw too_wide();
     // Two radii: Rc is at most 2^19 lattice units, the bound under which t_membership.h's exact
     // circle-intersection tests fit 128-bit products.
-    const bool two = o.coverage != 0.0 && o.coverage != o.radius;
+    // A free box whose diagonal is shorter than Rf holds one sample, which covers it whatever
+    // Rc >= Rf: the one-radius run at Rf gives it, uniform over the box, where two radii's
+    // neighbourhoods would reach further than the kernels scan.
+    const bool one_sample = o.box.boundary == Boundary::Free && o.radius > std::hypot(o.box.width, o.box.height);
+    const bool two = o.coverage != 0.0 && o.coverage != o.radius && !one_sample;
     const std::uint32_t top = std::min<std::uint32_t>(30, max_cell_bits);
     std::uint32_t bits = std::min(kMinCellBits, max_cell_bits);
     auto fits = [&](std::uint32_t b) {
