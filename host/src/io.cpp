@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <sstream>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -215,30 +216,23 @@ PointSet read_csv(const std::string& path, std::string_view head, std::istream& 
     // Read in chunks (`head` first), a line at a time, so that memory stays bounded by the rows,
     // not the bytes: a stream without newlines is refused at the line limit.
     std::string row;
-    std::vector<char> chunk(1 << 16);
-    std::copy(head.begin(), head.end(), chunk.begin());
-    std::streamsize filled = std::streamsize(head.size());
-    for (;;) {
-        if (filled == 0) {
-            in.read(chunk.data(), std::streamsize(chunk.size()));
-            filled = in.gcount();
-            if (filled == 0) break;
-        }
-        const char* p = chunk.data();
-        const char* end = p + filled;
-        filled = 0;
+    auto feed = [&](const char* p, const char* end) {
         while (p < end) {
             const char* nl = static_cast<const char*>(std::memchr(p, '\n', std::size_t(end - p)));
             row.append(p, nl ? nl : end);
             if (row.size() > kMaxLine)
                 throw Error(fmt::format("{}:{}: a line longer than {} characters: {}", path, line + 1, kMaxLine,
                                         shown_row(row)));
-            if (!nl) break;
+            if (!nl) return;
             parse(row);
             row.clear();
             p = nl + 1;
         }
-    }
+    };
+    feed(head.data(), head.data() + head.size());
+    std::vector<char> chunk(1 << 16);
+    while (in.read(chunk.data(), std::streamsize(chunk.size())) || in.gcount() > 0)
+        feed(chunk.data(), chunk.data() + in.gcount());
     if (in.bad()) throw Error(fmt::format("cannot read {}: {}", path, std::strerror(errno)));
     if (!row.empty()) parse(row);
     return point_set(path, names, rows);
@@ -370,6 +364,12 @@ PointSet read_point_set(const std::string& path) {
         return read_bin(path, bytes);
     }
     return read_csv(path, std::string_view(magic, std::size_t(got)), in);  // those bytes start the CSV
+}
+
+PointSet parse_point_set(std::string_view bytes, const std::string& name) {
+    if (bytes.size() >= 4 && std::memcmp(bytes.data(), kMagic, 4) == 0) return read_bin(name, std::string(bytes));
+    std::istringstream none;
+    return read_csv(name, bytes, none);
 }
 
 std::vector<glm::dvec2> read_points(const std::string& path) { return read_point_set(path).points; }

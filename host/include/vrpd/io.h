@@ -48,6 +48,9 @@ struct PointSet {
 // line (or point) of the first malformed row, NaN or inf.
 PointSet read_point_set(const std::string& path);
 
+// The same for a point file's bytes in memory; `name` stands for the file in error messages.
+PointSet parse_point_set(std::string_view bytes, const std::string& name = "<memory>");
+
 // The positions of read_point_set(path).
 std::vector<glm::dvec2> read_points(const std::string& path);
 

@@ -1,0 +1,150 @@
+// The shared predicates against oracles written from the paper's definitions (Eqs. 1-3), not from
+// shared/: the lattice distance, conflict and cover of a point (strict: a pair at exactly r neither
+// conflicts nor covers), and the quadtree's cover test of a cell, on random and tied inputs. Then
+// whole runs on a lattice where pairs at exactly r occur: they must be kept, and every lattice
+// point must end strictly covered.
+#include <catch2/catch.hpp>
+
+#include <random>
+
+#include "plan.h"
+#include "shared/sampler.h"
+#include "support.h"
+
+using namespace vrpd;
+
+namespace {
+
+// |a - b| the shorter way round a circle of `extent` points, in 64 bits from first principles.
+std::uint64_t oracle_gap(std::int64_t a, std::int64_t b, std::int64_t extent, bool periodic) {
+    std::int64_t d = a > b ? a - b : b - a;
+    if (periodic) d = std::min(d, extent - d);
+    return std::uint64_t(d);
+}
+
+std::uint64_t oracle_distance2(glm::i64vec2 p, glm::i64vec2 q, glm::i64vec2 extent, bool periodic) {
+    const unsigned __int128 dx = oracle_gap(p.x, q.x, extent.x, periodic);
+    const unsigned __int128 dy = oracle_gap(p.y, q.y, extent.y, periodic);
+    const unsigned __int128 d2 = dx * dx + dy * dy;
+    REQUIRE(d2 < (unsigned __int128)(1) << 64);
+    return std::uint64_t(d2);
+}
+
+// Squared radii that are sums of two squares in several ways, so that ties occur.
+constexpr std::uint64_t kTiedRadii2[] = {25, 50, 65, 85, 125, 325};
+
+}  // namespace
+
+TEST_CASE("predicates: the lattice distance is the shorter way round, exactly, up to 2^31", "[predicates]") {
+    std::mt19937_64 rng(7);
+    for (int i = 0; i < 20000; ++i) {
+        const bool periodic = i % 2 == 0;
+        const std::uint32_t ex = 1 + std::uint32_t(rng() % ((i % 3 == 0) ? 0x7FFFFFFFu : 1000u));
+        const std::uint32_t ey = 1 + std::uint32_t(rng() % ((i % 5 == 0) ? 0x7FFFFFFFu : 1000u));
+        const shared::Lattice l{ex, ey, periodic ? 1u : 0u};
+        const glm::uvec2 p(std::uint32_t(rng() % ex), std::uint32_t(rng() % ey));
+        const glm::uvec2 q(std::uint32_t(rng() % ex), std::uint32_t(rng() % ey));
+        INFO("extent " << ex << "x" << ey << " p " << p.x << "," << p.y << " q " << q.x << "," << q.y);
+        CHECK(shared::distance2(l, p, q) == oracle_distance2(p, q, glm::i64vec2(ex, ey), periodic));
+        CHECK(shared::distance2(l, p, q) == shared::distance2(l, q, p));
+    }
+}
+
+TEST_CASE("predicates: conflict and cover are strict, a pair at exactly r neither conflicts nor covers",
+          "[predicates]") {
+    const shared::Lattice l{1000, 1000, 0};
+    for (const std::uint64_t r2 : kTiedRadii2) {
+        const shared::Radii radii{r2, r2, shared::RADII_ONE, 0};
+        int ties = 0;
+        for (int dx = 0; dx * dx <= int(r2) + 1; ++dx)
+            for (int dy = 0; dx * dx + dy * dy <= int(r2) + 1; ++dy) {
+                const std::uint64_t d2 = shared::distance2(l, glm::uvec2(500, 500), glm::uvec2(500 + dx, 500 - dy));
+                const bool inside = std::uint64_t(dx * dx + dy * dy) < r2;  // Eqs. 1-2: closer than r
+                ties += std::uint64_t(dx * dx + dy * dy) == r2 ? 1 : 0;
+                CHECK(shared::inhibits(radii, d2) == inside);
+                CHECK(shared::covers(radii, d2) == inside);
+                CHECK(shared::reaches(radii, d2) == (std::uint64_t(dx * dx + dy * dy) <= r2));  // T: closed disk
+            }
+        CHECK(ties >= 2);  // these radii do meet ties
+    }
+}
+
+TEST_CASE("predicates: one disk drops a quadtree cell iff it covers every lattice point of it", "[predicates]") {
+    using namespace shared;
+    std::mt19937_64 rng(11);
+    for (const std::uint64_t r2 : kTiedRadii2) {
+        Domain dom{};
+        dom.radii = {r2, r2, RADII_ONE, 0};
+        for (std::uint32_t side = 1; side <= 4; side *= 2) {
+            // Four children of side `side` as closed intervals of their lattice points (one radius:
+            // surviving_children's cells), from the base cell's corner.
+            ChildBoxes b;
+            b.lo0 = ivec2(0, 0);
+            b.hi0 = ivec2(int(side) - 1, int(side) - 1);
+            b.lo1 = ivec2(int(side), int(side));
+            b.hi1 = ivec2(2 * int(side) - 1, 2 * int(side) - 1);
+            for (int k = 0; k < 400; ++k) {
+                const ivec2 o(int(rng() % 40) - 15, int(rng() % 40) - 15);
+                uint mask = 0xFu, corners = 0u;
+                cover_children(dom, b, 4u, o, mask, corners);
+                for (uint c = 0; c < 4; ++c) {
+                    const ivec2 lo((c & 1u) ? b.lo1.x : b.lo0.x, (c & 2u) ? b.lo1.y : b.lo0.y);
+                    const ivec2 hi((c & 1u) ? b.hi1.x : b.hi0.x, (c & 2u) ? b.hi1.y : b.hi0.y);
+                    bool all = true;
+                    for (int x = lo.x; x <= hi.x; ++x)
+                        for (int y = lo.y; y <= hi.y; ++y)
+                            all = all && std::uint64_t((x - o.x) * (x - o.x) + (y - o.y) * (y - o.y)) < r2;
+                    INFO("r2 " << r2 << " side " << side << " sample " << o.x << "," << o.y << " child " << c);
+                    CHECK(((mask >> c) & 1u) == (all ? 0u : 1u));
+                }
+            }
+        }
+    }
+}
+
+TEST_CASE("runs where pairs at exactly r occur keep them, and leave no lattice point at exactly r uncovered",
+          "[predicates][gpu]") {
+    // Periodic unit box, r = 0.03, two lattice bits: 48 x 48 cells of 4 x 4 points; Rf^2 = 34 =
+    // 5^2 + 3^2 lattice units, so samples may sit exactly r apart.
+    const SampleOptions base = test::options(0.03, 1, Backend::Cpu);
+    const detail::Plan plan = detail::make_plan(base, 2);
+    const std::uint64_t r2 = plan.domain.radii.inhibition2;
+    REQUIRE(r2 == 34);
+    const std::uint32_t n = plan.domain.lattice.extent_x;
+    std::uint64_t ties = 0;
+    for (Backend b : {Backend::Cpu, Backend::Serial, Backend::Gpu}) {
+        for (std::uint32_t seed = 1; seed <= 3; ++seed) {
+            SampleOptions o = base;
+            o.backend = b;
+            o.seed = seed;
+            const Sampling s = detail::sample_plan(o, plan);
+            INFO("backend " << int(b) << " seed " << seed);
+            // Buckets of samples by base cell, for the brute-force scans.
+            const std::uint32_t cells = plan.domain.cells_x, side = 1u << plan.domain.cell_bits;
+            std::vector<std::vector<glm::uvec2>> bucket(std::size_t(cells) * cells);
+            for (const glm::uvec2 p : s.lattice) bucket[(p.y / side) * cells + p.x / side].push_back(p);
+            std::uint64_t closer = 0;
+            for (std::size_t i = 0; i < s.size(); ++i)
+                for (std::size_t j = i + 1; j < s.size(); ++j) {
+                    const std::uint64_t d2 = test::lattice_distance2(plan, s.lattice[i], s.lattice[j]);
+                    closer += d2 < r2 ? 1 : 0;
+                    ties += d2 == r2 ? 1 : 0;
+                }
+            CHECK(closer == 0);
+            std::uint64_t uncovered = 0;
+            for (std::uint32_t y = 0; y < n; ++y)
+                for (std::uint32_t x = 0; x < n; ++x) {
+                    bool covered = false;
+                    for (int dy = -3; dy <= 3 && !covered; ++dy)
+                        for (int dx = -3; dx <= 3 && !covered; ++dx) {
+                            const std::uint32_t cx = (x / side + cells + dx) % cells, cy = (y / side + cells + dy) % cells;
+                            for (const glm::uvec2 p : bucket[cy * cells + cx])
+                                covered = covered || test::lattice_distance2(plan, p, glm::uvec2(x, y)) < r2;
+                        }
+                    uncovered += covered ? 0 : 1;
+                }
+            CHECK(uncovered == 0);
+        }
+    }
+    CHECK(ties > 0);  // the runs did meet pairs at exactly r
+}
