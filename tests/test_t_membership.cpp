@@ -203,7 +203,10 @@ TEST_CASE("T membership: the exact test agrees with dense brute force", "[two-ra
                     // Both answers are common, so neither direction goes untested.
                     CHECK(reaches >= 20);
                     CHECK(covered >= 20);
-                    CHECK(missed <= reaches / 20);
+                    // Slivers thinner than the grid's spacing: measured at most 1 of the 200 cases of
+                    // a group. Two allow one more; a test that answered "inside" for 1 in 32 of the
+                    // ~100 covered cases of a group would add about 3 there.
+                    CHECK(missed <= 2);
                 }
             }
         }
