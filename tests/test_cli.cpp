@@ -305,3 +305,15 @@ TEST_CASE("radii, seeds and limits: refused with one line, never taken silently,
     CHECK_FALSE(fs::exists(out));
 #endif
 }
+
+TEST_CASE("check: memory follows the points, not the radius", "[cli]") {
+    // Two far points judged at r = 3e-5: buckets sized by the radius alone were 1.1e9 (6.3 GB).
+    const fs::path far = scratch() / "far.csv";
+    { std::ofstream(far) << "x,y\n0.1,0.1\n0.9,0.9\n"; }
+#ifndef __SANITIZE_ADDRESS__  // AddressSanitizer cannot map its shadow memory under `ulimit -v`
+    const int status = std::system(("bash -c 'ulimit -v 300000; " + std::string(VRPD_CLI) + " check " + far.string() +
+                                    " --radius 3e-5 > /dev/null 2>&1'").c_str());
+    CHECK(WEXITSTATUS(status) == 1);  // judged (not maximal), within 300 MB
+#endif
+    CHECK(cli("check " + far.string() + " --radius 3e-5").code == 1);
+}

@@ -57,19 +57,23 @@ double axis_gap(double a, double b, double extent, bool periodic) {
 }
 
 // Pairs closer than Rf, by buckets of side >= Rf (exact: every such pair is in adjacent buckets).
+// Only occupied buckets exist: the points sorted by bucket, so memory is linear in the points
+// whatever the radius.
 std::uint64_t count_conflicts(const std::vector<glm::dvec2>& pts, double rf, const Box& box) {
     const bool periodic = box.boundary == Boundary::Periodic;
-    const std::int64_t nx = std::max<std::int64_t>(1, std::min<std::int64_t>(std::int64_t(box.width / rf), 1 << 14));
-    const std::int64_t ny = std::max<std::int64_t>(1, std::min<std::int64_t>(std::int64_t(box.height / rf), 1 << 14));
-    std::vector<std::vector<std::uint32_t>> bucket(std::size_t(nx * ny));
+    // Buckets per side, clamped as doubles first (a huge ratio does not fit an integer).
+    auto buckets = [&](double extent) { return std::int64_t(std::clamp(std::floor(extent / rf), 1.0, 1e9)); };
+    const std::int64_t nx = buckets(box.width), ny = buckets(box.height);
     auto cell_of = [&](glm::dvec2 p) {
-        return std::pair{std::min(nx - 1, std::int64_t(p.x / box.width * double(nx))),
-                         std::min(ny - 1, std::int64_t(p.y / box.height * double(ny)))};
+        return std::pair{std::clamp(std::int64_t(p.x / box.width * double(nx)), std::int64_t(0), nx - 1),
+                         std::clamp(std::int64_t(p.y / box.height * double(ny)), std::int64_t(0), ny - 1)};
     };
+    std::vector<std::pair<std::int64_t, std::uint32_t>> by_bucket(pts.size());
     for (std::uint32_t i = 0; i < pts.size(); ++i) {
         auto [cx, cy] = cell_of(pts[i]);
-        bucket[std::size_t(cy * nx + cx)].push_back(i);
+        by_bucket[i] = {cy * nx + cx, i};
     }
+    std::sort(by_bucket.begin(), by_bucket.end());
     std::uint64_t conflicts = 0;
     const double rf2 = rf * rf;
     for (std::uint32_t i = 0; i < pts.size(); ++i) {
@@ -84,8 +88,11 @@ std::uint64_t count_conflicts(const std::vector<glm::dvec2>& pts, double rf, con
                 } else if (x < 0 || y < 0 || x >= nx || y >= ny) {
                     continue;
                 }
-                if (!seen.insert(y * nx + x).second) continue;
-                for (std::uint32_t j : bucket[std::size_t(y * nx + x)]) {
+                const std::int64_t id = y * nx + x;
+                if (!seen.insert(id).second) continue;
+                auto it = std::lower_bound(by_bucket.begin(), by_bucket.end(), std::pair{id, std::uint32_t(0)});
+                for (; it != by_bucket.end() && it->first == id; ++it) {
+                    const std::uint32_t j = it->second;
                     if (j <= i) continue;
                     const double gx = axis_gap(pts[i].x, pts[j].x, box.width, periodic);
                     const double gy = axis_gap(pts[i].y, pts[j].y, box.height, periodic);
