@@ -120,7 +120,19 @@ Delaunay triangulate(const std::vector<glm::dvec2>& pts, const Box& box, double 
             }
         }
     }
-    return Delaunay(all.begin(), all.end());
+    // Points all on one line make a one-dimensional triangulation, where CGAL locates a point by
+    // walking every edge (quadratic in all); inserted in order along the line, each new point lies
+    // beyond an end of the hull, which is found at once.
+    const auto distinct = std::find_if(all.begin(), all.end(), [&](const auto& v) { return v.first != all[0].first; });
+    const bool on_one_line =
+        distinct == all.end() || std::all_of(all.begin(), all.end(), [&](const auto& v) {
+            return CGAL::orientation(all[0].first, distinct->first, v.first) == CGAL::COLLINEAR;
+        });
+    if (!on_one_line) return Delaunay(all.begin(), all.end());
+    std::sort(all.begin(), all.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    Delaunay dt;
+    for (const auto& [p, i] : all) dt.insert(p)->info() = i;
+    return dt;
 }
 
 double angle_at(const P2& a, const P2& b, const P2& c) {
