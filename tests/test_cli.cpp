@@ -252,8 +252,8 @@ TEST_CASE("output targets: devices and FIFOs written in place, links followed, l
 
     const fs::path fifo = dir / "fifo.csv", drained = dir / "drained.csv";
     REQUIRE(sh("mkfifo " + fifo.string()) == 0);
-    CHECK(sh("cat " + fifo.string() + " > " + drained.string() + " & " + vrpd + " sample --radius 0.1 --device cpu -o " +
-             fifo.string() + " 2> /dev/null; wait") == 0);
+    CHECK(sh("cat " + fifo.string() + " > " + drained.string() + " & " + vrpd +
+             " sample --radius 0.1 --device cpu -o " + fifo.string() + " 2> /dev/null; wait") == 0);
     CHECK(fs::is_fifo(fifo));
     CHECK(slurp(drained).rfind("x,y\n", 0) == 0);
 

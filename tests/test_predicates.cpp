@@ -137,7 +137,8 @@ TEST_CASE("runs where pairs at exactly r occur keep them, and leave no lattice p
                     bool covered = false;
                     for (int dy = -3; dy <= 3 && !covered; ++dy)
                         for (int dx = -3; dx <= 3 && !covered; ++dx) {
-                            const std::uint32_t cx = (x / side + cells + dx) % cells, cy = (y / side + cells + dy) % cells;
+                            const std::uint32_t cx = (x / side + cells + dx) % cells,
+                                                cy = (y / side + cells + dy) % cells;
                             for (const glm::uvec2 p : bucket[cy * cells + cx])
                                 covered = covered || test::lattice_distance2(plan, p, glm::uvec2(x, y)) < r2;
                         }

@@ -238,6 +238,11 @@ PointSet read_csv(const std::string& path, std::string_view head, std::istream& 
     return point_set(path, names, rows);
 }
 
+// The error of a write that failed, with its reason.
+Error write_error(const std::string& path, const std::string& why) {
+    return Error(fmt::format("cannot write {}: {}", path, why));
+}
+
 // The temporary a write is going to, for remove_partial_file (a signal handler may read it).
 char partial_file[4096];
 
@@ -256,7 +261,7 @@ Target target_of(const std::string& path) {
     if (fs::is_directory(st)) throw Error(path + ": is a directory");
     if (fs::exists(st) && !fs::is_regular_file(st)) return {true, path};
     const fs::path real = fs::weakly_canonical(fs::absolute(path), ec);
-    if (ec) throw Error(fmt::format("cannot write {}: {}", path, ec.message()));
+    if (ec) throw write_error(path, ec.message());
     return {false, real};
 }
 
@@ -264,7 +269,7 @@ Target target_of(const std::string& path) {
 std::string make_temporary(const std::filesystem::path& file, const std::string& path) {
     std::string name = (file.parent_path() / ".vrpd-XXXXXX").string();
     const int fd = ::mkstemp(name.data());
-    if (fd < 0) throw Error(fmt::format("cannot write {}: {}", path, std::strerror(errno)));
+    if (fd < 0) throw write_error(path, std::strerror(errno));
     ::close(fd);
     return name;
 }
@@ -300,7 +305,7 @@ void check_writable(const std::string& path) {
     if (path == "-") return;
     const Target t = target_of(path);
     if (t.direct) {
-        if (::access(t.file.c_str(), W_OK) != 0) throw Error(fmt::format("cannot write {}: {}", path, std::strerror(errno)));
+        if (::access(t.file.c_str(), W_OK) != 0) throw write_error(path, std::strerror(errno));
         return;
     }
     std::error_code ignored;
@@ -311,7 +316,7 @@ void write_points(const Sampling& s, const std::string& path) {
     namespace fs = std::filesystem;
     if (path == "-") {
         write_csv(s, std::cout);
-        if (!std::cout.flush()) throw Error(fmt::format("cannot write standard output: {}", std::strerror(errno)));
+        if (!std::cout.flush()) throw write_error("standard output", std::strerror(errno));
         return;
     }
     const bool bin = ends_with(path, ".bin");
@@ -319,7 +324,7 @@ void write_points(const Sampling& s, const std::string& path) {
     if (t.direct) {
         std::ofstream out(t.file, std::ios::binary);
         if (out) bin ? write_bin(s, out) : write_csv(s, out);
-        if (!out.flush()) throw Error(fmt::format("cannot write {}: {}", path, std::strerror(errno)));
+        if (!out.flush()) throw write_error(path, std::strerror(errno));
         return;
     }
     const std::string tmp = make_temporary(t.file, path);
@@ -328,7 +333,7 @@ void write_points(const Sampling& s, const std::string& path) {
         std::error_code ignored;
         fs::remove(tmp, ignored);
         partial_file[0] = 0;
-        throw Error(fmt::format("cannot write {}: {}", path, why));
+        throw write_error(path, why);
     };
     {
         std::ofstream out(tmp, std::ios::binary | std::ios::trunc);

@@ -59,11 +59,12 @@ void validate(const SampleOptions& o) {
     // fine (the plan clamps its square), one below the smallest extent is refused by the cell count.
     for (const auto& [name, v] : {std::pair{"width", o.box.width}, {"height", o.box.height}})
         if (!(v >= detail::kSmallestLength && v <= detail::kLargestLength))
-            throw Error(fmt::format("{} {} is outside the extents vrpd takes, {} to {}", name, v, detail::kSmallestLength,
-                                    detail::kLargestLength));
+            throw Error(fmt::format("{} {} is outside the extents vrpd takes, {} to {}", name, v,
+                                    detail::kSmallestLength, detail::kLargestLength));
     for (const auto& [name, v] : {std::pair{"radius", o.radius}, {"coverage radius", o.coverage}})
         if (std::isfinite(v) && v != 0.0 && v < detail::kSmallestLength)
-            throw Error(fmt::format("{} {} is below the smallest length vrpd takes, {}", name, v, detail::kSmallestLength));
+            throw Error(
+                fmt::format("{} {} is below the smallest length vrpd takes, {}", name, v, detail::kSmallestLength));
     if (o.threads > detail::kMaxThreads)
         throw Error(fmt::format("threads must be at most {} (got {})", detail::kMaxThreads, o.threads));
     double short_side = std::min(o.box.width, o.box.height);
@@ -237,7 +238,8 @@ std::uint64_t cgroup_limit(const char* path) {
 }  // namespace
 
 MemoryLimit host_memory_limit() {
-    MemoryLimit limit{std::uint64_t(sysconf(_SC_PHYS_PAGES)) * std::uint64_t(sysconf(_SC_PAGE_SIZE)), "physical memory"};
+    MemoryLimit limit{std::uint64_t(sysconf(_SC_PHYS_PAGES)) * std::uint64_t(sysconf(_SC_PAGE_SIZE)),
+                      "physical memory"};
     rlimit as{};
     if (getrlimit(RLIMIT_AS, &as) == 0 && as.rlim_cur != RLIM_INFINITY && as.rlim_cur < limit.bytes)
         limit = {std::uint64_t(as.rlim_cur), "address-space limit (ulimit -v)"};
