@@ -117,6 +117,35 @@ TEST_CASE("bad point sets are refused with the offending point", "[verify]") {
     CHECK_THROWS_WITH(verify(square_lattice(4), {0.2, 0.1}, box), Catch::Contains("Rf <= Rc"));
 }
 
+// The stated range (vrpd.h): extents and radii from 1e-100 to 1e100. Within it every figure is a
+// plain double, at either end; outside it the set is refused, not judged wrongly.
+TEST_CASE("extreme scales: judged within the lengths vrpd takes, refused outside them", "[verify]") {
+    const Box tiny{1e-300, 1e-300, Boundary::Free};
+    CHECK_THROWS_WITH(verify({{1e-301, 1e-301}, {5e-301, 5e-301}}, {1e-302, 1e-302}, tiny),
+                      Catch::Contains("width 1e-300 is outside the lengths vrpd judges"));
+    CHECK_THROWS_WITH(verify({{1, 1}}, {1e101, 1e101}, Box{2, 2, Boundary::Free}), Catch::Contains("Rf 1e+101"));
+    CHECK_THROWS_WITH(verify({{1, 1}}, {1e-101, 1}, Box{2, 2, Boundary::Free}), Catch::Contains("Rf 1e-101"));
+
+    // Two points 1.4e-160 apart: their squared distance underflows, their distance does not.
+    const Report close = verify({{1e-160, 1e-160}, {2e-160, 2e-160}}, {1e-100, 1e-100}, Box{1, 1, Boundary::Free});
+    CHECK(close.conflicts == 1);
+    CHECK(close.min_distance == Approx(std::sqrt(2.0) * 1e-160));
+
+    // The largest box: a 4 x 4 square lattice of spacing 2.5e99, judged at its own radii and at the
+    // smallest, where every edge is 1e199 radii long and lands in the histogram's last bin.
+    std::vector<glm::dvec2> grid;
+    for (glm::dvec2 p : square_lattice(4)) grid.push_back(p * 1e100);
+    const Box big{1e100, 1e100, Boundary::Periodic};
+    const Report at_spacing = verify(grid, {1.7e99, 2.5e99 / std::sqrt(2.0) * (1 + 1e-9)}, big);
+    CHECK(at_spacing.conflicts == 0);
+    CHECK(at_spacing.maximal);
+    CHECK(at_spacing.min_distance == Approx(2.5e99));
+    const Report at_smallest = verify(grid, {1e-100, 1e-100}, big);
+    CHECK_FALSE(at_smallest.maximal);
+    REQUIRE(at_smallest.edges.counts.size() == at_smallest.edges.bins);
+    CHECK(at_smallest.edges.counts.back() == 3 * at_smallest.triangles);
+}
+
 // Maximality of the sampler's output, judged by the largest empty circle. Samples lie on a
 // lattice of spacing q, and coverage is exact on it, so the continuous largest empty circle may
 // exceed r by at most q / sqrt(2) (q is about 1e-6 r here).

@@ -32,6 +32,11 @@ void validate_input(const std::vector<glm::dvec2>& pts, Radii radii, const Box& 
         throw Error(fmt::format("the tolerance must satisfy 0 <= tolerance < Rf (got {})", radii.tolerance));
     if (!(std::isfinite(box.width) && box.width > 0 && std::isfinite(box.height) && box.height > 0))
         throw Error("extent must be two finite numbers > 0");
+    for (const auto& [name, v] : {std::pair{"width", box.width}, {"height", box.height}, {"Rf", radii.inhibition},
+                                  {"Rc", radii.coverage}})
+        if (!(v >= kSmallestLength && v <= kLargestLength))
+            throw Error(fmt::format("{} {} is outside the lengths vrpd judges, {} to {}", name, v, kSmallestLength,
+                                    kLargestLength));
     if (pts.empty()) throw Error("no points: an empty set covers nothing");
     for (std::size_t i = 0; i < pts.size(); ++i) {
         const glm::dvec2 p = pts[i];
@@ -141,9 +146,9 @@ double angle_at(const P2& a, const P2& b, const P2& c) {
 }
 
 void add(Histogram& h, double v) {
-    std::size_t bin = std::size_t(std::max(0.0, v) / h.bin_width);
-    if (bin >= h.counts.size()) h.counts.resize(bin + 1, 0);
-    ++h.counts[bin];
+    const double bin = std::min(std::max(0.0, v) / h.bin_width, double(h.bins - 1));
+    if (h.counts.empty()) h.counts.assign(h.bins, 0);
+    ++h.counts[std::size_t(bin)];
 }
 
 // The largest circle centred on the box's sides or corners that is empty (free boundary): on a
@@ -243,7 +248,9 @@ Report verify(const std::vector<glm::dvec2>& pts, Radii radii, const Box& box) {
     for (auto e = dt.finite_edges_begin(); e != dt.finite_edges_end(); ++e) {
         const auto a = e->first->vertex(Delaunay::cw(e->second)), b = e->first->vertex(Delaunay::ccw(e->second));
         if (a->info() == b->info()) continue;
-        r.min_distance = std::min(r.min_distance, std::sqrt(CGAL::squared_distance(a->point(), b->point())));
+        // hypot: two points closer than 1e-154 have a squared distance that underflows.
+        const P2 &p = a->point(), &q = b->point();
+        r.min_distance = std::min(r.min_distance, std::hypot(p.x() - q.x(), p.y() - q.y()));
     }
     r.min_angle_degrees = 180;
     r.min_edge = INFINITY;

@@ -22,9 +22,7 @@ constexpr double kMaxCoverageRatio = 4.0;
 // Below it T, the free points within Rc of U, is a thin crescent, and the darts, spread over
 // whole base cells, take long to fill it, past the memory the plan assumes (docs/performance.md).
 constexpr double kMinCoverageRatio = 1.1;
-constexpr unsigned kMaxThreads = 1024;
-constexpr double kSmallestLength = 1e-100;
-constexpr double kLargestLength = 1e100;  // a host thread each: far above any machine's cores, below its limits
+constexpr unsigned kMaxThreads = 1024;  // a host thread each: far above any machine's cores, below its limits
 
 bool finite_positive(double v) { return std::isfinite(v) && v > 0.0; }
 
@@ -58,13 +56,13 @@ void validate(const SampleOptions& o) {
     // Extents, their squares and the box's area stay normal doubles; a radius far above the box is
     // fine (the plan clamps its square), one below the smallest extent is refused by the cell count.
     for (const auto& [name, v] : {std::pair{"width", o.box.width}, {"height", o.box.height}})
-        if (!(v >= detail::kSmallestLength && v <= detail::kLargestLength))
+        if (!(v >= kSmallestLength && v <= kLargestLength))
             throw Error(fmt::format("{} {} is outside the extents vrpd takes, {} to {}", name, v,
-                                    detail::kSmallestLength, detail::kLargestLength));
+                                    kSmallestLength, kLargestLength));
     for (const auto& [name, v] : {std::pair{"radius", o.radius}, {"coverage radius", o.coverage}})
-        if (std::isfinite(v) && v != 0.0 && v < detail::kSmallestLength)
+        if (std::isfinite(v) && v != 0.0 && v < kSmallestLength)
             throw Error(
-                fmt::format("{} {} is below the smallest length vrpd takes, {}", name, v, detail::kSmallestLength));
+                fmt::format("{} {} is below the smallest length vrpd takes, {}", name, v, kSmallestLength));
     if (o.threads > detail::kMaxThreads)
         throw Error(fmt::format("threads must be at most {} (got {})", detail::kMaxThreads, o.threads));
     double short_side = std::min(o.box.width, o.box.height);

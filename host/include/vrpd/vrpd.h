@@ -29,6 +29,12 @@ enum class Backend { Auto, Gpu, Cpu, Serial };
 
 // The axis-aligned box [0, width) x [0, height): a torus (the paper's setting) or a free boundary,
 // where samples lie inside the box, coverage is required inside it and distance is Euclidean.
+// The lengths vrpd takes: box extents within [kSmallestLength, kLargestLength], radii at least
+// kSmallestLength (and, in verify, at most kLargestLength). Their squares, products and the box's
+// area stay normal doubles, so every distance test means what it says at any scale in between.
+inline constexpr double kSmallestLength = 1e-100;
+inline constexpr double kLargestLength = 1e100;
+
 struct Box {
     double width = 1.0;
     double height = 1.0;

@@ -21,7 +21,8 @@ struct Radii {
 
 struct Histogram {
     double bin_width;
-    std::vector<std::uint64_t> counts;  // bin i holds values in [i w, (i+1) w)
+    std::size_t bins;                   // bin i holds values in [i w, (i+1) w); the last, all above
+    std::vector<std::uint64_t> counts;  // bins entries, or empty if nothing was counted
 };
 
 struct Report {
@@ -37,14 +38,15 @@ struct Report {
     std::uint64_t triangles = 0;
     double min_angle_degrees = 0;
     double max_angle_degrees = 0;
-    Histogram angles{1.0, {}};          // degrees
+    Histogram angles{1.0, 180, {}};     // degrees
     double min_edge = 0, max_edge = 0;  // over those triangles' edges
-    Histogram edges{0.05, {}};          // edge length / Rf, once per triangle an edge bounds
+    Histogram edges{0.05, 200, {}};     // edge length / Rf, once per triangle an edge bounds; up to 10 Rf
     bool passed() const { return conflicts == 0 && maximal; }
 };
 
 // Throws Error (with the index of the offending point) for NaN or inf, points outside the box,
-// duplicate points, no points, or radii that are not 0 < Rf <= Rc with 0 <= tolerance < Rf.
+// duplicate points, no points, radii that are not 0 < Rf <= Rc with 0 <= tolerance < Rf, or
+// lengths outside those vrpd takes (kSmallestLength to kLargestLength, vrpd.h).
 // Any nonempty set is judged, down to one point; min_distance is infinite without a pair.
 Report verify(const std::vector<glm::dvec2>& points, Radii radii, const Box& box);
 
