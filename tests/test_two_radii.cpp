@@ -143,6 +143,36 @@ TEST_CASE("every accepted sample reduced the uncovered set", "[two-radii]") {
 }
 
 
+// Rc near the box's size: after a sample or two, U may be a sliver in a corner while the darts
+// still spread over whole base cells. The quadtree must not split cells that no dart reached
+// (they would multiply by 4 a level and the darts stay as rare), so every seed ends in a few
+// hundred darts, within the plan's memory estimate, conflict-free and maximal (dense check).
+TEST_CASE("two radii with Rc near the box's size: bounded darts and memory for every seed", "[two-radii][gpu]") {
+    const Box box{1, 1, Boundary::Free};
+    for (std::uint32_t seed = 0; seed < 32; ++seed) {
+        INFO("seed " << seed);
+        const SampleOptions o = two_radii(1, 1.1, seed, Backend::Cpu, box);
+        const detail::Plan plan = detail::make_plan(o, 30);
+        const Sampling s = detail::sample_plan(o, plan);
+        CHECK(s.stats.darts < 2000);
+        CHECK(s.stats.peak_bytes <= detail::estimated_bytes(plan));
+        CHECK(vrpd::test::brute_force_conflicts(plan, s) == 0);
+        int uncovered = 0;
+        for (int i = 0; i <= 200; ++i)
+            for (int j = 0; j <= 200; ++j) {
+                bool covered = false;
+                for (std::size_t k = 0; k < s.size() && !covered; ++k)
+                    covered = std::hypot(i / 200.0 - s.point(k).x, j / 200.0 - s.point(k).y) < 1.1;
+                uncovered += covered ? 0 : 1;
+            }
+        CHECK(uncovered == 0);
+        if (seed < 4) {
+            CHECK(sample(two_radii(1, 1.1, seed, Backend::Serial, box)).lattice == s.lattice);
+            CHECK(sample(two_radii(1, 1.1, seed, Backend::Gpu, box)).lattice == s.lattice);
+        }
+    }
+}
+
 // The resolution passes of one round, run on the device and on the host from the same state: every
 // pass must give the same decision for every dart. A first round on a free box, so that darts near
 // the sides and corners meet the boundary's part of the T test.

@@ -26,8 +26,8 @@ struct LevelSchedule {
 // a dart goes to a whole base cell, and one landing where T is already empty costs a full T
 // test. Past level 0 their cells wait to split while they outnumber the last round's darts
 // kCrowded times: the cells track U exactly at any size, but a gap of U fills no faster for its
-// cells being small, while splitting multiplies them by up to 4. The measurements behind each
-// number are in docs/performance.md.
+// cells being small, while splitting multiplies them by up to 4; after a round that threw no dart
+// they do not split at all. The measurements behind each number are in docs/performance.md.
 constexpr double kCrowded = 8;
 
 LevelSchedule schedule_for(std::uint32_t level, double share) {
@@ -98,8 +98,7 @@ Sampling detail::sample_plan(const SampleOptions& options, const Plan& plan) {
         const std::uint32_t side = 1u << (plan.deepest_level - level);
         for (std::uint32_t r = 0; r < s.rounds && active > 0;) {
             if (round >= kMaxRounds) throw Error(fmt::format("internal: not maximal after {} rounds", round));
-            const bool crowded =
-                share < 1.0 && level > 0 && last_darts > 0 && double(active) > kCrowded * double(last_darts);
+            const bool crowded = share < 1.0 && level > 0 && double(active) > kCrowded * double(last_darts);
             const bool refine = !crowded && r + 1 == s.rounds && level < plan.deepest_level;
             // Two radii: while active cells fill half the base grid at level 0, listing the base
             // cells near them costs more than the few darts it saves.
