@@ -13,41 +13,16 @@
 
 #include <nlohmann/json.hpp>
 
+#include "cli_support.h"
 #include "support.h"
 #include "vrpd/io.h"
 
 namespace fs = std::filesystem;
 
-namespace {
-
-struct Run {
-    int code;
-    std::string err;
-};
-
-fs::path scratch() {
-    static const vrpd::test::ScratchDir dir("vrpd_cli_test");
-    return dir.path;
-}
-
-Run cli(const std::string& args) {
-    const fs::path err = scratch() / "stderr.txt";
-    const std::string cmd = std::string(VRPD_CLI) + " " + args + " > /dev/null 2> " + err.string();
-    const int status = std::system(cmd.c_str());
-    std::ifstream in(err);
-    std::stringstream text;
-    text << in.rdbuf();
-    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, text.str()};
-}
-
-std::string slurp(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
-
-}  // namespace
+using vrpd::test::cli;
+using vrpd::test::Run;
+using vrpd::test::scratch;
+using vrpd::test::slurp;
 
 TEST_CASE("bad input: one line on stderr, non-zero exit, no output file", "[cli]") {
     const fs::path out = scratch() / "never.csv";

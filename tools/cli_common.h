@@ -1,7 +1,9 @@
 // Small pieces shared by the vrpd CLI's subcommands.
 #pragma once
 
+#include <optional>
 #include <string>
+#include <vector>
 
 #include "vrpd/vrpd.h"
 
@@ -12,6 +14,34 @@ const char* backend_name(Backend b);
 // "W,H" -> box extent; throws Error on anything else.
 void parse_extent(const std::string& text, Box& box);
 Boundary parse_boundary(const std::string& name);
+
+// The resolution of vrpd's own files, relative to the box's longer side: CSV coordinates carry 9
+// significant digits (5e-9 of the side at worst, so distances move by up to 1.5e-8), and the
+// samples lie on a lattice of at most 2^30 steps across it (the largest empty circle may exceed
+// r by half a step's diagonal).
+inline constexpr double kDefaultTolerance = 2e-8;
+
+struct AnalyzeOptions {
+    std::vector<std::string> files;
+    std::string out;
+    std::optional<double> radius, rf, rc;  // with radii: Delaunay histograms and their bounds
+    std::string extent = "1,1", boundary = "periodic", device = "auto";
+    int frequencies = 0;  // the spectrum's half width; 0: 2 sqrt(n), at least 32
+    unsigned threads = 0;
+};
+int run_analyze(const AnalyzeOptions& options);
+
+struct PlotOptions {
+    std::string file, output, extent = "1,1", colour;
+    double radius = 0;  // disks of radius r/2 (touching at distance r); 0: dots
+};
+int run_plot(const PlotOptions& options);
+
+struct FiguresOptions {
+    std::string out, device = "auto";
+    unsigned sets = 10;
+};
+int run_figures(const FiguresOptions& options);
 
 struct BenchOptions {
     std::vector<double> radii{0.01, 0.002, 0.001};

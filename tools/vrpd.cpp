@@ -1,4 +1,4 @@
-// The vrpd command line: sample, check (with the geometry target), devices, bench.
+// The vrpd command line: sample, devices, bench; with the geometry target, check, analyze, plot, figures.
 #include <algorithm>
 #include <cmath>
 #include <csignal>
@@ -63,11 +63,6 @@ struct CheckOptions {
     std::string extent = "1,1", boundary = "periodic", json;
 };
 
-// The resolution of vrpd's own files, relative to the box's longer side: CSV coordinates carry 9
-// significant digits (5e-9 of the side at worst, so distances move by up to 1.5e-8), and the
-// samples lie on a lattice of at most 2^30 steps across it (the largest empty circle may exceed
-// r by half a step's diagonal).
-constexpr double kDefaultTolerance = 2e-8;
 
 // `vrpd check`: 0 pass, 1 conflicts or not maximal, 2 bad input.
 int run_check(const CheckOptions& o) {
@@ -223,6 +218,37 @@ int main(int argc, char** argv) {
                           "points' resolution: conflict below Rf - T, maximal below Rc + T (default 2e-8 of the "
                           "box's longer side: vrpd's CSV digits and lattice)");
     check_cmd->add_option("--json", check.json, "also write the report as JSON to FILE");
+
+    cli::AnalyzeOptions analyze;
+    auto* analyze_cmd = app.add_subcommand(
+        "analyze", "spectrum, radial power, spacing and (with radii) Delaunay histograms of point files");
+    analyze_cmd->add_option("files", analyze.files, "point files (.csv or .bin), averaged as sets")->required();
+    analyze_cmd->add_option("--out", analyze.out, "directory for the figures (PNG, SVG) and metrics.json")
+        ->required();
+    analyze_cmd->add_option("--radius,-r", analyze.radius, "Rf = Rc = R: also Delaunay histograms and bounds");
+    analyze_cmd->add_option("--rf", analyze.rf, "inhibition radius Rf");
+    analyze_cmd->add_option("--rc", analyze.rc, "coverage radius Rc (default Rf)");
+    analyze_cmd->add_option("--extent", analyze.extent, "box W,H (default 1,1)");
+    analyze_cmd->add_option("--boundary", analyze.boundary, "periodic (default) or free");
+    analyze_cmd->add_option("--frequencies", analyze.frequencies,
+                            "spectrum up to this many cycles per box side (default 2 sqrt(n), at least 32)");
+    analyze_cmd->add_option("--device", analyze.device, "auto (default), gpu, or cpu for the spectrum");
+    analyze_cmd->add_option("--threads", analyze.threads, "host threads (default: one per core)")
+        ->check(CLI::Range(1u, 1024u));
+
+    cli::PlotOptions plot;
+    auto* plot_cmd = app.add_subcommand("plot", "draw a point file as a PNG or SVG");
+    plot_cmd->add_option("file", plot.file, "point file (.csv or .bin)")->required();
+    plot_cmd->add_option("-o,--output", plot.output, "FILE.png or FILE.svg")->required();
+    plot_cmd->add_option("--radius,-r", plot.radius, "draw disks of radius r/2 (default: dots)");
+    plot_cmd->add_option("--colour,--color", plot.colour, "colour by a column of the file, e.g. t or r");
+    plot_cmd->add_option("--extent", plot.extent, "box W,H (default 1,1)");
+
+    cli::FiguresOptions figures;
+    auto* figures_cmd = app.add_subcommand("figures", "regenerate the paper's section 6 figures, with index.html");
+    figures_cmd->add_option("--out", figures.out, "directory for the figures")->required();
+    figures_cmd->add_option("--sets", figures.sets, "point sets per figure, seeds 1.. (default 10)");
+    figures_cmd->add_option("--device", figures.device, "auto (default), gpu, cpu or serial");
 #endif
 
     cli::BenchOptions bench;
@@ -293,6 +319,9 @@ int main(int argc, char** argv) {
         if (*bench_cmd) return cli::finish_output(cli::run_bench(bench));
 #ifdef VRPD_HAVE_GEOMETRY
         if (*check_cmd) return cli::finish_output(cli::run_check(check));
+        if (*analyze_cmd) return cli::finish_output(cli::run_analyze(analyze));
+        if (*plot_cmd) return cli::finish_output(cli::run_plot(plot));
+        if (*figures_cmd) return cli::finish_output(cli::run_figures(figures));
 #endif
     } catch (const Error& e) {
         std::cerr << "vrpd: error: " << e.what() << "\n";

@@ -1,0 +1,125 @@
+// vrpd analyze, plot and figures from the command line: the files they promise, metrics.json's
+// numbers, and one line and exit 2 for bad input with no report left behind.
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "cli_support.h"
+
+namespace fs = std::filesystem;
+using vrpd::test::cli;
+using vrpd::test::Run;
+using vrpd::test::scratch;
+using vrpd::test::slurp;
+
+namespace {
+bool is_png(const fs::path& p) { return slurp(p).rfind("\x89PNG\r\n\x1a\n", 0) == 0; }
+bool is_svg(const fs::path& p) { return slurp(p).find("<svg") != std::string::npos; }
+}  // namespace
+
+TEST_CASE("analyze: figures as PNG and SVG, and metrics.json with every number they show", "[cli][analysis]") {
+    const fs::path a = scratch() / "an1.csv", b = scratch() / "an2.csv", out = scratch() / "report";
+    REQUIRE(cli("sample --radius 0.02 --seed 1 --device cpu -o " + a.string()).code == 0);
+    REQUIRE(cli("sample --radius 0.02 --seed 2 --device cpu -o " + b.string()).code == 0);
+    const Run run = cli("analyze " + a.string() + " " + b.string() + " --radius 0.02 --device cpu --out " +
+                        out.string() + "/");
+    INFO(run.err);
+    REQUIRE(run.code == 0);
+    for (const char* panel : {"points", "spectrum", "radial", "angles", "edges"}) {
+        INFO(panel);
+        CHECK(is_png(out / (std::string("analysis-") + panel + ".png")));
+        CHECK(is_svg(out / (std::string("analysis-") + panel + ".svg")));
+    }
+    const auto j = nlohmann::json::parse(slurp(out / "metrics.json"));
+    CHECK(j["sets"] == 2);
+    CHECK(j["n"].get<double>() > 1500);
+    CHECK(j["delta_x"].get<double>() >= 0.75);
+    CHECK(j["mean_min_distance"].get<double>() > j["delta_x"].get<double>());
+    REQUIRE(j["radial_power"].size() == std::size_t(j["spectrum"]["half_width"]));
+    CHECK(j["radial_power"][0][0] == 1.0);
+    CHECK(j["anisotropy_db"].size() == j["radial_power"].size());
+    // One radius: every Delaunay angle at least 30 degrees, every edge within [Rf, 2 Rc].
+    CHECK(j["min_angle_bound_deg"].get<double>() == Approx(30));
+    CHECK(j["min_angle_deg"].get<double>() >= 30 - 1e-6);
+    CHECK(j["edge_ratio_min"].get<double>() >= 1 - 1e-6);
+    CHECK(j["edge_ratio_max"].get<double>() <= 2 + 1e-6);
+    CHECK(j["maximal_sets"] == 2);
+    CHECK(j["conflicts"] == 0);
+    // Without radii: no Delaunay panels.
+    const fs::path plain = scratch() / "plain";
+    REQUIRE(cli("analyze " + a.string() + " --device cpu --frequencies 40 --out " + plain.string()).code == 0);
+    CHECK(fs::exists(plain / "analysis-radial.png"));
+    CHECK_FALSE(fs::exists(plain / "analysis-angles.png"));
+    CHECK(nlohmann::json::parse(slurp(plain / "metrics.json"))["radial_power"].size() == 40);
+}
+
+TEST_CASE("plot: a PNG or an SVG, coloured by a column", "[cli][analysis]") {
+    const fs::path a = scratch() / "plot.csv";
+    REQUIRE(cli("sample --radius 0.05 --seed 1 --device cpu -o " + a.string()).code == 0);
+    REQUIRE(cli("plot " + a.string() + " --radius 0.05 -o " + (scratch() / "p.png").string()).code == 0);
+    CHECK(is_png(scratch() / "p.png"));
+    CHECK_FALSE(fs::exists(scratch() / "p.svg"));
+    REQUIRE(cli("plot " + a.string() + " -o " + (scratch() / "q.svg").string()).code == 0);
+    CHECK(is_svg(scratch() / "q.svg"));
+    const fs::path coloured = scratch() / "coloured.csv";
+    {
+        std::ofstream f(coloured);
+        f << "x,y,t\n0.1,0.1,1\n0.5,0.5,0.5\n0.9,0.2,0.25\n";
+    }
+    REQUIRE(cli("plot " + coloured.string() + " --colour t -o " + (scratch() / "c.png").string()).code == 0);
+    CHECK(is_png(scratch() / "c.png"));
+}
+
+TEST_CASE("analyze, plot, figures: bad input is one line, exit 2, and leaves no report", "[cli][analysis]") {
+    const fs::path a = scratch() / "bad.csv", out = scratch() / "never";
+    REQUIRE(cli("sample --radius 0.1 --seed 1 --device cpu -o " + a.string()).code == 0);
+    const std::string file = a.string(), to = " --out " + out.string();
+    const std::string bad[] = {
+        "analyze " + file + to + " --radius 0",
+        "analyze " + file + to + " --rf 0.1 --rc 0.05",
+        "analyze " + file + to + " --rc 0.05",
+        "analyze " + file + to + " --frequencies 2000",
+        "analyze " + file + to + " --extent 0.5,0.5",  // points outside the box
+        "analyze " + file + to + " --device quantum",
+        "analyze " + (scratch() / "missing.csv").string() + to,
+        "analyze " + file + " --out " + file,  // a file, not a directory
+        "plot " + file + " --colour t -o " + (out / "p.png").string(),
+        "plot " + file + " -o " + (scratch() / "p.jpg").string(),
+        "figures --sets 0" + to,
+    };
+    for (const std::string& args : bad) {
+        const Run r = cli(args);
+        INFO(args << "\n" << r.err);
+        CHECK(r.code == 2);
+        CHECK(r.err.rfind("vrpd: error: ", 0) == 0);
+        CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+        CHECK_FALSE(fs::exists(out));
+    }
+    for (const auto& entry : fs::directory_iterator(scratch()))
+        CHECK(entry.path().filename().string().rfind(".vrpd-report-", 0) != 0);
+}
+
+TEST_CASE("figures: the paper's figures that exist, an index page, the rest listed as not built", "[cli][analysis]") {
+    const fs::path out = scratch() / "figures";
+    const Run run = cli("figures --sets 1 --device cpu --out " + out.string());
+    INFO(run.err);
+    REQUIRE(run.code == 0);
+    const std::string html = slurp(out / "index.html");
+    for (const char* id : {"Figure 4:", "Figure 5:", "Figure 8:", "Figure 10:", "Figures 14 and 15"}) {
+        INFO(id);
+        CHECK(html.find(id) != std::string::npos);
+    }
+    CHECK(html.find("Not reproduced yet") != std::string::npos);
+    CHECK(html.find("hierarchies are not built yet") != std::string::npos);
+    for (const char* png : {"figure4-points.png", "figure5-angles.png", "figure8-edges.png", "figure10-spectrum.png"})
+        CHECK(is_png(out / png));
+    const auto j = nlohmann::json::parse(slurp(out / "figures.json"));
+    CHECK(j["4"]["paper_count"] == 6656);
+    // Two radii Rc = 2 Rf: the smallest angle obeys asin(1/4) = 14.48 degrees.
+    CHECK(j["5"]["min_angle_bound_deg"].get<double>() == Approx(14.4775).epsilon(1e-4));
+    CHECK(j["5"]["min_angle_deg"].get<double>() >= j["5"]["min_angle_bound_deg"].get<double>());
+    CHECK(j["10"]["delta_x"].get<double>() < 0.2);  // uniform random points are not spread out
+}
