@@ -14,6 +14,8 @@ const char* backend_name(Backend b);
 // "W,H" -> box extent; throws Error on anything else.
 void parse_extent(const std::string& text, Box& box);
 Boundary parse_boundary(const std::string& name);
+// "discrete:K" or "discrete:K:S"; throws Error on anything else.
+HierarchyOptions parse_hierarchy(const std::string& text);
 
 // The resolution of vrpd's own files, relative to the box's longer side: CSV coordinates carry 9
 // significant digits (5e-9 of the side at worst, so distances move by up to 1.5e-8), and the

@@ -1,4 +1,5 @@
-// The vrpd command line: sample, devices, bench; with the geometry target, check, analyze, plot, figures.
+// The vrpd command line: sample, lod, devices, bench; with the geometry target, check, analyze, plot,
+// figures.
 #include <algorithm>
 #include <cmath>
 #include <csignal>
@@ -17,6 +18,7 @@
 #include <nlohmann/json.hpp>
 #include "vrpd/verify.h"
 #endif
+#include "vrpd/hierarchy.h"
 #include "vrpd/io.h"
 #include "vrpd/vrpd.h"
 
@@ -44,6 +46,17 @@ Boundary parse_boundary(const std::string& name) {
     if (name == "periodic") return Boundary::Periodic;
     if (name == "free") return Boundary::Free;
     throw Error(fmt::format("unknown boundary '{}': use periodic or free", name));
+}
+
+HierarchyOptions parse_hierarchy(const std::string& text) {
+    unsigned steps = 0;
+    double start = 0;
+    char tail = 0;
+    const int got = std::sscanf(text.c_str(), "discrete:%u:%lf%c", &steps, &start, &tail);
+    if (text.rfind("discrete:", 0) != 0 || !(got == 1 || got == 2) || text.find('-') != std::string::npos)
+        throw Error(fmt::format("--hierarchy must be discrete:K or discrete:K:S (got '{}')", text));
+    if (got == 2 && !(start >= 1)) throw Error(fmt::format("--hierarchy's S must be >= 1 (got '{}')", text));
+    return {steps, start};
 }
 
 void parse_extent(const std::string& text, Box& box) {
@@ -199,9 +212,24 @@ int main(int argc, char** argv) {
     sample_cmd->add_option("-o,--output", output, "FILE.csv or FILE.bin, or - for CSV to stdout (the default)");
     sample_cmd->add_option("--threads", opt.threads, "host threads for --device cpu (default: one per core)")
         ->check(CLI::Range(1u, 1024u));
+    std::string hierarchy, from;
+    sample_cmd->add_option("--hierarchy", hierarchy,
+                           "discrete:K[:S]: K steps from S (default K) times the radii down to them, every sample "
+                           "with its birth t, every level a prefix (paper section 4)");
+    sample_cmd->add_option("--from", from, "start from the samples of FILE (conflict-free at Rf); output them first");
     sample_cmd->add_flag("--profile", opt.profile,
                          "also print where the time went: per phase (cpu, serial) or per kernel (gpu, device "
                          "timestamps)");
+
+    std::string lod_file, lod_output = "-";
+    std::optional<double> lod_t, lod_radius, lod_r0;
+    auto* lod_cmd = app.add_subcommand("lod", "the prefix of a hierarchical sampling that is one of its levels");
+    lod_cmd->add_option("file", lod_file, "point file with a t column, from sample --hierarchy")->required();
+    lod_cmd->add_option("--t", lod_t, "the samples born at t or earlier");
+    lod_cmd->add_option("--radius,-r", lod_radius, "the samples born at radius R or more (needs --r0)");
+    lod_cmd->add_option("--r0", lod_r0, "Rf at t = 1: S times the final Rf (0.1 for --radius 0.01 --hierarchy "
+                                        "discrete:10)");
+    lod_cmd->add_option("-o,--output", lod_output, "FILE.csv or FILE.bin, or - for CSV to stdout (the default)");
 
     auto* devices_cmd = app.add_subcommand("devices", "list Vulkan devices, and what --device auto picks");
 
@@ -285,6 +313,8 @@ int main(int argc, char** argv) {
             }
             if (rc_opt->count() && !(std::isfinite(rc) && rc > 0))
                 throw Error(fmt::format("--rc must be a finite number > 0 (got {})", rc));
+            if (!hierarchy.empty()) opt.hierarchy = cli::parse_hierarchy(hierarchy);
+            if (!from.empty()) opt.initial = read_points(from);
             opt.backend = cli::parse_backend(device);
             opt.box.boundary = cli::parse_boundary(boundary);
             cli::parse_extent(extent, opt.box);
@@ -301,6 +331,26 @@ int main(int argc, char** argv) {
                 s.stats.seconds, double(s.size()) / s.stats.seconds, s.stats.levels, s.stats.darts,
                 double(s.stats.peak_bytes) / (1 << 20), s.device, s.choice.empty() ? "" : " (auto: " + s.choice + ")");
             if (opt.profile) cli::print_profile(s.stats, std::cerr);
+            return cli::finish_output(0);
+        }
+        if (*lod_cmd) {
+            if (lod_t.has_value() == lod_radius.has_value()) throw Error("give --t T, or --radius R with --r0 R0");
+            if (lod_radius && !lod_r0) throw Error("--radius needs --r0, the hierarchy's Rf at t = 1");
+            if (lod_t && !(*lod_t > 0 && *lod_t <= 1))
+                throw Error(fmt::format("--t must be in (0, 1] (got {})", *lod_t));
+            if (lod_radius && !(std::isfinite(*lod_radius) && *lod_radius > 0))
+                throw Error(fmt::format("--radius must be a finite number > 0 (got {})", *lod_radius));
+            check_writable(lod_output);
+            PointSet set = read_point_set(lod_file);
+            const std::vector<double>* t = set.column("t");
+            if (!t) throw Error(fmt::format("{} has no t column: make it with vrpd sample --hierarchy", lod_file));
+            const Hierarchy h(set.points, *t, lod_r0.value_or(1.0));
+            const std::size_t n = lod_t ? h.count_at(*lod_t) : h.count_at_radius(*lod_radius);
+            set.points.resize(n);
+            for (auto& column : set.values) column.resize(n);
+            write_point_set(set, lod_output);
+            std::cerr << fmt::format("vrpd: {} of {} samples (t >= {})\n", n, h.size(),
+                                     n == 0 ? 1.0 : h.birth()[n - 1]);
             return cli::finish_output(0);
         }
         if (*devices_cmd) {

@@ -1,4 +1,4 @@
-// The interface between the sampling schedule (driver.cpp) and the machines that run its rounds:
+// The interface between the sampling schedule (schedule.cpp) and the machines that run its rounds:
 // the Vulkan engine and the host engines (parallel `cpu`, one-dart-at-a-time `serial`).
 #pragma once
 
@@ -30,8 +30,10 @@ class Engine {
 public:
     virtual ~Engine() = default;
     virtual std::string device_name() const = 0;
-    // The first active list: every base cell (side 2^cell_bits). Returns the active count.
-    virtual std::uint64_t start() = 0;
+    // The first active list: every base cell (side 2^cell_bits); the samples start as `initial`
+    // (conflict-free lattice points, checked by the caller), each in its base cell's grid word.
+    // Returns the active count.
+    virtual std::uint64_t start(const std::vector<glm::uvec2>& initial) = 0;
     // One round: throw darts into the active cells, resolve them in arrival order, commit the
     // accepted and append them to the samples in arrival order, and keep (or refine) the cells
     // still active.

@@ -10,6 +10,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iostream>
 #include <sstream>
 #include <sys/stat.h>
@@ -45,41 +46,57 @@ template <class T> T get_le(const unsigned char* b) {
     return v;
 }
 
-// The columns of a sampling's rows: x, y, then its attributes.
-struct Column {
-    const char* name;
-    const std::vector<double>* values;  // null for x and y
+// Rows to write: x, y, then named attribute columns.
+struct Table {
+    std::size_t rows = 0;
+    std::vector<std::string> names;
+    std::function<double(std::size_t row, std::size_t column)> value;
 };
-std::vector<Column> columns_of(const Sampling& s) {
-    std::vector<Column> c{{"x", nullptr}, {"y", nullptr}};
-    for (const Column& a : {Column{"t", &s.birth}, Column{"r", &s.local_radius}}) {
-        if (a.values->empty()) continue;
-        if (a.values->size() != s.size())
-            throw Error(fmt::format("internal: column {} has {} values for {} samples", a.name, a.values->size(),
-                                    s.size()));
-        c.push_back(a);
+
+Table table_of(const Sampling& s) {
+    Table t{s.size(), {"x", "y"}, {}};
+    std::vector<const std::vector<double>*> attributes;
+    for (const auto& [name, values] : {std::pair{"t", &s.birth}, {"r", &s.local_radius}}) {
+        if (values->empty()) continue;
+        if (values->size() != s.size())
+            throw Error(
+                fmt::format("internal: column {} has {} values for {} samples", name, values->size(), s.size()));
+        t.names.push_back(name);
+        attributes.push_back(values);
     }
-    return c;
+    t.value = [&s, attributes](std::size_t i, std::size_t k) {
+        if (k >= 2) return (*attributes[k - 2])[i];
+        const glm::dvec2 p = s.point(i);
+        return k == 0 ? p.x : p.y;
+    };
+    return t;
 }
 
-double value_of(const Sampling& s, const Column& c, std::size_t i, std::size_t k) {
-    if (c.values) return (*c.values)[i];
-    const glm::dvec2 p = s.point(i);
-    return k == 0 ? p.x : p.y;
+Table table_of(const PointSet& set) {
+    Table t{set.points.size(), {"x", "y"}, {}};
+    for (std::size_t c = 0; c < set.columns.size(); ++c) {
+        if (set.values[c].size() != set.points.size())
+            throw Error(fmt::format("column {} has {} values for {} points", set.columns[c], set.values[c].size(),
+                                    set.points.size()));
+        t.names.push_back(set.columns[c]);
+    }
+    t.value = [&set](std::size_t i, std::size_t k) {
+        return k == 0 ? set.points[i].x : k == 1 ? set.points[i].y : set.values[k - 2][i];
+    };
+    return t;
 }
 
-void write_bin(const Sampling& s, std::ostream& out) {
-    const std::vector<Column> columns = columns_of(s);
+void write_bin(const Table& t, std::ostream& out) {
     out.write(kMagic, 4);
     put_le<std::uint32_t>(out, kVersion);
-    put_le<std::uint64_t>(out, s.size());
-    put_le<std::uint32_t>(out, std::uint32_t(columns.size()));
-    for (const Column& c : columns) {
-        put_le<std::uint8_t>(out, std::uint8_t(std::strlen(c.name)));
-        out.write(c.name, std::streamsize(std::strlen(c.name)));
+    put_le<std::uint64_t>(out, t.rows);
+    put_le<std::uint32_t>(out, std::uint32_t(t.names.size()));
+    for (const std::string& name : t.names) {
+        put_le<std::uint8_t>(out, std::uint8_t(name.size()));
+        out.write(name.data(), std::streamsize(name.size()));
     }
-    for (std::size_t i = 0; i < s.size(); ++i)
-        for (std::size_t k = 0; k < columns.size(); ++k) put_le<double>(out, value_of(s, columns[k], i, k));
+    for (std::size_t i = 0; i < t.rows; ++i)
+        for (std::size_t k = 0; k < t.names.size(); ++k) put_le<double>(out, t.value(i, k));
 }
 
 // Moves the columns after x,y of `names` and `rows` (row-major, C a row) into a PointSet.
@@ -274,22 +291,19 @@ std::string make_temporary(const std::filesystem::path& file, const std::string&
     return name;
 }
 
-}  // namespace
-
-void write_csv(const Sampling& s, std::ostream& out) {
-    const std::vector<Column> columns = columns_of(s);
+void write_csv(const Table& t, std::ostream& out) {
     std::string buf;
-    for (std::size_t k = 0; k < columns.size(); ++k) {
+    for (std::size_t k = 0; k < t.names.size(); ++k) {
         buf += k ? "," : "";
-        buf += columns[k].name;
+        buf += t.names[k];
     }
     buf += "\n";
-    char num[32 * 4];
-    for (std::size_t i = 0; i < s.size(); ++i) {
+    char num[32 * 8];
+    for (std::size_t i = 0; i < t.rows; ++i) {
         char* e = num;
-        for (std::size_t k = 0; k < columns.size(); ++k) {
+        for (std::size_t k = 0; k < t.names.size(); ++k) {
             if (k) *e++ = ',';
-            e = std::to_chars(e, num + sizeof num, value_of(s, columns[k], i, k)).ptr;
+            e = std::to_chars(e, num + sizeof num, t.value(i, k)).ptr;
         }
         *e++ = '\n';
         buf.append(num, e);
@@ -300,6 +314,8 @@ void write_csv(const Sampling& s, std::ostream& out) {
     }
     out.write(buf.data(), std::streamsize(buf.size()));
 }
+
+}  // namespace
 
 void check_writable(const std::string& path) {
     if (path == "-") return;
@@ -312,7 +328,10 @@ void check_writable(const std::string& path) {
     std::filesystem::remove(make_temporary(t.file, path), ignored);
 }
 
-void write_points(const Sampling& s, const std::string& path) {
+namespace {
+
+// Writes `s` to `path` as write_points describes.
+void write_table(const Table& s, const std::string& path) {
     namespace fs = std::filesystem;
     if (path == "-") {
         write_csv(s, std::cout);
@@ -350,6 +369,12 @@ void write_points(const Sampling& s, const std::string& path) {
     if (ec) fail(ec.message());
     partial_file[0] = 0;
 }
+
+}  // namespace
+
+void write_points(const Sampling& s, const std::string& path) { write_table(table_of(s), path); }
+
+void write_point_set(const PointSet& set, const std::string& path) { write_table(table_of(set), path); }
 
 void remove_partial_file() noexcept {
     if (partial_file[0] != 0) ::unlink(partial_file);

@@ -22,12 +22,16 @@ constexpr double kMaxCoverageRatio = 4.0;
 // Below it T, the free points within Rc of U, is a thin crescent, and the darts, spread over
 // whole base cells, take long to fill it, past the memory the plan assumes (docs/performance.md).
 constexpr double kMinCoverageRatio = 1.1;
+constexpr unsigned kMaxSteps = 1000;
+constexpr double kMaxStart = 1024;
 constexpr unsigned kMaxThreads = 1024;  // a host thread each: far above any machine's cores, below its limits
 
 bool finite_positive(double v) { return std::isfinite(v) && v > 0.0; }
 
-// A periodic box must be tiled exactly by square base cells: W = nx s and H = ny s.
-bool periodic_tiling(double width, double height, double max_side, std::uint64_t& nx, std::uint64_t& ny) {
+// A periodic box must be tiled exactly by square base cells: W = nx s and H = ny s, with nx and ny
+// multiples of `multiple` (a hierarchy's coarser grids group multiple x multiple cells).
+bool periodic_tiling(double width, double height, double max_side, std::uint64_t multiple, std::uint64_t& nx,
+                     std::uint64_t& ny) {
     std::uint64_t first = std::uint64_t(std::ceil(width / max_side));
     // Cells no smaller than r/3 keep a disk's reach within MAX_REACH cells.
     const std::uint64_t last = std::uint64_t(std::floor(width / (max_side * std::sqrt(2.0) / 3.0)));
@@ -35,6 +39,7 @@ bool periodic_tiling(double width, double height, double max_side, std::uint64_t
         double side = width / double(n);
         double rows = height / side;
         double whole = std::round(rows);
+        if (n % multiple != 0 || std::uint64_t(whole) % multiple != 0) continue;
         if (whole >= 1.0 && std::abs(rows - whole) <= 1e-9 * rows && height / whole <= max_side) {
             nx = n;
             ny = std::uint64_t(whole);
@@ -44,11 +49,85 @@ bool periodic_tiling(double width, double height, double max_side, std::uint64_t
     return false;
 }
 
+// A hierarchy's coarsest grid groups 2^J x 2^J base cells: the largest power of two <= S.
+std::uint32_t hierarchy_levels(const SampleOptions& o) {
+    if (o.hierarchy.steps == 0) return 0;
+    return std::uint32_t(std::floor(std::log2(hierarchy_start(o)) + 1e-9));
+}
+
+// Squared lattice distances in the domain are < 2^63 (coordinates < 2^31), so a radius whose
+// square reaches 2^63 covers the whole box: clamping it there is exact, and sums cannot wrap.
+std::uint64_t squared_units(double radius, double quantum) {
+    const long double rq = (long double)radius / (long double)quantum;
+    const long double rq2 = std::ceil(rq * rq);
+    return rq2 >= 9223372036854775808.0L ? std::uint64_t(1) << 63 : std::uint64_t(rq2);
+}
+
+// The radii of a plan whose lattice and base grid are set: their squares in lattice units, the
+// neighbourhood reaches, and the quadtree's depth.
+void set_radii(Plan& plan, double rf, double rc, bool two, const Box& box) {
+    shared::Domain& d = plan.domain;
+    d.radii.inhibition2 = squared_units(rf, plan.quantum);
+    d.radii.coverage2 = two ? squared_units(rc, plan.quantum) : d.radii.inhibition2;
+    d.radii.kind = two ? shared::RADII_TWO : shared::RADII_ONE;
+    if (two && d.radii.coverage2 > shared::MAX_COVER2)
+        throw Error("internal: Rc is past the lattice steps the exact T test handles");
+    const std::uint64_t cell_side = std::uint64_t(1) << d.cell_bits;
+    // A sample must cover its whole base cell, so that an occupied base cell needs no darts.
+    if (d.radii.inhibition2 <= 2 * (cell_side - 1) * (cell_side - 1))
+        throw Error("internal: base cell diagonal is not shorter than the radius");
+    // Rows/columns of base cells a disk of squared radius limit2 reaches across.
+    auto reach_of = [&](std::uint64_t limit2) {
+        std::uint32_t n = 1;
+        while (shared::cell_gap2(d, int(n) + 1, 0) < limit2) ++n;
+        return n;
+    };
+    const std::uint32_t conflict = reach_of(d.radii.inhibition2);
+    const std::uint32_t cover = reach_of(d.radii.coverage2 + 1);
+    const std::uint32_t influence = two ? reach_of(shared::influence2(d.radii)) : conflict;
+    if (conflict > shared::MAX_REACH || (d.lattice.periodic && (conflict > d.cells_x || conflict > d.cells_y)))
+        throw Error("internal: a disk reaches further than the neighbourhood the kernels scan");
+    if (two && d.lattice.periodic && (2 * influence + 1 > d.cells_x || 2 * influence + 1 > d.cells_y))
+        throw Error(fmt::format(
+            "Rc {} is too large for a periodic box of {} x {}: the 2 Rc neighbourhood must not wrap onto itself", rc,
+            box.width, box.height));
+    d.radii.reach = conflict | cover << 8 | influence << 16;
+    for (std::uint32_t dy = 0; dy <= conflict; ++dy)
+        d.radii.reach |= std::uint32_t(shared::computed_row_reach(d, int(dy), int(conflict), d.radii.inhibition2))
+                         << (24 + 2 * dy);
+    plan.deepest_level = d.cell_bits;
+    plan.base_cells = std::uint64_t(d.cells_x) * d.cells_y;
+}
+
 }  // namespace
+
+double hierarchy_start(const SampleOptions& o) {
+    return o.hierarchy.start == 0 ? double(o.hierarchy.steps) : o.hierarchy.start;
+}
+
 }  // namespace vrpd::detail
 
 namespace vrpd {
 void validate(const SampleOptions& o) {
+    if (o.hierarchy.steps != 0) {
+        const double start = detail::hierarchy_start(o);
+        if (o.hierarchy.steps < 2 || o.hierarchy.steps > detail::kMaxSteps)
+            throw Error(fmt::format("a hierarchy needs 2 to {} steps (got {})", detail::kMaxSteps, o.hierarchy.steps));
+        if (!(start >= 1 && start <= detail::kMaxStart))
+            throw Error(fmt::format("a hierarchy's start S must be 1 to {} times the final radii (got {})",
+                                    detail::kMaxStart, start));
+        if (!o.initial.empty()) throw Error("a hierarchy starts from no samples: give --from or --hierarchy, not both");
+        // The coarsest step must be a valid run of its own.
+        SampleOptions coarsest = o;
+        coarsest.hierarchy = {};
+        coarsest.radius *= start;
+        coarsest.coverage *= start;
+        try {
+            validate(coarsest);
+        } catch (const Error& e) {
+            throw Error(fmt::format("the hierarchy's first step, at {} times the radii: {}", start, e.what()));
+        }
+    }
     if (!std::isfinite(o.radius)) throw Error("radius must be a finite number");
     if (o.radius <= 0.0) throw Error(fmt::format("radius must be > 0 (got {})", o.radius));
     if (!detail::finite_positive(o.box.width) || !detail::finite_positive(o.box.height))
@@ -110,8 +189,10 @@ Plan make_plan(const SampleOptions& o, std::uint32_t max_cell_bits) {
     if (longest / max_side > double(max_cells_per_row)) throw too_wide();
     std::uint64_t nx = 0, ny = 0;
     double side = max_side;
+    const std::uint32_t group_bits = hierarchy_levels(o);
+    const std::uint64_t group = std::uint64_t(1) << group_bits;
     if (o.box.boundary == Boundary::Periodic) {
-        if (!periodic_tiling(o.box.width, o.box.height, max_side, nx, ny))
+        if (!periodic_tiling(o.box.width, o.box.height, max_side, group, nx, ny))
             throw Error(fmt::format("periodic box {} x {}: width/height must be a ratio of small integers so that "
                                     "square cells of side <= r/sqrt(2) tile it", o.box.width, o.box.height));
         side = o.box.width / double(nx);
@@ -119,8 +200,8 @@ Plan make_plan(const SampleOptions& o, std::uint32_t max_cell_bits) {
         // Any side <= r/sqrt(2) works; capping it at the box keeps 2^30 lattice steps across the
         // box when r dwarfs it, so the first sample is still uniform over the box.
         side = std::min(side, std::max(o.box.width, o.box.height));
-        nx = std::uint64_t(std::ceil(o.box.width / side));
-        ny = std::uint64_t(std::ceil(o.box.height / side));
+        nx = (std::uint64_t(std::ceil(o.box.width / side)) + group - 1) / group * group;
+        ny = (std::uint64_t(std::ceil(o.box.height / side)) + group - 1) / group * group;
     }
     const std::uint64_t cells_per_row = std::max(nx, ny);
     // Base cells are numbered, and active lists counted, in 31 bits (the grid tag bit).
@@ -135,10 +216,13 @@ Plan make_plan(const SampleOptions& o, std::uint32_t max_cell_bits) {
     // neighbourhoods would reach further than the kernels scan.
     const bool one_sample = o.box.boundary == Boundary::Free && o.radius > std::hypot(o.box.width, o.box.height);
     const bool two = o.coverage != 0.0 && o.coverage != o.radius && !one_sample;
-    const std::uint32_t top = std::min<std::uint32_t>(30, max_cell_bits);
-    std::uint32_t bits = std::min(kMinCellBits, max_cell_bits);
+    // A hierarchy's coarser grids add up to group_bits to the cell bits, and its first step has
+    // S times the radii.
+    const std::uint32_t top = std::min<std::uint32_t>(30 - group_bits, max_cell_bits);
+    std::uint32_t bits = std::min(kMinCellBits, top);
+    const double largest_rc = o.coverage * (o.hierarchy.steps == 0 ? 1.0 : hierarchy_start(o));
     auto fits = [&](std::uint32_t b) {
-        const double rc_units = o.coverage / (side / double(1u << b));
+        const double rc_units = largest_rc / (side / double(1u << b));
         return (cells_per_row << b) <= kLatticeLimit &&
                (!two || rc_units * rc_units < double(shared::MAX_COVER2) * 0.999);
     };
@@ -162,43 +246,28 @@ Plan make_plan(const SampleOptions& o, std::uint32_t max_cell_bits) {
         d.lattice.extent_y =
             std::uint32_t(std::min<double>(std::ceil(o.box.height / plan.quantum), double(ny << bits)));
     }
-    // Squared lattice distances in the domain are < 2^63 (coordinates < 2^31), so a radius whose
-    // square reaches 2^63 covers the whole box: clamping it there is exact, and sums cannot wrap.
-    auto squared_units = [&](double radius) {
-        const long double rq = (long double)radius / (long double)plan.quantum;
-        const long double rq2 = std::ceil(rq * rq);
-        return rq2 >= 9223372036854775808.0L ? std::uint64_t(1) << 63 : std::uint64_t(rq2);
+    set_radii(plan, r, two ? o.coverage : r, two, o.box);
+    return plan;
+}
+
+Plan step_plan(const Plan& finest, const SampleOptions& o, double scale) {
+    Plan plan = finest;
+    const double rf = o.radius * scale, rc = (o.coverage == 0.0 ? o.radius : o.coverage) * scale;
+    const bool one_sample = o.box.boundary == Boundary::Free && rf > std::hypot(o.box.width, o.box.height);
+    const bool two = o.coverage != 0.0 && o.coverage != o.radius && !one_sample;
+    // The coarsest grouping of the finest cells that a sample still covers whole.
+    std::uint32_t j = hierarchy_levels(o);
+    const std::uint64_t rf2 = squared_units(rf, plan.quantum);
+    auto covers = [&](std::uint32_t g) {
+        const std::uint64_t side = std::uint64_t(1) << (finest.domain.cell_bits + g);
+        return rf2 > 2 * (side - 1) * (side - 1);
     };
-    d.radii.inhibition2 = squared_units(r);
-    d.radii.coverage2 = two ? squared_units(o.coverage) : d.radii.inhibition2;
-    d.radii.kind = two ? shared::RADII_TWO : shared::RADII_ONE;
-    if (two && d.radii.coverage2 > shared::MAX_COVER2)
-        throw Error("internal: Rc is past the lattice steps the exact T test handles");
-    const std::uint64_t cell_side = std::uint64_t(1) << bits;
-    // A sample must cover its whole base cell, so that an occupied base cell needs no darts.
-    if (d.radii.inhibition2 <= 2 * (cell_side - 1) * (cell_side - 1))
-        throw Error("internal: base cell diagonal is not shorter than the radius");
-    // Rows/columns of base cells a disk of squared radius limit2 reaches across.
-    auto reach_of = [&](std::uint64_t limit2) {
-        std::uint32_t n = 1;
-        while (shared::cell_gap2(d, int(n) + 1, 0) < limit2) ++n;
-        return n;
-    };
-    const std::uint32_t conflict = reach_of(d.radii.inhibition2);
-    const std::uint32_t cover = reach_of(d.radii.coverage2 + 1);
-    const std::uint32_t influence = two ? reach_of(shared::influence2(d.radii)) : conflict;
-    if (conflict > shared::MAX_REACH || (d.lattice.periodic && (conflict > nx || conflict > ny)))
-        throw Error("internal: a disk reaches further than the neighbourhood the kernels scan");
-    if (two && d.lattice.periodic && (2 * influence + 1 > nx || 2 * influence + 1 > ny))
-        throw Error(fmt::format(
-            "Rc {} is too large for a periodic box of {} x {}: the 2 Rc neighbourhood must not wrap onto itself",
-            o.coverage, o.box.width, o.box.height));
-    d.radii.reach = conflict | cover << 8 | influence << 16;
-    for (std::uint32_t dy = 0; dy <= conflict; ++dy)
-        d.radii.reach |= std::uint32_t(shared::computed_row_reach(d, int(dy), int(conflict), d.radii.inhibition2))
-                         << (24 + 2 * dy);
-    plan.deepest_level = bits;
-    plan.base_cells = nx * ny;
+    while (j > 0 && !covers(j)) --j;
+    shared::Domain& d = plan.domain;
+    d.cells_x = finest.domain.cells_x >> j;
+    d.cells_y = finest.domain.cells_y >> j;
+    d.cell_bits = finest.domain.cell_bits + j;
+    set_radii(plan, rf, rc, two, o.box);
     return plan;
 }
 

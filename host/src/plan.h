@@ -21,7 +21,16 @@ struct Plan {
 // level, where cells are single lattice points).
 Plan make_plan(const SampleOptions& options, std::uint32_t max_cell_bits = 30);
 
-// Runs the schedule for a plan made from `options`.
+// A hierarchy's S (HierarchyOptions::start, or K if that is 0).
+double hierarchy_start(const SampleOptions& options);
+
+// The plan of a hierarchy step at `scale` times the final radii (1 <= scale <= S), on the lattice
+// of `finest` (make_plan's plan for the options): its base cells group 2^j x 2^j of the finest,
+// the coarsest grouping whose cells a sample still covers.
+Plan step_plan(const Plan& finest, const SampleOptions& options, double scale);
+
+// Runs the schedule for a plan made from `options`: a direct sampling, from options.initial if
+// given, or a hierarchy's steps.
 Sampling sample_plan(const SampleOptions& options, const Plan& plan);
 
 // Samples a run is expected to end with, give or take a few percent: the engines reserve room

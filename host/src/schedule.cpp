@@ -1,6 +1,7 @@
 // The sampling schedule (paper section 1; flat quadtree of Ebeida et al. 2012): rounds of darts
 // per level, refinement of the cells still active, until no cell is active, i.e. the sampling is
 // maximal. The engines keep each round's samples in arrival order: the sequence x_1..x_n.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -8,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "engine.h"
+#include "shared/neighbourhood.h"
 
 namespace vrpd {
 namespace {
@@ -73,10 +75,102 @@ BackendChoice choose_backend(const SampleOptions& o) {
 
 Sampling sample(const SampleOptions& options) { return detail::sample_plan(options, detail::make_plan(options)); }
 
+namespace {
+
+// Runs rounds on `engine` (started) until no cell of `plan` is active: the sampling is maximal.
+// Rounds are numbered on from `round`, so that the steps of a hierarchy draw other darts.
+// Returns the levels visited.
+std::uint32_t run_to_maximal(Engine& engine, const Plan& plan, std::uint64_t active, std::uint32_t& round,
+                             SamplingStats& stats) {
+    std::uint32_t level = 0;
+    const std::uint32_t first_round = round;
+    std::uint64_t last_darts = 0;
+    // Two radii: the share of a sample's Rc-disk its Rf-disk takes, (Rf / Rc)^2; 1 for one radius.
+    const double share = double(plan.domain.radii.inhibition2) / double(plan.domain.radii.coverage2);
+    while (active > 0) {
+        const LevelSchedule s = schedule_for(level, share);
+        const std::uint32_t side = 1u << (plan.deepest_level - level);
+        for (std::uint32_t r = 0; r < s.rounds && active > 0;) {
+            if (round - first_round >= kMaxRounds)
+                throw Error(fmt::format("internal: not maximal after {} rounds", round - first_round));
+            const bool crowded = share < 1.0 && level > 0 && double(active) > kCrowded * double(last_darts);
+            const bool refine = !crowded && r + 1 == s.rounds && level < plan.deepest_level;
+            // Two radii: while active cells fill half the base grid at level 0, listing the base
+            // cells near them costs more than the few darts it saves.
+            const bool every_free_cell = level == 0 && active >= plan.base_cells / 2;
+            const detail::RoundResult rr = engine.round({round++, side, exp_neg(s.lambda), refine, every_free_cell});
+            stats.darts += rr.darts;
+            last_darts = rr.darts;
+            active = rr.active;
+            if (!crowded) ++r;  // a crowded round does not count towards the level's rounds
+            if (refine) ++level;
+        }
+    }
+    return level + 1;
+}
+
+// The given samples on the plan's lattice (each rounded to the nearest lattice point), checked
+// exactly: inside the box and no pair closer than Rf.
+std::vector<glm::uvec2> initial_samples(const SampleOptions& o, const Plan& plan) {
+    const shared::Domain& d = plan.domain;
+    std::vector<glm::uvec2> out(o.initial.size());
+    for (std::size_t i = 0; i < o.initial.size(); ++i) {
+        const glm::dvec2 p = o.initial[i];
+        if (!(p.x >= 0 && p.y >= 0 && p.x < o.box.width && p.y < o.box.height))
+            throw Error(fmt::format("given sample {} ({}, {}) is outside the box [0,{}) x [0,{})", i + 1, p.x, p.y,
+                                    o.box.width, o.box.height));
+        const double x = std::round(p.x / plan.quantum), y = std::round(p.y / plan.quantum);
+        // Rounding up to the box's side wraps round a torus, and stays on the last point of a free box.
+        auto axis = [&](double v, std::uint32_t extent) {
+            return v >= double(extent) ? (d.lattice.periodic ? 0u : extent - 1) : std::uint32_t(v);
+        };
+        out[i] = {axis(x, d.lattice.extent_x), axis(y, d.lattice.extent_y)};
+    }
+    std::vector<std::uint32_t> owner(plan.base_cells, ~0u);
+    auto conflict = [&](std::size_t i, std::size_t j) {
+        const glm::dvec2 a = o.initial[std::min(i, j)], b = o.initial[std::max(i, j)];
+        return Error(fmt::format("given samples {} ({}, {}) and {} ({}, {}) are closer than Rf = {} on the run's "
+                                 "lattice",
+                                 std::min(i, j) + 1, a.x, a.y, std::max(i, j) + 1, b.x, b.y, o.radius));
+    };
+    for (std::size_t i = 0; i < out.size(); ++i) {
+        std::uint32_t& cell = owner[shared::base_of_point(d, out[i])];
+        if (cell != ~0u) throw conflict(cell, i);  // a base cell's diagonal is shorter than Rf
+        cell = std::uint32_t(i);
+    }
+    using namespace shared;  // the neighbourhood macro names the shared headers' functions
+    const int reach = conflict_reach(d.radii);
+    for (std::size_t i = 0; i < out.size(); ++i) {
+        const glm::uvec2 cell = shared::base_cell_of(d, out[i]);
+        VRPD_FOR_EACH_NEIGHBOUR(d, cell, reach, d.radii.inhibition2, dx, dy, nb) {
+            const std::uint32_t j = owner[std::size_t(nb)];
+            if (j != ~0u && j != i && shared::inhibits(d.radii, shared::distance2(d.lattice, out[i], out[j])))
+                throw conflict(i, j);
+        }
+    }
+    return out;
+}
+
+// Adds a step's phase times to the run's, phase by phase.
+void add_profile(std::vector<PhaseTime>& total, const std::vector<PhaseTime>& step) {
+    for (const PhaseTime& p : step) {
+        auto same = std::find_if(total.begin(), total.end(), [&](const PhaseTime& q) { return q.name == p.name; });
+        if (same == total.end()) {
+            total.push_back(p);
+        } else {
+            same->seconds += p.seconds;
+            same->calls += p.calls;
+        }
+    }
+}
+
+}  // namespace
+
 Sampling detail::sample_plan(const SampleOptions& options, const Plan& plan) {
     const auto t0 = std::chrono::steady_clock::now();
     const std::uint64_t need = detail::estimated_bytes(plan);
-    // Runs stay within 80 % of the memory they may use: the estimate is of the arrays' peak.
+    // Runs stay within 80 % of the memory they may use: the estimate is of the arrays' peak (a
+    // hierarchy's steps grow to the finest, this plan).
     const detail::MemoryLimit have = detail::host_memory_limit();
     if (need > have.bytes / 10 * 8)
         throw Error(fmt::format("radius {} needs about {:.2f} GiB ({} base cells), over 80 % of the {:.2f} GiB of "
@@ -85,44 +179,44 @@ Sampling detail::sample_plan(const SampleOptions& options, const Plan& plan) {
                                 double(have.bytes) / (1 << 30), have.what));
 
     const BackendChoice choice = choose_backend(options);
-    std::unique_ptr<Engine> engine = make_engine(options, choice.backend, plan);
-    if (options.profile) engine->start_profile();
     Sampling result;
-    std::uint64_t active = engine->start();
-    std::uint32_t level = 0, round = 0;
-    std::uint64_t last_darts = 0;
-    // Two radii: the share of a sample's Rc-disk its Rf-disk takes, (Rf / Rc)^2; 1 for one radius.
-    const double share = double(plan.domain.radii.inhibition2) / double(plan.domain.radii.coverage2);
-    while (active > 0) {
-        const LevelSchedule s = schedule_for(level, share);
-        const std::uint32_t side = 1u << (plan.deepest_level - level);
-        for (std::uint32_t r = 0; r < s.rounds && active > 0;) {
-            if (round >= kMaxRounds) throw Error(fmt::format("internal: not maximal after {} rounds", round));
-            const bool crowded = share < 1.0 && level > 0 && double(active) > kCrowded * double(last_darts);
-            const bool refine = !crowded && r + 1 == s.rounds && level < plan.deepest_level;
-            // Two radii: while active cells fill half the base grid at level 0, listing the base
-            // cells near them costs more than the few darts it saves.
-            const bool every_free_cell = level == 0 && active >= plan.base_cells / 2;
-            const detail::RoundResult rr = engine->round({round++, side, exp_neg(s.lambda), refine, every_free_cell});
-            result.stats.darts += rr.darts;
-            last_darts = rr.darts;
-            active = rr.active;
-            if (!crowded) ++r;  // a crowded round does not count towards the level's rounds
-            if (refine) ++level;
+    // A hierarchy's steps: t_k = 1 - (1 - 1/S) k / (K - 1) and the radii's scale S t_k, each as
+    // one division of exact numerators for whole S (so S = K = 10 gives t = 0.2, not 0.19999...).
+    // A direct run is one step at t = 1, scale 1.
+    const unsigned steps = options.hierarchy.steps;
+    std::vector<std::pair<double, double>> births{{1.0, 1.0}};  // t, scale
+    if (steps != 0) {
+        const double start = hierarchy_start(options), last = double(steps - 1);
+        births.clear();
+        for (unsigned k = 0; k < steps; ++k) {
+            const double numerator = last * start - (start - 1) * double(k);
+            births.emplace_back(numerator / (last * start), numerator / last);
         }
     }
-
-    result.lattice = engine->samples();
-    result.stats.peak_bytes = engine->peak_bytes();
-    result.stats.profile = engine->profile();
+    std::vector<glm::uvec2> samples = initial_samples(options, plan);
+    std::uint32_t round = 0;
+    for (const auto& [t, scale] : births) {
+        const Plan step = steps == 0 ? plan : step_plan(plan, options, scale);
+        std::unique_ptr<Engine> engine = make_engine(options, choice.backend, step);
+        if (options.profile) engine->start_profile();
+        const std::size_t before = samples.size();
+        const std::uint32_t levels = run_to_maximal(*engine, step, engine->start(samples), round, result.stats);
+        samples = engine->samples();
+        if (steps != 0) result.birth.resize(samples.size(), t);
+        result.stats.levels = std::max(result.stats.levels, levels);
+        result.stats.peak_bytes = std::max(result.stats.peak_bytes, engine->peak_bytes());
+        add_profile(result.stats.profile, engine->profile());
+        result.device = engine->device_name();
+        if (samples.size() < before) throw Error("internal: a step lost samples");
+    }
+    result.lattice = std::move(samples);
     result.quantum = plan.quantum;
     result.radius = options.radius;
     result.coverage = options.coverage == 0.0 ? options.radius : options.coverage;
     result.box = options.box;
+    result.hierarchy_start = steps == 0 ? 1.0 : hierarchy_start(options);
     result.backend = choice.backend;
     result.choice = choice.reason;
-    result.device = engine->device_name();
-    result.stats.levels = level + 1;
     result.stats.rounds = round;
     result.stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return result;

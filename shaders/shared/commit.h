@@ -44,5 +44,10 @@ VRPD_FN void commit_base_cell(Grid grid, Darts darts, Uints flags, Uints counter
     grid.word[b] = result;
 }
 
+// A run from given samples (SampleOptions::initial): each given sample p takes its base cell's
+// grid word before the first round. The caller has checked that they are conflict-free,
+// so each has a base cell of its own.
+VRPD_FN void place_sample(Domain dom, Grid grid, uvec2 p) { grid.word[base_of_point(dom, p)] = p; }
+
 VRPD_END
 #endif

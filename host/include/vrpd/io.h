@@ -44,6 +44,9 @@ struct PointSet {
     const std::vector<double>* column(std::string_view name) const;
 };
 
+// Writes a point set (positions and named columns) as write_points writes a sampling.
+void write_point_set(const PointSet& set, const std::string& path);
+
 // Reads a point file: vrpd's .bin (version 1 or 2), or a CSV as above. Throws Error naming the
 // line (or point) of the first malformed row, NaN or inf.
 PointSet read_point_set(const std::string& path);

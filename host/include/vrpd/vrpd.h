@@ -41,6 +41,17 @@ struct Box {
     Boundary boundary = Boundary::Periodic;
 };
 
+// A hierarchy of samplings (paper section 4): radii t (Rf0, Rc0) with Rf0 = S Rf and Rc0 = S Rc (Rf,
+// Rc the final radii), t stepping down in K steps t_k = 1 - (1 - 1/S) k / (K - 1), k = 0..K-1
+// (K = S = 10: 10, 9, ..., 1 times the final radii), each step continuing the sampling until it
+// is maximal at t_k (Rf0, Rc0). Every sample records the t_k at which it was born, so the samples
+// with t >= t_k are a maximal sampling at t_k (Rf0, Rc0): a prefix of the output, which is in
+// birth order.
+struct HierarchyOptions {
+    unsigned steps = 0;  // K >= 2; 0: no hierarchy, one direct sampling at (Rf, Rc)
+    double start = 0;    // S >= 1; 0: S = K
+};
+
 struct SampleOptions {
     double radius = 0.0;         // inhibition radius Rf: no two samples closer (paper Eq. 5)
     double coverage = 0.0;       // coverage radius Rc, Rf <= Rc <= 4 Rf: every point within Rc of a
@@ -51,6 +62,11 @@ struct SampleOptions {
     std::string device;          // Vulkan device by index or name substring; empty: $VRPD_DEVICE, else the best
     unsigned threads = 0;        // host threads of the cpu backend; 0: one per core. Never changes the points.
     bool profile = false;        // fill SamplingStats::profile. Never changes the points.
+    HierarchyOptions hierarchy;
+    // Samples the run starts from (and outputs first, unchanged but for rounding to the run's
+    // lattice, by at most half a lattice step): they must lie in the box and be conflict-free at
+    // Rf on that lattice. The run adds samples until the set is maximal.
+    std::vector<glm::dvec2> initial;
 };
 
 // Where a run's time went: one phase of the host engines, or one kernel of the Vulkan engine
@@ -89,6 +105,7 @@ struct Sampling {
     // Per-sample attributes beside the position: each empty when the run has none, else one value
     // per sample, in sample order. Point files carry them as named columns (vrpd/io.h).
     std::vector<double> birth;         // column "t": the scale t at which the sample was born (section 4)
+    double hierarchy_start = 1;        // a hierarchy's S: at birth t the radii were t S (radius, coverage)
     std::vector<double> local_radius;  // column "r": the radius at the sample (section 5)
 
     std::size_t size() const { return lattice.size(); }

@@ -34,19 +34,23 @@ public:
         return fmt::format("cpu (host, {} thread{})", pool_.size(), pool_.size() == 1 ? "" : "s");
     }
 
-    std::uint64_t start() override {
+    std::uint64_t start(const std::vector<uvec2>& initial) override {
         const Domain& d = plan_.domain;
         // Reserving the expected count avoids the vector doubling past the end (more samples grow it).
-        out_.reserve(expected_samples(plan_));
-        if (masked_) {
-            grid_.assign(plan_.base_cells, uvec2(GRID_EMPTY, 1u));  // each base cell: its one level-0 cell
-            return plan_.base_cells;
-        }
-        grid_.assign(plan_.base_cells, uvec2(GRID_EMPTY, GRID_EMPTY));
-        cells_.resize(plan_.base_cells);
+        out_.reserve(std::max<std::uint64_t>(expected_samples(plan_), initial.size()));
+        out_.assign(initial.begin(), initial.end());
+        // Each base cell: empty, with (mask mode) its one level-0 cell active.
+        grid_.assign(plan_.base_cells, uvec2(GRID_EMPTY, masked_ ? 1u : GRID_EMPTY));
+        for (const uvec2& p : initial) place_sample(d, grid(), p);
+        if (masked_) return plan_.base_cells;  // a sample's word holds no active mask
+        // The list leaves out the base cells that hold a sample, as mask mode does: a round's
+        // darts word would replace the sample's.
+        cells_.clear();
+        cells_.reserve(plan_.base_cells - initial.size());
         for (uint y = 0; y < d.cells_y; ++y)
             for (uint x = 0; x < d.cells_x; ++x)
-                cells_[std::size_t(y) * d.cells_x + x] = uvec2(x << d.cell_bits, y << d.cell_bits);
+                if (!grid_is_sample(grid_[std::size_t(y) * d.cells_x + x]))
+                    cells_.emplace_back(x << d.cell_bits, y << d.cell_bits);
         return cells_.size();
     }
 

@@ -17,6 +17,7 @@
 #include "flag_free_cells.h"
 #include "flag_masked.h"
 #include "init_cells.h"
+#include "place_samples.h"
 #include "list_dart_cells.h"
 #include "list_masked.h"
 #include "mark_masked.h"
@@ -45,6 +46,7 @@ VulkanEngine::VulkanEngine(const Plan& plan, const std::string& selector)
     : plan_(plan),
       ctx_(selector),
       VRPD_KERNEL(init_cells, CellArgs, WORKGROUP_SIZE),
+      VRPD_KERNEL(place_samples, DartArgs, WORKGROUP_SIZE),
       VRPD_KERNEL(flag_dart_cells, CellArgs, WORKGROUP_SIZE),
       VRPD_KERNEL(flag_free_cells, CellArgs, WORKGROUP_SIZE),
       VRPD_KERNEL(list_dart_cells, CellArgs, WORKGROUP_SIZE),
@@ -80,10 +82,27 @@ VulkanEngine::VulkanEngine(const Plan& plan, const std::string& selector)
     grid_ = Buffer(ctx_, plan.base_cells * sizeof(uvec2), false);
 }
 
-std::uint64_t VulkanEngine::start() {
+std::uint64_t VulkanEngine::start(const std::vector<uvec2>& initial) {
     const std::uint64_t n = plan_.base_cells;
     // The samples' buffer starts at the expected count and grows by a quarter if a round overflows it.
-    grow(ctx_, samples_, expected_samples(plan_) * sizeof(uvec2));
+    grow(ctx_, samples_, std::max<std::uint64_t>(expected_samples(plan_), initial.size()) * sizeof(uvec2));
+    // Given samples: uploaded, and (list mode) the first active list made here, leaving out the
+    // base cells that hold one, whose grid word a round's darts word would replace.
+    Buffer staging, list;
+    std::uint64_t listed = n;
+    if (!initial.empty()) {
+        staging = Buffer(ctx_, initial.size() * sizeof(uvec2), true);
+        std::memcpy(staging.mapped(), initial.data(), initial.size() * sizeof(uvec2));
+        if (!masked_) {
+            std::vector<char> occupied(n, 0);
+            for (const uvec2& p : initial) occupied[base_of_point(plan_.domain, p)] = 1;
+            list = Buffer(ctx_, std::max<std::uint64_t>(1, n - initial.size()) * sizeof(uvec2), true);
+            auto* out = static_cast<uvec2*>(list.mapped());
+            listed = 0;
+            for (std::uint64_t b = 0; b < n; ++b)
+                if (!occupied[b]) out[listed++] = base_corner(plan_.domain, std::uint32_t(b));
+        }
+    }
     if (!masked_) grow(ctx_, cells_, n * sizeof(uvec2));
     if (masked_) grow(ctx_, scratch_, n * 4);
     VkCommandBuffer cmd = ctx_.begin();
@@ -98,13 +117,26 @@ std::uint64_t VulkanEngine::start() {
         CellArgs a = cell_args(0, Regions{0, 0, 0, scratch_.address()}, std::uint32_t(n), 0, 0, 0);
         ctx_.dispatch(apply_masks_, &a, dispatch_groups(n, WORKGROUP_SIZE));
     } else {
-        CellArgs a = cell_args(cells_.address(), {}, std::uint32_t(n), 0, 0, 0);
-        ctx_.dispatch(init_cells_, &a, dispatch_groups(n, WORKGROUP_SIZE));
+        if (initial.empty()) {
+            CellArgs a = cell_args(cells_.address(), {}, std::uint32_t(n), 0, 0, 0);
+            ctx_.dispatch(init_cells_, &a, dispatch_groups(n, WORKGROUP_SIZE));
+        } else if (listed > 0) {
+            const VkBufferCopy all{0, 0, listed * sizeof(uvec2)};
+            ctx_.vk().vkCmdCopyBuffer(cmd, list.handle(), cells_.handle(), 1, &all);
+        }
+    }
+    if (!initial.empty()) {
+        const VkBufferCopy all{0, 0, initial.size() * sizeof(uvec2)};
+        ctx_.vk().vkCmdCopyBuffer(cmd, staging.handle(), samples_.handle(), 1, &all);
+        ctx_.barrier();  // the grid's fill and masks, and the samples' copy, before place_samples
+        DartArgs d = dart_args(0, std::uint32_t(initial.size()), 0);
+        ctx_.dispatch(place_samples_, &d, dispatch_groups(initial.size(), WORKGROUP_SIZE));
     }
     ctx_.barrier();  // grid words and first active list before the first round reads them
     ctx_.submit_and_wait();
-    active_ = std::uint32_t(n);
-    return n;
+    emitted_ = initial.size();
+    active_ = std::uint32_t(listed);
+    return listed;
 }
 
 RoundResult VulkanEngine::round(const RoundSpec& spec) {

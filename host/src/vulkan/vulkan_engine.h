@@ -22,7 +22,7 @@ public:
     std::string device_name() const override { return ctx_.device_name(); }
     void start_profile() override { ctx_.start_profile(); }
     std::vector<PhaseTime> profile() const override { return ctx_.profile(); }
-    std::uint64_t start() override;
+    std::uint64_t start(const std::vector<shared::uvec2>& initial) override;
     RoundResult round(const RoundSpec& spec) override;
     std::vector<shared::uvec2> samples() override;
     std::uint64_t peak_bytes() const override { return ctx_.peak_allocated_bytes(); }
@@ -95,7 +95,7 @@ private:
     Primitives primitives_{ctx_, counters_};
     // One radius runs refine_cells_one and resolve_darts_one (CMakeLists.txt); profiles name
     // both variants by their source.
-    Kernel init_cells_, flag_dart_cells_, flag_free_cells_, list_dart_cells_, count_darts_,
+    Kernel init_cells_, place_samples_, flag_dart_cells_, flag_free_cells_, list_dart_cells_, count_darts_,
         mark_ranges_, apply_decisions_, throw_darts_, work_args_, resolve_darts_,
         commit_cells_, emit_samples_, refine_cells_, scatter_cells_, count_masked_,
         mark_masked_, throw_masked_, throw_masked_empty_, commit_masked_, refine_masked_,
