@@ -30,10 +30,12 @@ class Engine {
 public:
     virtual ~Engine() = default;
     virtual std::string device_name() const = 0;
-    // The first active list: every base cell (side 2^cell_bits); the samples start as `initial`
-    // (conflict-free lattice points, checked by the caller), each in its base cell's grid word.
-    // Returns the active count.
-    virtual std::uint64_t start(const std::vector<glm::uvec2>& initial) = 0;
+    // Starts a run on `plan`: the engine's own plan, or a hierarchy step's (step_plan: the same
+    // lattice, coarser cells, larger radii), so that one engine serves every step. The first
+    // active list is every base cell (side 2^cell_bits) but those holding a sample; the samples
+    // start as `initial` (conflict-free lattice points, checked by the caller), each in its base
+    // cell's grid word. Returns the active count.
+    virtual std::uint64_t start(const Plan& plan, const std::vector<glm::uvec2>& initial) = 0;
     // One round: throw darts into the active cells, resolve them in arrival order, commit the
     // accepted and append them to the samples in arrival order, and keep (or refine) the cells
     // still active.

@@ -151,19 +151,6 @@ std::vector<glm::uvec2> initial_samples(const SampleOptions& o, const Plan& plan
     return out;
 }
 
-// Adds a step's phase times to the run's, phase by phase.
-void add_profile(std::vector<PhaseTime>& total, const std::vector<PhaseTime>& step) {
-    for (const PhaseTime& p : step) {
-        auto same = std::find_if(total.begin(), total.end(), [&](const PhaseTime& q) { return q.name == p.name; });
-        if (same == total.end()) {
-            total.push_back(p);
-        } else {
-            same->seconds += p.seconds;
-            same->calls += p.calls;
-        }
-    }
-}
-
 }  // namespace
 
 Sampling detail::sample_plan(const SampleOptions& options, const Plan& plan) {
@@ -194,21 +181,22 @@ Sampling detail::sample_plan(const SampleOptions& options, const Plan& plan) {
         }
     }
     std::vector<glm::uvec2> samples = initial_samples(options, plan);
+    // One engine, made for the finest plan, runs every step.
+    std::unique_ptr<Engine> engine = make_engine(options, choice.backend, plan);
+    if (options.profile) engine->start_profile();
     std::uint32_t round = 0;
     for (const auto& [t, scale] : births) {
         const Plan step = steps == 0 ? plan : step_plan(plan, options, scale);
-        std::unique_ptr<Engine> engine = make_engine(options, choice.backend, step);
-        if (options.profile) engine->start_profile();
         const std::size_t before = samples.size();
-        const std::uint32_t levels = run_to_maximal(*engine, step, engine->start(samples), round, result.stats);
+        const std::uint32_t levels = run_to_maximal(*engine, step, engine->start(step, samples), round, result.stats);
         samples = engine->samples();
         if (steps != 0) result.birth.resize(samples.size(), t);
         result.stats.levels = std::max(result.stats.levels, levels);
-        result.stats.peak_bytes = std::max(result.stats.peak_bytes, engine->peak_bytes());
-        add_profile(result.stats.profile, engine->profile());
-        result.device = engine->device_name();
         if (samples.size() < before) throw Error("internal: a step lost samples");
     }
+    result.stats.peak_bytes = engine->peak_bytes();
+    result.stats.profile = engine->profile();
+    result.device = engine->device_name();
     result.lattice = std::move(samples);
     result.quantum = plan.quantum;
     result.radius = options.radius;

@@ -34,7 +34,9 @@ public:
         return fmt::format("cpu (host, {} thread{})", pool_.size(), pool_.size() == 1 ? "" : "s");
     }
 
-    std::uint64_t start(const std::vector<uvec2>& initial) override {
+    std::uint64_t start(const Plan& plan, const std::vector<uvec2>& initial) override {
+        plan_ = plan;
+        masked_ = resolution_ == Resolution::Parallel && !two_radii(plan.domain.radii);
         const Domain& d = plan_.domain;
         // Reserving the expected count avoids the vector doubling past the end (more samples grow it).
         out_.reserve(std::max<std::uint64_t>(expected_samples(plan_), initial.size()));

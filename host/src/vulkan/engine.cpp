@@ -82,8 +82,14 @@ VulkanEngine::VulkanEngine(const Plan& plan, const std::string& selector)
     grid_ = Buffer(ctx_, plan.base_cells * sizeof(uvec2), false);
 }
 
-std::uint64_t VulkanEngine::start(const std::vector<uvec2>& initial) {
+std::uint64_t VulkanEngine::start(const Plan& plan, const std::vector<uvec2>& initial) {
+    // The kernels' variants (two_) stay the constructor's: a step's plan has two radii only if
+    // the engine's has.
+    plan_ = plan;
+    masked_ = !two_radii(plan.domain.radii);
+    listed_bases_ = 0;
     const std::uint64_t n = plan_.base_cells;
+    grow(ctx_, grid_, n * sizeof(uvec2));
     // The samples' buffer starts at the expected count and grows by a quarter if a round overflows it.
     grow(ctx_, samples_, std::max<std::uint64_t>(expected_samples(plan_), initial.size()) * sizeof(uvec2));
     // Given samples: uploaded, and (list mode) the first active list made here, leaving out the

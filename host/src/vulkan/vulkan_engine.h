@@ -22,7 +22,7 @@ public:
     std::string device_name() const override { return ctx_.device_name(); }
     void start_profile() override { ctx_.start_profile(); }
     std::vector<PhaseTime> profile() const override { return ctx_.profile(); }
-    std::uint64_t start(const std::vector<shared::uvec2>& initial) override;
+    std::uint64_t start(const Plan& plan, const std::vector<shared::uvec2>& initial) override;
     RoundResult round(const RoundSpec& spec) override;
     std::vector<shared::uvec2> samples() override;
     std::uint64_t peak_bytes() const override { return ctx_.peak_allocated_bytes(); }
