@@ -59,6 +59,7 @@ inline constexpr const char* kTooComplex =
 
 enum class Resolution { Parallel, Serial };
 std::unique_ptr<Engine> make_host_engine(const Plan& plan, Resolution resolution, unsigned threads);
-std::unique_ptr<Engine> make_vulkan_engine(const Plan& plan, const std::string& device);
+std::unique_ptr<Engine> make_vulkan_engine(const Plan& plan, const std::string& device,
+                                           const VulkanTarget* target = nullptr);
 
 }  // namespace vrpd::detail

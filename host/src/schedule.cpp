@@ -43,7 +43,7 @@ std::uint32_t exp_neg(double lambda) { return std::uint32_t(std::floor(std::exp(
 
 std::unique_ptr<Engine> make_engine(const SampleOptions& o, Backend backend, const Plan& plan) {
     switch (backend) {
-    case Backend::Gpu: return detail::make_vulkan_engine(plan, o.device);
+    case Backend::Gpu: return detail::make_vulkan_engine(plan, o.device, o.vulkan);
     case Backend::Cpu: return detail::make_host_engine(plan, detail::Resolution::Parallel, o.threads);
     case Backend::Serial: return detail::make_host_engine(plan, detail::Resolution::Serial, o.threads);
     case Backend::Auto: break;
@@ -57,6 +57,9 @@ std::unique_ptr<Engine> make_engine(const SampleOptions& o, Backend backend, con
 // SIMD lane an invocation and every branch of a batch, several times slower for the same bytes:
 // Auto takes it only when named.
 BackendChoice choose_backend(const SampleOptions& o) {
+    if (o.vulkan && o.backend != Backend::Auto && o.backend != Backend::Gpu)
+        throw Error("a run on the application's Vulkan device needs the gpu backend (or auto)");
+    if (o.vulkan) return {Backend::Gpu, "the options give the application's Vulkan device"};
     if (o.backend != Backend::Auto) return {o.backend, ""};
     if (!o.device.empty()) return {Backend::Gpu, "the options name a Vulkan device"};
     if (const char* env = std::getenv("VRPD_DEVICE"); env && *env)

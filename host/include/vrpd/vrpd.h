@@ -52,6 +52,8 @@ struct HierarchyOptions {
     double start = 0;    // S >= 1; 0: S = K
 };
 
+struct VulkanTarget;  // vrpd/vulkan_target.h
+
 struct SampleOptions {
     double radius = 0.0;         // inhibition radius Rf: no two samples closer (paper Eq. 5)
     double coverage = 0.0;       // coverage radius Rc, Rf <= Rc <= 4 Rf: every point within Rc of a
@@ -67,6 +69,9 @@ struct SampleOptions {
     // lattice, by at most half a lattice step): they must lie in the box and be conflict-free at
     // Rf on that lattice. The run adds samples until the set is maximal.
     std::vector<glm::dvec2> initial;
+    // Run on the application's Vulkan device (vrpd/vulkan_target.h; Gpu backend) instead of one
+    // vrpd opens; not owned.
+    const VulkanTarget* vulkan = nullptr;
 };
 
 // Where a run's time went: one phase of the host engines, or one kernel of the Vulkan engine

@@ -52,7 +52,7 @@ VKAPI_ATTR VkBool32 VKAPI_CALL VulkanContext::on_message(VkDebugUtilsMessageSeve
 }
 
 VulkanContext::VulkanContext() {
-    const PFN_vkGetInstanceProcAddr get_proc = loader_.get_instance_proc_addr();
+    const PFN_vkGetInstanceProcAddr get_proc = loader_.emplace().get_instance_proc_addr();
     vk_.vkCreateInstance = reinterpret_cast<PFN_vkCreateInstance>(get_proc(nullptr, "vkCreateInstance"));
     vk_.vkEnumerateInstanceLayerProperties = reinterpret_cast<PFN_vkEnumerateInstanceLayerProperties>(
         get_proc(nullptr, "vkEnumerateInstanceLayerProperties"));
@@ -88,11 +88,9 @@ VulkanContext::VulkanContext() {
         throw Error(
             "no Vulkan 1.2 driver on this machine (install mesa-vulkan-drivers for lavapipe), or use --device cpu");
     detail::check(r, "vkCreateInstance", "this machine");
-#define VRPD_VK_FN(name) \
-    if (!vk_.name) vk_.name = reinterpret_cast<PFN_##name>(get_proc(instance, #name));
-#include "functions.inc"
-#undef VRPD_VK_FN
+    load_functions(get_proc, instance);
     instance_ = own<OwnedInstance>(vk_, instance);
+    instance_handle_ = instance;
     if (validate) {
         // Warnings and errors, until the instance goes: the messenger outlives the device.
         VkDebugUtilsMessengerCreateInfoEXT mi{VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};
@@ -107,6 +105,45 @@ VulkanContext::VulkanContext() {
                       "vkCreateDebugUtilsMessengerEXT", "this machine");
         messenger_ = own<OwnedMessenger>(vk_, instance, messenger);
     }
+}
+
+VulkanContext::VulkanContext(const VulkanTarget& target) {
+    if (!target.instance || !target.physical_device || !target.device || !target.queue)
+        throw Error("VulkanTarget: instance, physical device, device and queue must all be given");
+    PFN_vkGetInstanceProcAddr get_proc = target.get_instance_proc_addr;
+    if (!get_proc) get_proc = loader_.emplace().get_instance_proc_addr();
+    load_functions(get_proc, target.instance);
+    instance_handle_ = target.instance;
+    physical_ = target.physical_device;
+    VkPhysicalDeviceDriverProperties driver{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES};
+    VkPhysicalDeviceProperties2 props{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &driver};
+    vk_.vkGetPhysicalDeviceProperties2(physical_, &props);
+    device_name_ = fmt::format("{} (the application's device, {} {})", props.properties.deviceName,
+                               driver.driverName, driver.driverInfo);
+    std::uint32_t families = 0;
+    vk_.vkGetPhysicalDeviceQueueFamilyProperties(physical_, &families, nullptr);
+    std::vector<VkQueueFamilyProperties> queues(families);
+    vk_.vkGetPhysicalDeviceQueueFamilyProperties(physical_, &families, queues.data());
+    if (target.queue_family >= families || !(queues[target.queue_family].queueFlags & VK_QUEUE_COMPUTE_BIT))
+        throw Error(fmt::format("VulkanTarget: queue family {} of {} has no compute", target.queue_family,
+                                device_name_));
+    if (props.properties.apiVersion < VK_API_VERSION_1_2)
+        throw Error(fmt::format("VulkanTarget: {} does not have Vulkan 1.2", device_name_));
+    queue_family_ = target.queue_family;
+    vk_.vkGetPhysicalDeviceMemoryProperties(physical_, &memory_);
+    device_handle_ = target.device;
+    queue_ = target.queue;
+    make_command_objects();
+}
+
+VulkanContext::VulkanContext(const std::string& selector, const VulkanTarget* target)
+    : VulkanContext(target ? VulkanContext(*target) : VulkanContext(selector)) {}
+
+void VulkanContext::load_functions(PFN_vkGetInstanceProcAddr get_proc, VkInstance instance) {
+#define VRPD_VK_FN(name) \
+    if (!vk_.name) vk_.name = reinterpret_cast<PFN_##name>(get_proc(instance, #name));
+#include "functions.inc"
+#undef VRPD_VK_FN
 }
 
 VulkanContext::~VulkanContext() = default;
@@ -154,7 +191,7 @@ std::vector<Candidate> enumerate(const VulkanFunctions& vk, VkInstance instance)
 
 std::vector<DeviceInfo> VulkanContext::devices() const {
     std::vector<DeviceInfo> out;
-    for (auto& c : enumerate(vk_, instance_.get())) out.push_back(c.info);
+    for (auto& c : enumerate(vk_, instance_handle_)) out.push_back(c.info);
     return out;
 }
 
@@ -162,7 +199,7 @@ void VulkanContext::open_device(const std::string& requested) {
     std::string selector = requested;
     if (selector.empty())
         if (const char* env = std::getenv("VRPD_DEVICE")) selector = env;
-    auto all = enumerate(vk_, instance_.get());
+    auto all = enumerate(vk_, instance_handle_);
     if (all.empty())
         throw Error("no Vulkan device found (install mesa-vulkan-drivers for lavapipe), or use --device cpu");
     const Candidate* pick = nullptr;
@@ -205,8 +242,13 @@ void VulkanContext::open_device(const std::string& requested) {
     VkDevice device = VK_NULL_HANDLE;
     check(vk_.vkCreateDevice(physical_, &di, nullptr, &device), "vkCreateDevice");
     device_ = own<OwnedDevice>(vk_, device);
+    device_handle_ = device;
     vk_.vkGetDeviceQueue(device, queue_family_, 0, &queue_);
+    make_command_objects();
+}
 
+void VulkanContext::make_command_objects() {
+    const VkDevice device = device_handle_;
     VkCommandPoolCreateInfo pi{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
     pi.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
     pi.queueFamilyIndex = queue_family_;

@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -12,6 +13,7 @@
 #include "loader.h"
 #include "phase_times.h"
 #include "vrpd/vrpd.h"
+#include "vrpd/vulkan_target.h"
 
 namespace vrpd::detail {
 
@@ -25,6 +27,11 @@ public:
     VulkanContext();
     // The same, then open_device(selector).
     explicit VulkanContext(const std::string& selector) : VulkanContext() { open_device(selector); }
+    // On the application's instance and device (vrpd/vulkan_target.h), which it neither creates
+    // nor destroys; throws Error if the physical device lacks what vrpd needs.
+    explicit VulkanContext(const VulkanTarget& target);
+    // The target's context if there is one, else the selector's.
+    VulkanContext(const std::string& selector, const VulkanTarget* target);
     ~VulkanContext();
     VulkanContext(const VulkanContext&) = delete;
     VulkanContext& operator=(const VulkanContext&) = delete;
@@ -35,7 +42,7 @@ public:
     void open_device(const std::string& selector);
 
     const VulkanFunctions& vk() const { return vk_; }
-    VkDevice device() const { return device_.get(); }
+    VkDevice device() const { return device_handle_; }
     VkPhysicalDevice physical() const { return physical_; }
     std::uint32_t queue_family() const { return queue_family_; }
     const std::string& device_name() const { return device_name_; }
@@ -71,7 +78,12 @@ private:
 
     // In creation order, so that destruction runs in reverse: the messenger outlives the device
     // and hears about its destruction.
-    Loader loader_;
+    // Helpers of the constructors: the instance-level entry points from get_proc, and the
+    // command pool, command buffer and fence on the device.
+    void load_functions(PFN_vkGetInstanceProcAddr get_proc, VkInstance instance);
+    void make_command_objects();
+
+    std::optional<Loader> loader_;  // none when the application gives its loader's entry point
     VulkanFunctions vk_;
     std::vector<std::string> messages_;
     OwnedInstance instance_;
@@ -80,7 +92,9 @@ private:
     VkPhysicalDeviceMemoryProperties memory_{};
     std::uint32_t queue_family_ = 0;
     std::string device_name_;
-    OwnedDevice device_;
+    OwnedDevice device_;             // empty on an application's device
+    VkInstance instance_handle_ = VK_NULL_HANDLE;
+    VkDevice device_handle_ = VK_NULL_HANDLE;
     VkQueue queue_ = VK_NULL_HANDLE;
     OwnedCommandPool pool_;
     VkCommandBuffer cmd_ = VK_NULL_HANDLE;  // freed with its pool

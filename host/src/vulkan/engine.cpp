@@ -42,9 +42,9 @@ namespace {
 constexpr std::uint32_t kResolvePassesPerSubmit = 4;
 }  // namespace
 
-VulkanEngine::VulkanEngine(const Plan& plan, const std::string& selector)
+VulkanEngine::VulkanEngine(const Plan& plan, const std::string& selector, const VulkanTarget* target)
     : plan_(plan),
-      ctx_(selector),
+      ctx_(selector, target),
       VRPD_KERNEL(init_cells, CellArgs, WORKGROUP_SIZE),
       VRPD_KERNEL(place_samples, DartArgs, WORKGROUP_SIZE),
       VRPD_KERNEL(flag_dart_cells, CellArgs, WORKGROUP_SIZE),
@@ -351,8 +351,8 @@ DartArgs VulkanEngine::dart_args(std::uint64_t darts, std::uint32_t count, std::
             param};
 }
 
-std::unique_ptr<Engine> make_vulkan_engine(const Plan& plan, const std::string& device) {
-    return std::make_unique<VulkanEngine>(plan, device);
+std::unique_ptr<Engine> make_vulkan_engine(const Plan& plan, const std::string& device, const VulkanTarget* target) {
+    return std::make_unique<VulkanEngine>(plan, device, target);
 }
 
 }  // namespace vrpd::detail

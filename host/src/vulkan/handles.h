@@ -25,6 +25,8 @@ public:
     }
     ~Owned() { reset(); }
     T get() const { return handle_; }
+    // Hands the handle over: it is no longer freed here.
+    T release() { return std::exchange(handle_, VK_NULL_HANDLE); }
     explicit operator bool() const { return handle_ != VK_NULL_HANDLE; }
 
 private:

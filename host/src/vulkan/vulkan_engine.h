@@ -18,7 +18,8 @@ namespace vrpd::detail {
 
 class VulkanEngine final : public Engine {
 public:
-    VulkanEngine(const Plan& plan, const std::string& selector);
+    // On the device `selector` picks, or on the application's (target, if not null).
+    VulkanEngine(const Plan& plan, const std::string& selector, const VulkanTarget* target = nullptr);
     std::string device_name() const override { return ctx_.device_name(); }
     void start_profile() override { ctx_.start_profile(); }
     std::vector<PhaseTime> profile() const override { return ctx_.profile(); }

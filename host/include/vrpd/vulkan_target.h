@@ -1,0 +1,57 @@
+// Sampling on the application's own Vulkan device: a renderer's instance, device and queue, with
+// the samples left in a buffer it can bind as a vertex or storage buffer.
+#pragma once
+
+#include <cstdint>
+
+#include <vulkan/vulkan_core.h>
+
+#include "vrpd/vrpd.h"
+
+namespace vrpd {
+
+// The application's Vulkan objects. vrpd creates no instance or device on them: it makes its own
+// command pool, fence, pipelines and buffers on `device` and frees them before it returns (the
+// buffer it hands over excepted). The device must have been created with Vulkan 1.2, the features
+// bufferDeviceAddress (Vulkan 1.2) and shaderInt64, and a queue of `queue_family` that has
+// compute. vrpd submits to `queue` from the calling thread and waits for its own work each time;
+// the queue is externally synchronised (Vulkan's rule): no other thread may use it during a call.
+struct VulkanTarget {
+    VkInstance instance = VK_NULL_HANDLE;
+    VkPhysicalDevice physical_device = VK_NULL_HANDLE;
+    VkDevice device = VK_NULL_HANDLE;
+    std::uint32_t queue_family = 0;
+    VkQueue queue = VK_NULL_HANDLE;
+    // The application's loader entry point; null: vrpd opens libvulkan.so.1 for its own.
+    PFN_vkGetInstanceProcAddr get_instance_proc_addr = nullptr;
+};
+
+// One sample in the buffer: 16 bytes, usable as a vertex attribute (R32G32B32A32_SFLOAT) or a
+// std430 vec4. x, y in box units; t its birth (1 for a direct run); radius = Rf at its birth
+// (t S Rf: the spacing of the level it belongs to, for point sizes).
+struct DeviceSample {
+    float x, y, t, radius;
+};
+
+struct DeviceSamples {
+    Sampling sampling;           // the same samples on the host (lattice, birth), for Hierarchy
+    VkBuffer buffer = VK_NULL_HANDLE;
+    VkDeviceMemory memory = VK_NULL_HANDLE;  // VK_NULL_HANDLE when the caller passed the buffer
+    VkDeviceSize bytes = 0;      // sampling.size() * sizeof(DeviceSample)
+};
+
+// Samples `options` (its backend must be Auto or Gpu) on the target's device and writes the samples,
+// in birth order, to a buffer on it:
+// - `into` = VK_NULL_HANDLE: vrpd allocates a device-local buffer (usage vertex, storage, transfer
+//   source and destination; exclusive to `queue_family`) and hands it over with its memory: the
+//   caller frees both (vkDestroyBuffer, vkFreeMemory) once its own use of them is complete.
+// - otherwise: `into` must have transfer-destination usage and at least `bytes` bytes; else Error,
+//   naming the size needed, and nothing is written.
+// Synchronisation: when this returns, vrpd's work on the queue is complete (it waited on its own
+// fence), and its last command is a barrier that makes the buffer's contents visible to any later
+// vertex-input, shader or transfer read on the same queue. On another queue family the caller
+// transfers ownership of the buffer first. Throws Error with the reason.
+DeviceSamples sample_on(const VulkanTarget& target, const SampleOptions& options, VkBuffer into = VK_NULL_HANDLE,
+                        VkDeviceSize into_bytes = 0);
+
+}  // namespace vrpd

@@ -1,0 +1,77 @@
+// Sampling on the application's Vulkan device (vrpd/vulkan_target.h): the run's engine works on
+// the target's device; the samples then go to a buffer there, through one staging copy.
+#include <cstring>
+
+#include <fmt/format.h>
+
+#include "buffer.h"
+#include "device.h"
+#include "vrpd/vulkan_target.h"
+
+namespace vrpd {
+
+DeviceSamples sample_on(const VulkanTarget& target, const SampleOptions& options, VkBuffer into,
+                        VkDeviceSize into_bytes) {
+    using namespace detail;
+    SampleOptions on_target = options;
+    on_target.vulkan = &target;
+    DeviceSamples out;
+    out.sampling = sample(on_target);
+    const Sampling& s = out.sampling;
+    out.bytes = s.size() * sizeof(DeviceSample);
+    if (into && into_bytes < out.bytes)
+        throw Error(fmt::format("the buffer given has {} bytes; the {} samples need {}", into_bytes, s.size(),
+                                out.bytes));
+
+    std::vector<DeviceSample> rows(s.size());
+    for (std::size_t i = 0; i < s.size(); ++i) {
+        const glm::dvec2 p = s.point(i);
+        const double t = s.birth.empty() ? 1.0 : s.birth[i];
+        rows[i] = {float(p.x), float(p.y), float(t), float(s.radius * t * s.hierarchy_start)};
+    }
+
+    VulkanContext ctx(target);
+    const VulkanFunctions& vk = ctx.vk();
+    OwnedBuffer buffer;
+    OwnedMemory memory;
+    if (!into) {
+        VkBufferCreateInfo bi{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
+        bi.size = out.bytes;
+        bi.usage = VK_BUFFER_USAGE_VERTEX_BUFFER_BIT | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
+                   VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+        bi.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
+        VkBuffer b = VK_NULL_HANDLE;
+        ctx.check(vk.vkCreateBuffer(ctx.device(), &bi, nullptr, &b), "vkCreateBuffer");
+        buffer = own<OwnedBuffer>(vk, ctx.device(), b);
+        VkMemoryRequirements req;
+        vk.vkGetBufferMemoryRequirements(ctx.device(), b, &req);
+        VkMemoryAllocateInfo ai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+        ai.allocationSize = req.size;
+        ai.memoryTypeIndex = ctx.memory_type(req.memoryTypeBits, false);
+        VkDeviceMemory m = VK_NULL_HANDLE;
+        ctx.check(vk.vkAllocateMemory(ctx.device(), &ai, nullptr, &m), "vkAllocateMemory");
+        memory = own<OwnedMemory>(vk, ctx.device(), m);
+        ctx.check(vk.vkBindBufferMemory(ctx.device(), b, m, 0), "vkBindBufferMemory");
+        into = b;
+    }
+    {
+        Buffer staging(ctx, out.bytes, true);
+        std::memcpy(staging.mapped(), rows.data(), out.bytes);
+        VkCommandBuffer cmd = ctx.begin();
+        const VkBufferCopy all{0, 0, out.bytes};
+        vk.vkCmdCopyBuffer(cmd, staging.handle(), into, 1, &all);
+        // The copy before any later read of the buffer on this queue: vertex input, shaders,
+        // transfers (a barrier orders the commands submitted after it too).
+        VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+        mb.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+        mb.dstAccessMask = VK_ACCESS_MEMORY_READ_BIT;
+        vk.vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, 0, 1, &mb, 0,
+                                nullptr, 0, nullptr);
+        ctx.submit_and_wait();
+    }
+    out.buffer = buffer ? buffer.release() : into;
+    out.memory = memory.release();
+    return out;
+}
+
+}  // namespace vrpd
