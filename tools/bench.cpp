@@ -1,6 +1,8 @@
 // `vrpd bench`: best-of-N wall time, points/s, darts per sample and peak memory per (radii,
-// device) on the unit torus: one radius r, and two radii Rf < Rc (paper section 3). Each case runs in a child process
-// so its peak RSS is its own.
+// device) on the unit torus: one radius r, two radii Rf < Rc (paper section 3), and with
+// --hierarchy K, ten-step-style discrete hierarchies to each r (section 4). Each case runs in a
+// child process so its peak RSS is its own.
+#include <chrono>
 #include <cstring>
 #include <fstream>
 #include <iostream>
@@ -12,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_common.h"
+#include "vrpd/hierarchy.h"
 #include "vrpd/io.h"
 
 namespace vrpd::cli {
@@ -27,10 +30,12 @@ struct CaseResult {
     double best_seconds;
     double peak_bytes;   // the process's peak resident memory
     double array_bytes;  // the sampler's own arrays at their peak (SamplingStats::peak_bytes)
+    double count_at_ns;  // hierarchy rows: mean time of Hierarchy::count_at over a million calls
 };
 
 struct Radii {
     double rf, rc;
+    unsigned steps;  // a discrete hierarchy of this many steps (S = steps), or 0
 };
 
 CaseResult run_case(Radii radii, Backend backend, const BenchOptions& o) {
@@ -41,9 +46,20 @@ CaseResult run_case(Radii radii, Backend backend, const BenchOptions& o) {
         opt.coverage = radii.rc;
         opt.seed = o.seed;
         opt.backend = backend;
+        opt.hierarchy.steps = radii.steps;
         r.best_seconds = 1e300;
         for (unsigned i = 0; i < o.repeat; ++i) {
             Sampling s = sample(opt);
+            if (radii.steps != 0 && i == 0) {
+                const Hierarchy h(s);
+                constexpr int kCalls = 1000000;
+                std::size_t sum = 0;
+                const auto t0 = std::chrono::steady_clock::now();
+                for (int k = 0; k < kCalls; ++k) sum += h.count_at(double(k % 1000 + 1) / 1000.0);
+                const auto t1 = std::chrono::steady_clock::now();
+                r.count_at_ns = std::chrono::duration<double, std::nano>(t1 - t0).count() / kCalls;
+                if (sum == 0) throw Error("count_at found no sample");
+            }
             r.best_seconds = std::min(r.best_seconds, s.stats.seconds);
             r.samples = s.size();
             r.darts = s.stats.darts;
@@ -93,12 +109,15 @@ int run_bench(const BenchOptions& o) {
     std::vector<Backend> backends;
     for (const auto& d : o.devices) backends.push_back(parse_backend(d));
     std::vector<Radii> cases;
-    for (double r : o.radii) cases.push_back({r, r});
-    for (double rc : o.coverage_radii) cases.push_back({rc / o.coverage_ratio, rc});
+    for (double r : o.radii) cases.push_back({r, r, 0});
+    for (double rc : o.coverage_radii) cases.push_back({rc / o.coverage_ratio, rc, 0});
+    if (o.hierarchy_steps != 0)
+        for (double r : o.radii) cases.push_back({r, r, o.hierarchy_steps});
     for (const Radii& c : cases) {
         SampleOptions check;
         check.radius = c.rf;
         check.coverage = c.rc;
+        check.hierarchy.steps = c.steps;
         validate(check);
     }
     if (!o.json.empty()) check_writable(o.json);
@@ -109,8 +128,9 @@ int run_bench(const BenchOptions& o) {
                              "B/sample", "arrays/n", "device name");
     int failures = 0;
     for (const Radii& radii : cases) {
-        const std::string label =
+        std::string label =
             radii.rf == radii.rc ? fmt::format("{}", radii.rf) : fmt::format("{}/{}", radii.rf, radii.rc);
+        if (radii.steps != 0) label += fmt::format(" h{}", radii.steps);
         for (Backend b : backends) {
             CaseResult c = run_in_child(radii, b, o);
             if (!c.ok) {
@@ -125,6 +145,7 @@ int run_bench(const BenchOptions& o) {
                 label, backend_name(b), c.samples, double(c.samples) * radii.rc * radii.rc, c.best_seconds, pps,
                 1e6 / pps, double(c.darts) / double(c.samples), c.peak_bytes / (1 << 20),
                 c.peak_bytes / double(c.samples), c.array_bytes / double(c.samples), c.device);
+            if (radii.steps != 0) std::cout << fmt::format("{:>13} {:>7}  count_at: {:.1f} ns\n", "", "", c.count_at_ns);
             std::cout.flush();
             rows.push_back({{"rf", radii.rf},
                             {"rc", radii.rc},
@@ -138,6 +159,10 @@ int run_bench(const BenchOptions& o) {
                             {"peak_rss_bytes", c.peak_bytes},
                             {"peak_array_bytes", c.array_bytes},
                             {"repeat", o.repeat}});
+            if (radii.steps != 0) {
+                rows.back()["hierarchy_steps"] = radii.steps;
+                rows.back()["count_at_ns"] = c.count_at_ns;
+            }
         }
     }
     if (!o.json.empty()) {

@@ -49,6 +49,7 @@ struct BenchOptions {
     std::vector<double> radii{0.01, 0.002, 0.001};
     std::vector<double> coverage_radii{0.002};  // two-radii rows: Rc, with Rf = Rc / coverage_ratio
     double coverage_ratio = 2.0;
+    unsigned hierarchy_steps = 0;  // rows of discrete:K hierarchies to each one-radius r; 0: none
     std::vector<std::string> devices{"gpu", "cpu", "serial"};
     unsigned repeat = 3;
     std::uint32_t seed = 1;
