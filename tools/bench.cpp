@@ -145,7 +145,8 @@ int run_bench(const BenchOptions& o) {
                 label, backend_name(b), c.samples, double(c.samples) * radii.rc * radii.rc, c.best_seconds, pps,
                 1e6 / pps, double(c.darts) / double(c.samples), c.peak_bytes / (1 << 20),
                 c.peak_bytes / double(c.samples), c.array_bytes / double(c.samples), c.device);
-            if (radii.steps != 0) std::cout << fmt::format("{:>13} {:>7}  count_at: {:.1f} ns\n", "", "", c.count_at_ns);
+            if (radii.steps != 0)
+                std::cout << fmt::format("{:>13} {:>7}  count_at: {:.1f} ns\n", "", "", c.count_at_ns);
             std::cout.flush();
             rows.push_back({{"rf", radii.rf},
                             {"rc", radii.rc},
