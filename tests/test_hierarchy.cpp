@@ -7,6 +7,7 @@
 
 #include "cli_support.h"
 #include "support.h"
+#include "vrpd/continuous.h"
 #include "vrpd/hierarchy.h"
 #include "vrpd/io.h"
 #include "vrpd/verify.h"
@@ -173,6 +174,96 @@ TEST_CASE("lod and --hierarchy from the command line", "[hierarchy][cli]") {
         CHECK(r.err.rfind("vrpd: error: ", 0) == 0);
         CHECK_FALSE(std::filesystem::exists(dir / "never.csv"));
     }
+}
+
+namespace {
+
+SampleOptions continuous(double rf, double rc, double start, std::uint32_t seed) {
+    SampleOptions o = test::options(rf, seed, Backend::Cpu);
+    o.coverage = rc == rf ? 0.0 : rc;
+    o.hierarchy.continuous = true;
+    o.hierarchy.start = start;
+    return o;
+}
+
+// The largest empty circle of points on the unit torus, by every triple of points and their
+// images near the box, each circle tested against every point: centre and radius.
+std::pair<glm::dvec2, double> largest_empty_circle(const std::vector<glm::dvec2>& pts, double margin) {
+    std::vector<glm::dvec2> all;
+    for (const glm::dvec2& p : pts)
+        for (int sy = -1; sy <= 1; ++sy)
+            for (int sx = -1; sx <= 1; ++sx) {
+                const glm::dvec2 q{p.x + sx, p.y + sy};
+                if (q.x > -margin && q.y > -margin && q.x < 1 + margin && q.y < 1 + margin) all.push_back(q);
+            }
+    std::pair<glm::dvec2, double> best{{0, 0}, 0};
+    for (std::size_t i = 0; i < all.size(); ++i)
+        for (std::size_t j = i + 1; j < all.size(); ++j)
+            for (std::size_t k = j + 1; k < all.size(); ++k) {
+                const glm::dvec2 a = all[i], b = all[j], c = all[k];
+                const double d = 2 * (a.x * (b.y - c.y) + b.x * (c.y - a.y) + c.x * (a.y - b.y));
+                if (std::abs(d) < 1e-14) continue;
+                const double a2 = a.x * a.x + a.y * a.y, b2 = b.x * b.x + b.y * b.y, c2 = c.x * c.x + c.y * c.y;
+                const glm::dvec2 o{(a2 * (b.y - c.y) + b2 * (c.y - a.y) + c2 * (a.y - b.y)) / d,
+                                   (a2 * (c.x - b.x) + b2 * (a.x - c.x) + c2 * (b.x - a.x)) / d};
+                if (o.x < 0 || o.y < 0 || o.x >= 1 || o.y >= 1) continue;
+                const double r = std::hypot(a.x - o.x, a.y - o.y);
+                if (r <= best.second || r > margin) continue;
+                bool empty = true;
+                for (const glm::dvec2& p : all) empty = empty && std::hypot(p.x - o.x, p.y - o.y) >= r * (1 - 1e-12);
+                if (empty) best = {o, r};
+            }
+    return best;
+}
+
+}  // namespace
+
+// Section 4.2 with one radius, checked from its definition: each inserted sample is the centre of
+// the largest empty circle of the samples before it, and its t is that circle's radius over Rc0.
+TEST_CASE("continuous hierarchy, one radius: each sample is the largest empty circle's centre, at its t",
+          "[hierarchy]") {
+    const double rf = 0.15, start = 2;
+    const Sampling s = continuous_hierarchy(continuous(rf, rf, start, 3));
+    std::size_t first = 0;
+    while (first < s.size() && s.birth[first] == 1.0) ++first;
+    REQUIRE(first >= 4);
+    REQUIRE(s.size() - first >= 10);
+    for (std::size_t k = first; k < s.size(); ++k) {
+        const auto [centre, radius] = largest_empty_circle(points_of(s, k), 1.01 * rf * start);
+        INFO("sample " << k << ": t " << s.birth[k] << ", circle " << radius << " at (" << centre.x << ", "
+                       << centre.y << ")");
+        CHECK(s.birth[k] == Approx(radius / (rf * start)).epsilon(1e-9));
+        const glm::dvec2 p = s.point(k);
+        const double dx = std::abs(p.x - centre.x), dy = std::abs(p.y - centre.y);
+        CHECK(std::hypot(std::min(dx, 1 - dx), std::min(dy, 1 - dy)) <= s.quantum);
+        CHECK(s.birth[k] <= s.birth[k - 1]);
+    }
+    // After the last sample, the largest empty circle is within the final radius.
+    CHECK(largest_empty_circle(points_of(s, s.size()), 1.01 * rf * start).second <= rf);
+}
+
+// Every prefix, not only at steps: the samples born at t or earlier are conflict-free and maximal
+// at t (Rf0, Rc0), up to the lattice rounding (one step).
+TEST_CASE("continuous hierarchy: the prefix at any t is a maximal sampling at t's radii", "[hierarchy]") {
+    for (const auto& [rf, rc] : {std::pair{0.02, 0.02}, std::pair{0.01, 0.02}}) {
+        const double start = 5;
+        const Sampling s = continuous_hierarchy(continuous(rf, rc, start, 11));
+        const Hierarchy h(s);
+        REQUIRE(h.levels().size() > 100);  // a t of its own for almost every sample
+        for (int i = 0; i <= 40; ++i) {
+            const double t = 1.0 / start + (1 - 1.0 / start) * i / 40.0;
+            const std::size_t n = h.count_at(t);
+            const Report rep = verify(points_of(s, n), {rf * start * t, rc * start * t, 2 * s.quantum}, Box{});
+            INFO("Rf " << rf << " Rc " << rc << " t " << t << ": " << n << " samples, largest empty circle "
+                       << rep.largest_empty_radius);
+            CHECK(rep.conflicts == 0);
+            CHECK(rep.maximal);
+        }
+    }
+    SampleOptions free = continuous(0.02, 0.02, 5, 1);
+    free.box.boundary = Boundary::Free;
+    CHECK_THROWS_WITH(continuous_hierarchy(free), Catch::Contains("needs a periodic box"));
+    CHECK_THROWS_WITH(sample(continuous(0.02, 0.02, 5, 1)), Catch::Contains("vrpd_geometry's continuous_hierarchy"));
 }
 
 // Section 4's comparison (Figures 4-9): a ten-step hierarchy against direct sampling at the same

@@ -16,6 +16,7 @@
 #include "cli_common.h"
 #ifdef VRPD_HAVE_GEOMETRY
 #include <nlohmann/json.hpp>
+#include "vrpd/continuous.h"
 #include "vrpd/verify.h"
 #endif
 #include "vrpd/hierarchy.h"
@@ -52,9 +53,16 @@ HierarchyOptions parse_hierarchy(const std::string& text) {
     unsigned steps = 0;
     double start = 0;
     char tail = 0;
+    if (text == "continuous") return {0, 0, true};
+    if (text.rfind("continuous:", 0) == 0) {
+        if (std::sscanf(text.c_str(), "continuous:%lf%c", &start, &tail) != 1 || !(start >= 1))
+            throw Error(fmt::format("--hierarchy must be continuous or continuous:S with S >= 1 (got '{}')", text));
+        return {0, start, true};
+    }
     const int got = std::sscanf(text.c_str(), "discrete:%u:%lf%c", &steps, &start, &tail);
     if (text.rfind("discrete:", 0) != 0 || !(got == 1 || got == 2) || text.find('-') != std::string::npos)
-        throw Error(fmt::format("--hierarchy must be discrete:K or discrete:K:S (got '{}')", text));
+        throw Error(fmt::format("--hierarchy must be discrete:K, discrete:K:S, continuous or continuous:S (got '{}')",
+                                text));
     if (got == 2 && !(start >= 1)) throw Error(fmt::format("--hierarchy's S must be >= 1 (got '{}')", text));
     return {steps, start};
 }
@@ -185,6 +193,16 @@ void print_profile(const SamplingStats& stats, std::ostream& out) {
     out << fmt::format("  {:<18} {:9.3f} {:6.1f}%\n", "(outside phases)", rest, 100.0 * rest / stats.seconds);
 }
 
+// A continuous hierarchy, built on the geometry target.
+Sampling continuous(const SampleOptions& options) {
+#ifdef VRPD_HAVE_GEOMETRY
+    return continuous_hierarchy(options);
+#else
+    (void)options;
+    throw Error("continuous hierarchies need the geometry target (CGAL); this vrpd is built without it");
+#endif
+}
+
 }  // namespace vrpd::cli
 
 int main(int argc, char** argv) {
@@ -214,8 +232,9 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(1u, 1024u));
     std::string hierarchy, from;
     sample_cmd->add_option("--hierarchy", hierarchy,
-                           "discrete:K[:S]: K steps from S (default K) times the radii down to them, every sample "
-                           "with its birth t, every level a prefix (paper section 4)");
+                           "discrete:K[:S]: K steps from S (default K) times the radii down to them; continuous[:S] "
+                           "(default S 10): t lowered without steps; every sample with its birth t, every level a "
+                           "prefix (paper section 4)");
     sample_cmd->add_option("--from", from, "start from the samples of FILE (conflict-free at Rf); output them first");
     sample_cmd->add_flag("--profile", opt.profile,
                          "also print where the time went: per phase (cpu, serial) or per kernel (gpu, device "
@@ -323,7 +342,7 @@ int main(int argc, char** argv) {
             validate(opt);
             if (output.empty()) output = "-";
             check_writable(output);
-            Sampling s = sample(opt);
+            Sampling s = opt.hierarchy.continuous ? cli::continuous(opt) : sample(opt);
             write_points(s, output);
             const double area = s.box.width * s.box.height;
             std::cerr << fmt::format(

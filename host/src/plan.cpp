@@ -102,13 +102,34 @@ void set_radii(Plan& plan, double rf, double rc, bool two, const Box& box) {
 }  // namespace
 
 double hierarchy_start(const SampleOptions& o) {
-    return o.hierarchy.start == 0 ? double(o.hierarchy.steps) : o.hierarchy.start;
+    if (o.hierarchy.start != 0) return o.hierarchy.start;
+    return o.hierarchy.continuous ? 10.0 : double(o.hierarchy.steps);
 }
 
 }  // namespace vrpd::detail
 
 namespace vrpd {
 void validate(const SampleOptions& o) {
+    if (o.hierarchy.continuous && o.hierarchy.steps != 0)
+        throw Error("a hierarchy is discrete (K steps) or continuous, not both");
+    if (o.hierarchy.continuous) {
+        SampleOptions first = o;
+        first.hierarchy = {};
+        validate(first);
+        const double start = detail::hierarchy_start(o);
+        if (!(start >= 1 && start <= detail::kMaxStart))
+            throw Error(fmt::format("a hierarchy's start S must be 1 to {} times the final radii (got {})",
+                                    detail::kMaxStart, start));
+        if (!o.initial.empty()) throw Error("a hierarchy starts from no samples: give --from or --hierarchy, not both");
+        first.radius *= start;
+        first.coverage *= start;
+        try {
+            validate(first);
+        } catch (const Error& e) {
+            throw Error(fmt::format("the hierarchy's first sampling, at {} times the radii: {}", start, e.what()));
+        }
+        return;
+    }
     if (o.hierarchy.steps != 0) {
         const double start = detail::hierarchy_start(o);
         if (o.hierarchy.steps < 2 || o.hierarchy.steps > detail::kMaxSteps)

@@ -76,7 +76,12 @@ BackendChoice choose_backend(const SampleOptions& o) {
     return {Backend::Cpu, "no hardware Vulkan device; a CPU Vulkan driver gives the same points, slower"};
 }
 
-Sampling sample(const SampleOptions& options) { return detail::sample_plan(options, detail::make_plan(options)); }
+Sampling sample(const SampleOptions& options) {
+    if (options.hierarchy.continuous)
+        throw Error("a continuous hierarchy is built on CGAL's triangulation: vrpd_geometry's continuous_hierarchy "
+                    "(vrpd/continuous.h)");
+    return detail::sample_plan(options, detail::make_plan(options));
+}
 
 namespace {
 

@@ -47,9 +47,13 @@ struct Box {
 // is maximal at t_k (Rf0, Rc0). Every sample records the t_k at which it was born, so the samples
 // with t >= t_k are a maximal sampling at t_k (Rf0, Rc0): a prefix of the output, which is in
 // birth order.
+// A continuous hierarchy (section 4.2, `continuous`; steps 0) lowers t without steps from a
+// direct sampling at t = 1, inserting a sample where the sampling first stops being maximal; it is
+// built on CGAL's Delaunay triangulation, by vrpd_geometry's continuous_hierarchy (vrpd/continuous.h).
 struct HierarchyOptions {
-    unsigned steps = 0;  // K >= 2; 0: no hierarchy, one direct sampling at (Rf, Rc)
-    double start = 0;    // S >= 1; 0: S = K
+    unsigned steps = 0;       // K >= 2; 0: no discrete hierarchy
+    double start = 0;         // S >= 1; 0: S = K
+    bool continuous = false;  // a continuous hierarchy from S (start; 0: 10) times the final radii
 };
 
 struct VulkanTarget;  // vrpd/vulkan_target.h
