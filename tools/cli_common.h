@@ -23,6 +23,16 @@ HierarchyOptions parse_hierarchy(const std::string& text);
 // r by half a step's diagonal).
 inline constexpr double kDefaultTolerance = 2e-8;
 
+struct CheckOptions {
+    std::string file;
+    std::optional<double> radius, rf, rc;  // each as given, if given
+    std::optional<double> tolerance;       // default: kDefaultTolerance
+    std::string extent = "1,1", boundary = "periodic", json;
+    std::string sizing, rule;              // a sizing field and its rule, instead of radii
+};
+// `vrpd check --sizing`: 0 pass, 1 conflicts or not covered, 2 bad input.
+int run_check_sizing(const CheckOptions& options);
+
 struct AnalyzeOptions {
     std::vector<std::string> files;
     std::string out;

@@ -77,16 +77,10 @@ void parse_extent(const std::string& text, Box& box) {
 }
 
 #ifdef VRPD_HAVE_GEOMETRY
-struct CheckOptions {
-    std::string file;
-    std::optional<double> radius, rf, rc;  // each as given, if given
-    std::optional<double> tolerance;       // default: kDefaultTolerance
-    std::string extent = "1,1", boundary = "periodic", json;
-};
-
-
 // `vrpd check`: 0 pass, 1 conflicts or not maximal, 2 bad input.
 int run_check(const CheckOptions& o) {
+    if (!o.sizing.empty()) return run_check_sizing(o);
+    if (!o.rule.empty()) throw Error("--rule needs --sizing");
     Box box;
     box.boundary = parse_boundary(o.boundary);
     parse_extent(o.extent, box);
@@ -265,6 +259,9 @@ int main(int argc, char** argv) {
                           "points' resolution: conflict below Rf - T, maximal below Rc + T (default 2e-8 of the "
                           "box's longer side: vrpd's CSV digits and lattice)");
     check_cmd->add_option("--json", check.json, "also write the report as JSON to FILE");
+    check_cmd->add_option("--sizing", check.sizing,
+                          "a sizing field r(x, y) (paper section 5) instead of radii, e.g. \"0.001 + 0.3*x\"");
+    check_cmd->add_option("--rule", check.rule, "with --sizing: prior, current, bigger or smaller (Table 1)");
 
     cli::AnalyzeOptions analyze;
     auto* analyze_cmd = app.add_subcommand(

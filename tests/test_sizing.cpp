@@ -1,0 +1,164 @@
+// Sizing fields (paper section 5): the expression language against direct evaluation, its errors
+// with their positions, the field's range and Lipschitz constant, and the checker's four rules on
+// hand-made pairs whose verdict each rule decides differently.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <numbers>
+
+#include "cli_support.h"
+#include "support.h"
+#include "vrpd/sizing.h"
+
+using namespace vrpd;
+
+TEST_CASE("sizing expressions evaluate as written", "[sizing]") {
+    const Box box{2, 1, Boundary::Periodic};
+    const struct {
+        const char* text;
+        double (*expected)(double x, double y);
+    } cases[] = {
+        {"0.001 + 0.3*x", [](double x, double) { return 0.001 + 0.3 * x; }},
+        {"0.015 + (0.00015-0.015)*abs(sin(8*pi*d))",
+         [](double x, double y) {
+             return 0.015 + (0.00015 - 0.015) * std::abs(std::sin(8 * std::numbers::pi * std::hypot(x - 1, y - 0.5)));
+         }},
+        {"-2^2", [](double, double) { return -4.0; }},
+        {"2^3^2", [](double, double) { return 512.0; }},  // right-associative
+        {"1 - 2 - 3", [](double, double) { return -4.0; }},
+        {"8 / 4 / 2", [](double, double) { return 1.0; }},
+        {"clamp(x, 0.5, 1.5) + min(y, 0.25) * max(w, h)", [](double x, double y) {
+             return std::clamp(x, 0.5, 1.5) + std::min(y, 0.25) * 2;
+         }},
+        {"sqrt(exp(log(x + 1))) * cos(y) + +1", [](double x, double y) {
+             return std::sqrt(x + 1) * std::cos(y) + 1;
+         }},
+        {" 1e-3*(x+y) ", [](double x, double y) { return 1e-3 * (x + y); }},
+    };
+    for (const auto& c : cases) {
+        const SizingExpression r(c.text);
+        for (double x : {0.0, 0.3, 1.7})
+            for (double y : {0.0, 0.6}) {
+                INFO(c.text << " at (" << x << ", " << y << ")");
+                CHECK(r(x, y, box) == Approx(c.expected(x, y)).epsilon(1e-14));
+            }
+    }
+}
+
+TEST_CASE("sizing expressions: malformed ones are refused with the place marked", "[sizing]") {
+    const struct {
+        const char* text;
+        const char* message;
+        std::size_t column;
+    } bad[] = {
+        {"0.01 + q*x", "unknown name 'q'", 8},
+        {"(x + 1", "expected ')'", 7},
+        {"x + ", "expected a number, a name or '('", 5},
+        {"", "expected an expression", 1},
+        {"x y", "unexpected 'y'", 3},
+        {"min(x)", "min takes 2 arguments: expected ','", 6},
+        {"sin x", "expected '(' after sin", 5},
+        {"1.2.3", "unexpected '.'", 4},
+        {"x # y", "unexpected '#'", 3},
+    };
+    for (const auto& b : bad) {
+        INFO(b.text);
+        try {
+            SizingExpression r(b.text);
+            FAIL("accepted");
+        } catch (const Error& e) {
+            const std::string m = e.what();
+            CHECK(m.find(b.message) != std::string::npos);
+            CHECK(m.find("at column " + std::to_string(b.column)) != std::string::npos);
+            // The caret sits under that column, below the expression.
+            const std::size_t last = m.rfind('\n');
+            REQUIRE(last != std::string::npos);
+            CHECK(m.substr(last + 1) == std::string(2 + b.column - 1, ' ') + "^");
+        }
+    }
+    CHECK_THROWS_WITH(SizingExpression(std::string(5000, '1')), Catch::Contains("longer than 4096"));
+    CHECK_THROWS_WITH(SizingExpression(std::string(100, '(') + "x" + std::string(100, ')')),
+                      Catch::Contains("nested deeper than 64"));
+    CHECK_THROWS_WITH(SizingExpression(std::string(100, '-') + "x"), Catch::Contains("nested deeper than 64"));
+}
+
+TEST_CASE("a field's range and Lipschitz constant; a field not positive everywhere is refused", "[sizing]") {
+    const Box box{};
+    const FieldSummary ramp = summarize_field(SizingExpression("0.001 + 0.3*x"), box);
+    CHECK(ramp.r_min == Approx(0.001));
+    CHECK(ramp.r_max == Approx(0.301));
+    CHECK(ramp.lipschitz == Approx(0.3).epsilon(1e-9));
+    CHECK(summarize_field(SizingExpression("0.02"), box).lipschitz == 0);
+    CHECK_THROWS_WITH(summarize_field(SizingExpression("0.01 - x"), box), Catch::Contains("finite number > 0"));
+    CHECK_THROWS_WITH(summarize_field(SizingExpression("log(x)"), box), Catch::Contains("r(0, 0) = -inf"));
+    CHECK(rule_lipschitz_bound(SizingRule::Prior) == 0.5);
+    CHECK(rule_lipschitz_bound(SizingRule::Smaller) == 1.0);
+    CHECK_THROWS_WITH(parse_sizing_rule("largest"), Catch::Contains("prior, current, bigger or smaller"));
+}
+
+// Two points 0.08 apart where r = 0.05 + 0.2 x gives 0.07 at the left one and 0.086 at the right:
+// prior and smaller judge by the smaller radius here, current and bigger by the larger, and the
+// order of the two (which came first) decides prior against current.
+TEST_CASE("check_sizing: the four rules decide a pair each their own way", "[sizing]") {
+    const SizingExpression r("0.05 + 0.2*x");
+    const Box box{1, 1, Boundary::Free};
+    const std::vector<glm::dvec2> left_first{{0.1, 0.5}, {0.18, 0.5}}, right_first{{0.18, 0.5}, {0.1, 0.5}};
+    auto conflicts = [&](const std::vector<glm::dvec2>& p, const char* rule) {
+        return check_sizing(p, r, parse_sizing_rule(rule), box, 0).conflicts;
+    };
+    CHECK(conflicts(left_first, "prior") == 0);
+    CHECK(conflicts(left_first, "current") == 1);
+    CHECK(conflicts(right_first, "prior") == 1);
+    CHECK(conflicts(right_first, "current") == 0);
+    for (const auto& p : {left_first, right_first}) {
+        CHECK(conflicts(p, "bigger") == 1);
+        CHECK(conflicts(p, "smaller") == 0);
+    }
+    const SizingReport rep = check_sizing(left_first, r, SizingRule::Current, box, 0);
+    CHECK(rep.first_a == 1);
+    CHECK(rep.first_b == 2);
+    CHECK(rep.uncovered > 0);  // two points do not cover the box
+}
+
+// At a constant field every rule is the uniform case: vrpd's own maximal sets pass, and a radius
+// 10 % too large finds conflicts, 10 % too small finds holes.
+TEST_CASE("check_sizing on uniform maximal sets: pass at their radius, fail either side", "[sizing]") {
+    for (const Boundary boundary : {Boundary::Periodic, Boundary::Free}) {
+        const Box box{1, 1, boundary};
+        const Sampling s = sample(test::options(0.02, 3, Backend::Cpu, box));
+        std::vector<glm::dvec2> p(s.size());
+        for (std::size_t i = 0; i < s.size(); ++i) p[i] = s.point(i);
+        for (SizingRule rule : {SizingRule::Prior, SizingRule::Current, SizingRule::Bigger, SizingRule::Smaller}) {
+            INFO(sizing_rule_name(rule) << (boundary == Boundary::Free ? " free" : " periodic"));
+            const SizingReport exact = check_sizing(p, SizingExpression("0.02"), rule, box, 2e-8);
+            CHECK(exact.conflicts == 0);
+            CHECK(exact.uncovered == 0);
+            CHECK(exact.worst_ratio > 0.9);  // some node is near a hole's centre
+            CHECK(check_sizing(p, SizingExpression("0.022"), rule, box, 2e-8).conflicts > 0);
+            CHECK(check_sizing(p, SizingExpression("0.018"), rule, box, 2e-8).uncovered > 0);
+        }
+    }
+}
+
+TEST_CASE("check --sizing from the command line", "[sizing][cli]") {
+    using test::cli;
+    const auto dir = test::scratch();
+    const std::string u = (dir / "uniform.csv").string();
+    REQUIRE(cli("sample --radius 0.02 --seed 2 --device cpu -o " + u).code == 0);
+    CHECK(cli("check " + u + " --sizing 0.02 --rule bigger").code == 0);
+    CHECK(cli("check " + u + " --sizing \"0.02 + 0.01*x\" --rule bigger").code == 1);
+    const test::Run parse = cli("check " + u + " --sizing \"0.02 + q\" --rule prior");
+    CHECK(parse.code == 2);
+    CHECK(parse.err.find("unknown name 'q'") != std::string::npos);
+    CHECK(parse.err.find("at column 8") != std::string::npos);
+    CHECK(parse.err.find("\n  0.02 + q\n") != std::string::npos);
+    for (const std::string& bad :
+         {std::string("--sizing 0.02"), std::string("--sizing 0.02 --rule any"),
+          std::string("--sizing 0.02 --rule prior --radius 0.02"), std::string("--rule prior --radius 0.02"),
+          std::string("--sizing -1 --rule prior")}) {
+        const test::Run r = cli("check " + u + " " + bad);
+        INFO(bad << "\n" << r.err);
+        CHECK(r.code == 2);
+        CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+    }
+}

@@ -1,0 +1,53 @@
+// `vrpd check --sizing EXPR --rule RULE`: a point file judged under a spatially varying radius
+// (paper section 5): conflicts under the rule, coverage under the rule on a stated grid.
+#include <cmath>
+#include <iostream>
+
+#include <fmt/format.h>
+
+#include "cli_common.h"
+#include "vrpd/io.h"
+#include "vrpd/sizing.h"
+
+namespace vrpd::cli {
+
+int run_check_sizing(const CheckOptions& o) {
+    if (o.radius || o.rf || o.rc) throw Error("give --sizing or radii, not both");
+    if (!o.json.empty()) throw Error("--json is not written for --sizing checks yet");
+    if (o.rule.empty()) throw Error("--sizing needs --rule prior, current, bigger or smaller");
+    const SizingRule rule = parse_sizing_rule(o.rule);
+    Box box;
+    box.boundary = parse_boundary(o.boundary);
+    parse_extent(o.extent, box);
+    if (!(std::isfinite(box.width) && box.width > 0 && std::isfinite(box.height) && box.height > 0))
+        throw Error("extent must be two finite numbers > 0");
+    if (o.tolerance && !(*o.tolerance >= 0))
+        throw Error(fmt::format("--tolerance must be >= 0 (got {})", *o.tolerance));
+    const double tolerance = o.tolerance ? *o.tolerance : kDefaultTolerance * std::max(box.width, box.height);
+    const SizingExpression r(o.sizing);
+    const std::vector<glm::dvec2> points = read_points(o.file);
+    const SizingReport rep = check_sizing(points, r, rule, box, tolerance);
+    const double bound = rule_lipschitz_bound(rule);
+    std::cout << fmt::format("{} points; r from {:.6g} to {:.6g} over the box, measured L {:.4g} on a {} x {} grid\n",
+                             rep.points, rep.field.r_min, rep.field.r_max, rep.field.lipschitz,
+                             rep.field.nodes_per_side, rep.field.nodes_per_side);
+    if (rep.field.lipschitz > bound)
+        std::cout << fmt::format("warning: L {:.4g} exceeds the {} rule's bound {} (Table 1): its quality "
+                                 "guarantees lapse\n",
+                                 rep.field.lipschitz, sizing_rule_name(rule), bound);
+    std::cout << fmt::format("conflicts under the {} rule (tolerance {:.3g}): {} pairs", sizing_rule_name(rule),
+                             tolerance, rep.conflicts);
+    if (rep.conflicts) std::cout << fmt::format(", the first points {} and {}", rep.first_a, rep.first_b);
+    std::cout << "\n";
+    const std::string worst = std::isfinite(rep.worst_ratio)
+                                  ? fmt::format("is at {:.4f} of its covering radius", rep.worst_ratio)
+                                  : std::string("is within no sample's reach");
+    std::cout << fmt::format("coverage on a grid of spacing {:.4g} ({} nodes): {} uncovered; the worst node ({:.9g}, "
+                             "{:.9g}) {}: {}\n",
+                             rep.resolution, rep.grid_points, rep.uncovered, rep.worst_point.x, rep.worst_point.y,
+                             worst, rep.uncovered ? "NOT maximal" : "maximal");
+    std::cout << (rep.passed() ? "PASS" : "FAIL") << "\n";
+    return rep.passed() ? 0 : 1;
+}
+
+}  // namespace vrpd::cli
