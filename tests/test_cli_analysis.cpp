@@ -108,16 +108,22 @@ TEST_CASE("figures: the paper's figures that exist, an index page, the rest list
     INFO(run.err);
     REQUIRE(run.code == 0);
     const std::string html = slurp(out / "index.html");
-    for (const char* id : {"Figure 4:", "Figure 5:", "Figure 8:", "Figure 10:", "Figures 14 and 15"}) {
+    for (const char* id : {"Figure 4:", "Figure 5:", "Figure 6:", "Figure 7:", "Figure 8:", "Figure 9:", "Figure 10:",
+                           "Figures 14 and 15"}) {
         INFO(id);
         CHECK(html.find(id) != std::string::npos);
     }
     CHECK(html.find("Not reproduced yet") != std::string::npos);
-    CHECK(html.find("hierarchies are not built yet") != std::string::npos);
+    CHECK(html.find("spatially varying radii are not built yet") != std::string::npos);
+    CHECK(html.find("hierarchies are not built") == std::string::npos);
     for (const char* png : {"figure4-points.png", "figure5-angles.png", "figure8-edges.png", "figure10-spectrum.png"})
         CHECK(is_png(out / png));
     const auto j = nlohmann::json::parse(slurp(out / "figures.json"));
     CHECK(j["4"]["paper_count"] == 6656);
+    CHECK(j["6"]["paper_count"] == 6727);
+    // The hierarchy's final level is a maximal sampling at r = 0.01: every Delaunay angle >= 30.
+    CHECK(j["6"]["min_angle_deg"].get<double>() >= 30 - 1e-6);
+    CHECK(j["6"]["maximal_sets"] == 1);
     // Two radii Rc = 2 Rf: the smallest angle obeys asin(1/4) = 14.48 degrees.
     CHECK(j["5"]["min_angle_bound_deg"].get<double>() == Approx(14.4775).epsilon(1e-4));
     CHECK(j["5"]["min_angle_deg"].get<double>() >= j["5"]["min_angle_bound_deg"].get<double>());
