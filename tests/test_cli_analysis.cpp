@@ -17,6 +17,17 @@ using vrpd::test::slurp;
 
 namespace {
 bool is_png(const fs::path& p) { return slurp(p).rfind("\x89PNG\r\n\x1a\n", 0) == 0; }
+// A PNG's width and height, from its IHDR chunk (big-endian, at bytes 16-23).
+std::pair<unsigned, unsigned> png_size(const fs::path& p) {
+    const std::string b = slurp(p);
+    if (b.size() < 24 || b.compare(12, 4, "IHDR") != 0) return {0, 0};
+    auto be = [&](std::size_t at) {
+        return unsigned(static_cast<unsigned char>(b[at])) << 24 |
+               unsigned(static_cast<unsigned char>(b[at + 1])) << 16 |
+               unsigned(static_cast<unsigned char>(b[at + 2])) << 8 | unsigned(static_cast<unsigned char>(b[at + 3]));
+    };
+    return {be(16), be(20)};
+}
 bool is_svg(const fs::path& p) { return slurp(p).find("<svg") != std::string::npos; }
 }  // namespace
 
@@ -33,6 +44,12 @@ TEST_CASE("analyze: figures as PNG and SVG, and metrics.json with every number t
         CHECK(is_png(out / (std::string("analysis-") + panel + ".png")));
         CHECK(is_svg(out / (std::string("analysis-") + panel + ".svg")));
     }
+    // The stated sizes: square panels 680 x 700 (640 and the margins), plots 640 x 480.
+    CHECK(png_size(out / "analysis-spectrum.png") == std::pair{680u, 700u});
+    CHECK(png_size(out / "analysis-points.png") == std::pair{680u, 700u});
+    CHECK(png_size(out / "analysis-radial.png") == std::pair{640u, 480u});
+    CHECK(png_size(out / "analysis-angles.png") == std::pair{640u, 480u});
+    CHECK(slurp(out / "analysis-radial.svg").find("width=\"640pt\" height=\"480pt\"") != std::string::npos);
     const auto j = nlohmann::json::parse(slurp(out / "metrics.json"));
     CHECK(j["sets"] == 2);
     CHECK(j["n"].get<double>() > 1500);
@@ -118,6 +135,16 @@ TEST_CASE("figures: the paper's figures that exist, an index page, the rest list
     CHECK(html.find("hierarchies are not built") == std::string::npos);
     for (const char* png : {"figure4-points.png", "figure5-angles.png", "figure8-edges.png", "figure10-spectrum.png"})
         CHECK(is_png(out / png));
+    // The page links every figure written, PNG and SVG.
+    std::size_t linked = 0;
+    for (const auto& entry : fs::directory_iterator(out)) {
+        const std::string name = entry.path().filename().string(), ext = entry.path().extension().string();
+        if (ext != ".png" && ext != ".svg") continue;
+        INFO(name);
+        CHECK(html.find("\"" + name + "\"") != std::string::npos);
+        ++linked;
+    }
+    CHECK(linked == 2 * (7 * 3 + 6 * 2));  // 7 figures x 3 panels, 6 with radii x 2 Delaunay panels
     const auto j = nlohmann::json::parse(slurp(out / "figures.json"));
     CHECK(j["4"]["paper_count"] == 6656);
     CHECK(j["6"]["paper_count"] == 6727);
