@@ -82,7 +82,7 @@ TEST_CASE("sizing expressions: malformed ones are refused with the place marked"
     CHECK_THROWS_WITH(SizingExpression(std::string(100, '-') + "x"), Catch::Contains("nested deeper than 64"));
 }
 
-TEST_CASE("a field's range and Lipschitz constant; a field not positive everywhere is refused", "[sizing]") {
+TEST_CASE("a field's range and Lipschitz constant, and a field not positive everywhere refused", "[sizing]") {
     const Box box{};
     const FieldSummary ramp = summarize_field(SizingExpression("0.001 + 0.3*x"), box);
     CHECK(ramp.r_min == Approx(0.001));
