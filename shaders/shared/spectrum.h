@@ -10,6 +10,9 @@ layout(buffer_reference, std430, buffer_reference_align = 4) buffer Floats { flo
 
 VRPD_BEGIN
 
+// Frequencies summed by one invocation of the kernel (spectrum.comp's RUN).
+const uint SPECTRUM_RUN = 8u;
+
 // The frequencies of one half plane (ky > 0, or ky = 0 and kx > 0), numbered f = 0.. in the order
 // of the full (2 half_width + 1)^2 grid after its centre; P(-k) = P(k) gives the other half.
 struct SpectrumArgs {

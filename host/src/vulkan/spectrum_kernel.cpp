@@ -32,7 +32,7 @@ std::string device_periodogram(const std::vector<std::vector<shared::uvec2>>& se
         ctx.barrier();
         const shared::SpectrumArgs args{points.address(), power.address(), std::uint32_t(set.size()), half_width,
                                         frequencies, 0};
-        ctx.dispatch(spectrum, &args, dispatch_groups(frequencies, kWorkgroup));
+        ctx.dispatch(spectrum, &args, dispatch_groups(frequencies, kWorkgroup * shared::SPECTRUM_RUN));
         ctx.barrier();  // the kernel's writes before the host reads them
         ctx.submit_and_wait();
         const auto* p = static_cast<const float*>(power.mapped());
