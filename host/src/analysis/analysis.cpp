@@ -39,6 +39,18 @@ void turn(std::uint32_t phase, double& c, double& s) {
     s = std::sin(angle);
 }
 
+// s += x c over n complex values (split into real and imaginary arrays): the periodogram's inner
+// loop, built for AVX2 too where the processor has it (the same sums: no fused multiply-adds).
+__attribute__((target_clones("avx2", "default"))) void multiply_add(double* __restrict sr, double* __restrict si,
+                                                                      const double* __restrict xr,
+                                                                      const double* __restrict xi, double cr,
+                                                                      double ci, std::size_t n) {
+    for (std::size_t k = 0; k < n; ++k) {
+        sr[k] += xr[k] * cr - xi[k] * ci;
+        si[k] += xr[k] * ci + xi[k] * cr;
+    }
+}
+
 // One set's P at the half plane's frequencies, added to `sum`: S(kx, ky) = sum_j a_j(kx) b_j(ky)
 // with a_j(kx) = exp(2 pi i kx x_j) and b_j(ky) = exp(2 pi i ky y_j), a block of points at a
 // time, each thread summing whole rows ky.
@@ -60,19 +72,10 @@ void host_periodogram(const std::vector<uvec2>& pts, int half_width, detail::Thr
             }
         });
         pool.parallel_for(rows, [&](std::size_t begin, std::size_t end, unsigned) {
-            for (std::size_t ky = begin; ky < end; ++ky) {
-                double* sr = &re[ky * w];
-                double* si = &im[ky * w];
-                for (std::size_t j = 0; j < block; ++j) {
-                    const double cr = br[j * rows + ky], ci = bi[j * rows + ky];
-                    const double* xr = &ar[j * w];
-                    const double* xi = &ai[j * w];
-                    for (std::size_t kx = 0; kx < w; ++kx) {
-                        sr[kx] += xr[kx] * cr - xi[kx] * ci;
-                        si[kx] += xr[kx] * ci + xi[kx] * cr;
-                    }
-                }
-            }
+            for (std::size_t ky = begin; ky < end; ++ky)
+                for (std::size_t j = 0; j < block; ++j)
+                    multiply_add(&re[ky * w], &im[ky * w], &ar[j * w], &ai[j * w], br[j * rows + ky], bi[j * rows + ky],
+                                 w);
         });
     }
     // The half plane in shared/spectrum.h's order: row ky = 0 from kx = 1, then whole rows.
