@@ -130,7 +130,14 @@ int run_figures(const FiguresOptions& o) {
          << fmt::format("<p>Spectra averaged over {} sets per figure (PSA conventions: white noise reads 1). "
                         "Click a panel for its SVG.</p>\n",
                         o.sets)
-         << body << "</body></html>\n";
+         << body
+         // On load the page says on its body whether every figure loaded: a headless browser's
+         // dump of the DOM shows it (scripts/check-figures-page).
+         << "<script>window.addEventListener('load', () => {\n"
+            "  const bad = [...document.images].filter(i => !i.complete || i.naturalWidth === 0);\n"
+            "  document.body.dataset.images = bad.length ? 'broken: ' + bad.map(i => i.getAttribute('src')).join(' ')\n"
+            "                                            : 'all ' + document.images.length + ' loaded';\n"
+            "});</script>\n</body></html>\n";
     html.close();
     if (!html) throw Error("cannot write index.html");
     write_json(dir.path("figures.json"), all);
