@@ -109,46 +109,9 @@ double hierarchy_start(const SampleOptions& o) {
 }  // namespace vrpd::detail
 
 namespace vrpd {
-void validate(const SampleOptions& o) {
-    if (o.hierarchy.continuous && o.hierarchy.steps != 0)
-        throw Error("a hierarchy is discrete (K steps) or continuous, not both");
-    if (o.hierarchy.continuous) {
-        SampleOptions first = o;
-        first.hierarchy = {};
-        validate(first);
-        const double start = detail::hierarchy_start(o);
-        if (!(start >= 1 && start <= detail::kMaxStart))
-            throw Error(fmt::format("a hierarchy's start S must be 1 to {} times the final radii (got {})",
-                                    detail::kMaxStart, start));
-        if (!o.initial.empty()) throw Error("a hierarchy starts from no samples: give --from or --hierarchy, not both");
-        first.radius *= start;
-        first.coverage *= start;
-        try {
-            validate(first);
-        } catch (const Error& e) {
-            throw Error(fmt::format("the hierarchy's first sampling, at {} times the radii: {}", start, e.what()));
-        }
-        return;
-    }
-    if (o.hierarchy.steps != 0) {
-        const double start = detail::hierarchy_start(o);
-        if (o.hierarchy.steps < 2 || o.hierarchy.steps > detail::kMaxSteps)
-            throw Error(fmt::format("a hierarchy needs 2 to {} steps (got {})", detail::kMaxSteps, o.hierarchy.steps));
-        if (!(start >= 1 && start <= detail::kMaxStart))
-            throw Error(fmt::format("a hierarchy's start S must be 1 to {} times the final radii (got {})",
-                                    detail::kMaxStart, start));
-        if (!o.initial.empty()) throw Error("a hierarchy starts from no samples: give --from or --hierarchy, not both");
-        // The coarsest step must be a valid run of its own.
-        SampleOptions coarsest = o;
-        coarsest.hierarchy = {};
-        coarsest.radius *= start;
-        coarsest.coverage *= start;
-        try {
-            validate(coarsest);
-        } catch (const Error& e) {
-            throw Error(fmt::format("the hierarchy's first step, at {} times the radii: {}", start, e.what()));
-        }
-    }
+namespace {
+// The checks of one run at the options' radii (a hierarchy's steps each pass them).
+void validate_run(const SampleOptions& o) {
     if (!std::isfinite(o.radius)) throw Error("radius must be a finite number");
     if (o.radius <= 0.0) throw Error(fmt::format("radius must be > 0 (got {})", o.radius));
     if (!detail::finite_positive(o.box.width) || !detail::finite_positive(o.box.height))
@@ -187,6 +150,32 @@ void validate(const SampleOptions& o) {
             fmt::format("Rc {} is too large for a periodic box of {} x {}: with two radii it must be < {} "
                         "(a quarter of the shorter side)",
                         o.coverage, o.box.width, o.box.height, short_side / 4.0));
+}
+}  // namespace
+
+void validate(const SampleOptions& o) {
+    validate_run(o);
+    if (o.hierarchy.continuous || o.hierarchy.steps != 0) {
+        const double start = detail::hierarchy_start(o);
+        if (o.hierarchy.continuous && o.hierarchy.steps != 0)
+            throw Error("a hierarchy is discrete (K steps) or continuous, not both");
+        if (!o.hierarchy.continuous && (o.hierarchy.steps < 2 || o.hierarchy.steps > detail::kMaxSteps))
+            throw Error(fmt::format("a hierarchy needs 2 to {} steps (got {})", detail::kMaxSteps, o.hierarchy.steps));
+        if (!(start >= 1 && start <= detail::kMaxStart))
+            throw Error(fmt::format("a hierarchy's start S must be 1 to {} times the final radii (got {})",
+                                    detail::kMaxStart, start));
+        if (!o.initial.empty()) throw Error("a hierarchy starts from no samples: give --from or --hierarchy, not both");
+        // The first step must be a valid run of its own.
+        SampleOptions first = o;
+        first.hierarchy = {};
+        first.radius *= start;
+        first.coverage *= start;
+        try {
+            validate_run(first);
+        } catch (const Error& e) {
+            throw Error(fmt::format("the hierarchy's first step, at {} times the radii: {}", start, e.what()));
+        }
+    }
 }
 }  // namespace vrpd
 
