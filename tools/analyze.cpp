@@ -146,27 +146,11 @@ Json analyse(const Sets& sets, const Box& box, std::optional<RadiiGiven> radii, 
     return j;
 }
 
-namespace {
-
-std::optional<RadiiGiven> radii_of(const AnalyzeOptions& o) {
-    if (!o.radius && !o.rf && !o.rc) return std::nullopt;
-    if (o.radius && (o.rf || o.rc)) throw Error("give --radius R, or --rf Rf (and --rc Rc)");
-    if (o.rc && !o.rf) throw Error("--rc needs --rf");
-    for (const auto& [name, value] : {std::pair{"--radius", o.radius}, {"--rf", o.rf}, {"--rc", o.rc}})
-        if (value && !(std::isfinite(*value) && *value > 0))
-            throw Error(fmt::format("{} must be a finite number > 0 (got {})", name, *value));
-    const RadiiGiven r = o.radius ? RadiiGiven{*o.radius, *o.radius} : RadiiGiven{*o.rf, o.rc ? *o.rc : *o.rf};
-    if (r.rc < r.rf) throw Error(fmt::format("--rc must be >= --rf (got Rf {}, Rc {})", r.rf, r.rc));
-    return r;
-}
-
-}  // namespace
-
 int run_analyze(const AnalyzeOptions& o) {
     Box box;
     box.boundary = parse_boundary(o.boundary);
     parse_extent(o.extent, box);
-    const std::optional<RadiiGiven> radii = radii_of(o);
+    const std::optional<RadiiGiven> radii = parse_radii(o.radius, o.rf, o.rc);
     if (o.frequencies != 0 && !(o.frequencies >= 1 && o.frequencies <= 1024))
         throw Error(fmt::format("--frequencies must be 1 to 1024 (got {})", o.frequencies));
     Sets sets;

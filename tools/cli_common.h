@@ -17,6 +17,15 @@ Boundary parse_boundary(const std::string& name);
 // "discrete:K" or "discrete:K:S"; throws Error on anything else.
 HierarchyOptions parse_hierarchy(const std::string& text);
 
+// --radius R, or --rf Rf with an optional --rc Rc, as check and analyze take them.
+struct RadiiGiven {
+    double rf, rc;
+};
+// Throws Error for a mix of the two forms, --rc without --rf, a value not finite and > 0, or
+// Rc < Rf; none given: nullopt.
+std::optional<RadiiGiven> parse_radii(std::optional<double> radius, std::optional<double> rf,
+                                      std::optional<double> rc);
+
 // The resolution of vrpd's own files, relative to the box's longer side: CSV coordinates carry 9
 // significant digits (5e-9 of the side at worst, so distances move by up to 1.5e-8), and the
 // samples lie on a lattice of at most 2^30 steps across it (the largest empty circle may exceed

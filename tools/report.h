@@ -34,10 +34,6 @@ private:
 
 void write_json(const std::string& path, const Json& j);
 
-struct RadiiGiven {
-    double rf, rc;
-};
-
 // The analysis of one group of sets: figures STEM-points, -spectrum, -radial and, with radii,
 // -angles and -edges (Delaunay histograms with Propositions 1-2's bounds); returns the numbers
 // the figures show. A spectrum half width of 0 means 2 sqrt(n), at least 32.

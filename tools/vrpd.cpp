@@ -67,6 +67,19 @@ HierarchyOptions parse_hierarchy(const std::string& text) {
     return {steps, start};
 }
 
+std::optional<RadiiGiven> parse_radii(std::optional<double> radius, std::optional<double> rf,
+                                      std::optional<double> rc) {
+    if (!radius && !rf && !rc) return std::nullopt;
+    if (radius && (rf || rc)) throw Error("give --radius R, or --rf Rf (and --rc Rc)");
+    if (rc && !rf) throw Error("--rc needs --rf");
+    for (const auto& [name, value] : {std::pair{"--radius", radius}, {"--rf", rf}, {"--rc", rc}})
+        if (value && !(std::isfinite(*value) && *value > 0))
+            throw Error(fmt::format("{} must be a finite number > 0 (got {})", name, *value));
+    const RadiiGiven r = radius ? RadiiGiven{*radius, *radius} : RadiiGiven{*rf, rc ? *rc : *rf};
+    if (r.rc < r.rf) throw Error(fmt::format("--rc must be >= --rf (got Rf {}, Rc {})", r.rf, r.rc));
+    return r;
+}
+
 void parse_extent(const std::string& text, Box& box) {
     double w = 0, h = 0;
     char tail = 0;
@@ -84,14 +97,9 @@ int run_check(const CheckOptions& o) {
     Box box;
     box.boundary = parse_boundary(o.boundary);
     parse_extent(o.extent, box);
-    if (o.radius.has_value() == (o.rf || o.rc)) throw Error("give --radius R, or --rf Rf (and --rc Rc)");
-    if (o.rc && !o.rf) throw Error("--rc needs --rf");
-    for (const auto& [name, value] : {std::pair{"--radius", o.radius}, {"--rf", o.rf}, {"--rc", o.rc}})
-        if (value && !(std::isfinite(*value) && *value > 0))
-            throw Error(fmt::format("{} must be a finite number > 0 (got {})", name, *value));
-    Radii radii = o.radius ? Radii{*o.radius, *o.radius} : Radii{*o.rf, o.rc ? *o.rc : *o.rf};
-    if (radii.coverage < radii.inhibition)
-        throw Error(fmt::format("--rc must be >= --rf (got Rf {}, Rc {})", radii.inhibition, radii.coverage));
+    const std::optional<RadiiGiven> given = parse_radii(o.radius, o.rf, o.rc);
+    if (!given) throw Error("give --radius R, or --rf Rf (and --rc Rc)");
+    Radii radii{given->rf, given->rc};
     if (o.tolerance && !(*o.tolerance >= 0))
         throw Error(fmt::format("--tolerance must be >= 0 (got {})", *o.tolerance));
     radii.tolerance = o.tolerance ? *o.tolerance : kDefaultTolerance * std::max(box.width, box.height);
