@@ -2,10 +2,15 @@
 #pragma once
 
 #include <optional>
+#include <ostream>
 #include <string>
 #include <vector>
 
 #include "vrpd/vrpd.h"
+
+namespace CLI {
+class App;
+}
 
 namespace vrpd::cli {
 
@@ -32,12 +37,28 @@ std::optional<RadiiGiven> parse_radii(std::optional<double> radius, std::optiona
 // r by half a step's diagonal).
 inline constexpr double kDefaultTolerance = 2e-8;
 
+// A sizing field's options as sample and check take them: --sizing EXPR or --sizing-image FILE
+// with --r-min and --r-max, --lipschitz L, --rule R, and (sample) --weighting W.
+struct SizingArgs {
+    std::string expression, image, rule, weighting;
+    std::optional<double> r_min, r_max, lipschitz;
+    bool given() const;  // any of them
+};
+// The Sizing they name, or nullopt if none is given; throws Error for a half-given field (an
+// image without its radii, radii without an image, no --rule), an unknown rule or weighting.
+std::optional<Sizing> parse_sizing(const SizingArgs& args);
+// Registers the options on a subcommand (weighting: only where `weighting`).
+void add_sizing_options(CLI::App& app, SizingArgs& args, bool weighting);
+// The summary line of a sizing-field run: n, the field's range, measured L against the rule's
+// bound (a warning past it), the tabulation error, time and memory.
+void print_field_summary(const Sampling& s, const Sizing& sizing, std::ostream& out);
+
 struct CheckOptions {
     std::string file;
     std::optional<double> radius, rf, rc;  // each as given, if given
     std::optional<double> tolerance;       // default: kDefaultTolerance
     std::string extent = "1,1", boundary = "periodic", json;
-    std::string sizing, rule;              // a sizing field and its rule, instead of radii
+    SizingArgs sizing;                     // a sizing field and its rule, instead of radii
 };
 // `vrpd check --sizing`: 0 pass, 1 conflicts or not covered, 2 bad input.
 int run_check_sizing(const CheckOptions& options);

@@ -14,8 +14,8 @@ namespace vrpd::cli {
 int run_check_sizing(const CheckOptions& o) {
     if (o.radius || o.rf || o.rc) throw Error("give --sizing or radii, not both");
     if (!o.json.empty()) throw Error("--json is not written for --sizing checks yet");
-    if (o.rule.empty()) throw Error("--sizing needs --rule prior, current, bigger or smaller");
-    const SizingRule rule = parse_sizing_rule(o.rule);
+    const Sizing sizing = *parse_sizing(o.sizing);
+    const SizingRule rule = sizing.rule;
     Box box;
     box.boundary = parse_boundary(o.boundary);
     parse_extent(o.extent, box);
@@ -24,13 +24,17 @@ int run_check_sizing(const CheckOptions& o) {
     if (o.tolerance && !(*o.tolerance >= 0))
         throw Error(fmt::format("--tolerance must be >= 0 (got {})", *o.tolerance));
     const double tolerance = o.tolerance ? *o.tolerance : kDefaultTolerance * std::max(box.width, box.height);
-    const SizingExpression r(o.sizing);
+    // The field as vrpd sample tabulates it: the same r at each of its samples.
+    const SizingField r(sizing, box);
     const std::vector<glm::dvec2> points = read_points(o.file);
-    const SizingReport rep = check_sizing(points, r, rule, box, tolerance);
+    const FieldStats f = r.stats();
+    FieldSummary field{f.r_min, f.r_max, f.lipschitz, std::size_t(std::llround(std::sqrt(double(f.table_nodes))))};
+    const SizingReport rep = check_sizing(points, std::cref(r), rule, box, tolerance, field);
     const double bound = rule_lipschitz_bound(rule);
-    std::cout << fmt::format("{} points; r from {:.6g} to {:.6g} over the box, measured L {:.4g} on a {} x {} grid\n",
-                             rep.points, rep.field.r_min, rep.field.r_max, rep.field.lipschitz,
-                             rep.field.nodes_per_side, rep.field.nodes_per_side);
+    std::cout << fmt::format("{} points; r from {:.6g} to {:.6g} over the box, L {:.4g}, tabulated on {} nodes "
+                             "within {:.3g} % of the source\n",
+                             rep.points, rep.field.r_min, rep.field.r_max, rep.field.lipschitz, f.table_nodes,
+                             100 * f.tabulation_error);
     if (rep.field.lipschitz > bound)
         std::cout << fmt::format("warning: L {:.4g} exceeds the {} rule's bound {} (Table 1): its quality "
                                  "guarantees lapse\n",

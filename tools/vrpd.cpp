@@ -92,8 +92,7 @@ void parse_extent(const std::string& text, Box& box) {
 #ifdef VRPD_HAVE_GEOMETRY
 // `vrpd check`: 0 pass, 1 conflicts or not maximal, 2 bad input.
 int run_check(const CheckOptions& o) {
-    if (!o.sizing.empty()) return run_check_sizing(o);
-    if (!o.rule.empty()) throw Error("--rule needs --sizing");
+    if (o.sizing.given()) return run_check_sizing(o);
     Box box;
     box.boundary = parse_boundary(o.boundary);
     parse_extent(o.extent, box);
@@ -238,6 +237,8 @@ int main(int argc, char** argv) {
                            "(default S 10): t lowered without steps; every sample with its birth t, every level a "
                            "prefix (paper section 4)");
     sample_cmd->add_option("--from", from, "start from the samples of FILE (conflict-free at Rf); output them first");
+    cli::SizingArgs sizing;
+    cli::add_sizing_options(*sample_cmd, sizing, true);
     sample_cmd->add_flag("--profile", opt.profile,
                          "also print where the time went: per phase (cpu, serial) or per kernel (gpu, device "
                          "timestamps)");
@@ -267,9 +268,7 @@ int main(int argc, char** argv) {
                           "points' resolution: conflict below Rf - T, maximal below Rc + T (default 2e-8 of the "
                           "box's longer side: vrpd's CSV digits and lattice)");
     check_cmd->add_option("--json", check.json, "also write the report as JSON to FILE");
-    check_cmd->add_option("--sizing", check.sizing,
-                          "a sizing field r(x, y) (paper section 5) instead of radii, e.g. \"0.001 + 0.3*x\"");
-    check_cmd->add_option("--rule", check.rule, "with --sizing: prior, current, bigger or smaller (Table 1)");
+    cli::add_sizing_options(*check_cmd, check.sizing, false);
 
     cli::AnalyzeOptions analyze;
     auto* analyze_cmd = app.add_subcommand(
@@ -329,9 +328,12 @@ int main(int argc, char** argv) {
 
     try {
         if (*sample_cmd) {
-            if (radius_opt->count() == (rf_opt->count() + rc_opt->count() > 0))
-                throw Error("give --radius R, or --rf Rf and --rc Rc");
-            if (!radius_opt->count()) {
+            opt.sizing = cli::parse_sizing(sizing);
+            if (opt.sizing && radius_opt->count() + rf_opt->count() + rc_opt->count() > 0)
+                throw Error("give a sizing field or radii, not both");
+            if (!opt.sizing && radius_opt->count() == (rf_opt->count() + rc_opt->count() > 0))
+                throw Error("give --radius R, or --rf Rf and --rc Rc (or a sizing field)");
+            if (!opt.sizing && !radius_opt->count()) {
                 if (!rf_opt->count() || !rc_opt->count())
                     throw Error("give both --rf and --rc (or --radius for Rf = Rc)");
                 opt.radius = rf;
@@ -350,7 +352,8 @@ int main(int argc, char** argv) {
             Sampling s = opt.hierarchy.continuous ? cli::continuous(opt) : sample(opt);
             write_points(s, output);
             const double area = s.box.width * s.box.height;
-            std::cerr << fmt::format(
+            if (opt.sizing) cli::print_field_summary(s, *opt.sizing, std::cerr);
+            else std::cerr << fmt::format(
                 "vrpd: {} samples, n*{}^2/area {:.5f}, {:.3f} s, {:.3g} points/s, {} levels, {} darts, "
                 "{:.1f} MiB of arrays, device {}{}\n",
                 s.size(), s.coverage == s.radius ? "r" : "Rf", double(s.size()) * s.radius * s.radius / area,

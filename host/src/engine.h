@@ -59,6 +59,9 @@ inline constexpr const char* kTooComplex =
 
 enum class Resolution { Parallel, Serial };
 std::unique_ptr<Engine> make_host_engine(const Plan& plan, Resolution resolution, unsigned threads);
+
+// A run with a sizing field (SampleOptions::sizing; field/run.cpp).
+Sampling sample_sized(const SampleOptions& options);
 std::unique_ptr<Engine> make_vulkan_engine(const Plan& plan, const std::string& device,
                                            const VulkanTarget* target = nullptr);
 

@@ -110,18 +110,35 @@ double hierarchy_start(const SampleOptions& o) {
 
 namespace vrpd {
 namespace {
+// Extents, their squares and the box's area stay normal doubles.
+void validate_box(const Box& box) {
+    if (!detail::finite_positive(box.width) || !detail::finite_positive(box.height))
+        throw Error(fmt::format("extent must be two finite numbers > 0 (got {},{})", box.width, box.height));
+    for (const auto& [name, v] : {std::pair{"width", box.width}, {"height", box.height}})
+        if (!(v >= kSmallestLength && v <= kLargestLength))
+            throw Error(fmt::format("{} {} is outside the extents vrpd takes, {} to {}", name, v,
+                                    kSmallestLength, kLargestLength));
+}
+
+// A run with a sizing field: the field replaces the radii, and it starts from nothing.
+void validate_sizing(const SampleOptions& o) {
+    if (o.radius != 0 || o.coverage != 0) throw Error("give a sizing field or radii, not both");
+    if (o.hierarchy.steps != 0 || o.hierarchy.continuous)
+        throw Error("hierarchies of a sizing field are not built: give --sizing or --hierarchy, not both");
+    if (!o.initial.empty()) throw Error("a sizing-field run starts from no samples: give --sizing or --from, not both");
+    if (o.threads > detail::kMaxThreads)
+        throw Error(fmt::format("threads must be at most {} (got {})", detail::kMaxThreads, o.threads));
+    validate_box(o.box);
+    // The field itself is checked where it is tabulated (field/table.cpp).
+}
+
 // The checks of one run at the options' radii (a hierarchy's steps each pass them).
 void validate_run(const SampleOptions& o) {
     if (!std::isfinite(o.radius)) throw Error("radius must be a finite number");
     if (o.radius <= 0.0) throw Error(fmt::format("radius must be > 0 (got {})", o.radius));
-    if (!detail::finite_positive(o.box.width) || !detail::finite_positive(o.box.height))
-        throw Error(fmt::format("extent must be two finite numbers > 0 (got {},{})", o.box.width, o.box.height));
-    // Extents, their squares and the box's area stay normal doubles; a radius far above the box is
-    // fine (the plan clamps its square), one below the smallest extent is refused by the cell count.
-    for (const auto& [name, v] : {std::pair{"width", o.box.width}, {"height", o.box.height}})
-        if (!(v >= kSmallestLength && v <= kLargestLength))
-            throw Error(fmt::format("{} {} is outside the extents vrpd takes, {} to {}", name, v,
-                                    kSmallestLength, kLargestLength));
+    // A radius far above the box is fine (the plan clamps its square), one below the smallest
+    // extent is refused by the cell count.
+    validate_box(o.box);
     for (const auto& [name, v] : {std::pair{"radius", o.radius}, {"coverage radius", o.coverage}})
         if (std::isfinite(v) && v != 0.0 && v < kSmallestLength)
             throw Error(
@@ -154,6 +171,7 @@ void validate_run(const SampleOptions& o) {
 }  // namespace
 
 void validate(const SampleOptions& o) {
+    if (o.sizing) return validate_sizing(o);
     validate_run(o);
     if (o.hierarchy.continuous || o.hierarchy.steps != 0) {
         const double start = detail::hierarchy_start(o);

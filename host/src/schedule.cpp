@@ -77,6 +77,7 @@ BackendChoice choose_backend(const SampleOptions& o) {
 }
 
 Sampling sample(const SampleOptions& options) {
+    if (options.sizing) return detail::sample_sized(options);
     if (options.hierarchy.continuous)
         throw Error("a continuous hierarchy is built on CGAL's triangulation: vrpd_geometry's continuous_hierarchy "
                     "(vrpd/continuous.h)");

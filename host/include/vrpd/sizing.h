@@ -3,6 +3,8 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -11,6 +13,10 @@
 #include "vrpd/vrpd.h"
 
 namespace vrpd {
+
+namespace detail {
+struct FieldTable;
+}
 
 // An expression in x, y (box coordinates), d (distance to the box's centre), w, h (the box), pi,
 // numbers, + - * / ^ (right-associative), unary minus, parentheses, and the functions abs, min,
@@ -40,10 +46,22 @@ private:
     std::size_t depth_ = 0;  // the stack the program needs
 };
 
-// Table 1's conflict rules: f(x, y) for an earlier sample x and a later point y is r(x) (prior),
-// r(y) (current), max (bigger) or min (smaller), for the empty-disk property (Eq. 10) and for
-// coverage (Eq. 11).
-enum class SizingRule { Prior, Current, Bigger, Smaller };
+// The field a run of `sizing` over `box` samples (vrpd.h, Sizing): its source tabulated in fixed
+// point, r at a lattice point the table's integer interpolant. Throws Error as sample would.
+class SizingField {
+public:
+    SizingField(const Sizing& sizing, const Box& box);
+    // r at the lattice point nearest p (clamped into the box), in box units.
+    double operator()(glm::dvec2 p) const;
+    FieldStats stats() const;
+    double quantum() const;
+    const detail::FieldTable& table() const { return *table_; }
+
+private:
+    std::shared_ptr<const detail::FieldTable> table_;
+};
+
+// Table 1's conflict rules (SizingRule, vrpd.h) by name.
 SizingRule parse_sizing_rule(const std::string& name);  // throws Error naming the four
 const char* sizing_rule_name(SizingRule rule);
 double rule_radius(SizingRule rule, double r_earlier, double r_later);
@@ -52,6 +70,9 @@ double rule_radius(SizingRule rule, double r_earlier, double r_later);
 // guarantees hold: 1/2 for prior and bigger, 1 for current and smaller.
 double rule_lipschitz_bound(SizingRule rule);
 
+// A sizing field as a function of a point of the box.
+using SizingFunction = std::function<double(glm::dvec2)>;
+
 // A field's range and measured Lipschitz constant, on a (n + 1) x (n + 1) grid of nodes over the
 // box (neighbours along rows, columns and diagonals). Throws Error naming a node where r is not
 // a finite number > 0.
@@ -59,12 +80,16 @@ struct FieldSummary {
     double r_min = 0, r_max = 0, lipschitz = 0;
     std::size_t nodes_per_side = 0;
 };
-FieldSummary summarize_field(const SizingExpression& r, const Box& box, std::size_t n = 256);
+FieldSummary summarize_field(const SizingFunction& r, const Box& box, std::size_t n = 256);
+inline FieldSummary summarize_field(const SizingExpression& r, const Box& box, std::size_t n = 256) {
+    return summarize_field([&](glm::dvec2 p) { return r(p.x, p.y, box); }, box, n);
+}
 
 // A point set judged under a sizing field and rule, in file order (the order of acceptance):
 // conflicts (Eq. 10): pairs closer than f(r(earlier), r(later)) - tolerance, found exactly;
 // coverage (Eq. 11): every node of a grid of spacing `resolution` within f(r(x), r(y)) +
-// tolerance of some sample x. The grid can miss an uncovered sliver thinner than its spacing.
+// tolerance of some sample x, each sample reaching r(x) / (1 - L) with the summary's L (L < 1;
+// else the field's largest r). The grid can miss an uncovered sliver thinner than its spacing.
 struct SizingReport {
     FieldSummary field;
     std::size_t points = 0;
@@ -76,7 +101,12 @@ struct SizingReport {
     glm::dvec2 worst_point{0, 0};
     bool passed() const { return conflicts == 0 && uncovered == 0; }
 };
-SizingReport check_sizing(const std::vector<glm::dvec2>& points, const SizingExpression& r, SizingRule rule,
-                          const Box& box, double tolerance);
+SizingReport check_sizing(const std::vector<glm::dvec2>& points, const SizingFunction& r, SizingRule rule,
+                          const Box& box, double tolerance, const FieldSummary& field);
+inline SizingReport check_sizing(const std::vector<glm::dvec2>& points, const SizingExpression& r, SizingRule rule,
+                                 const Box& box, double tolerance) {
+    return check_sizing(points, [&](glm::dvec2 p) { return r(p.x, p.y, box); }, rule, box, tolerance,
+                        summarize_field(r, box));
+}
 
 }  // namespace vrpd

@@ -4,6 +4,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -58,6 +59,30 @@ struct HierarchyOptions {
 
 struct VulkanTarget;  // vrpd/vulkan_target.h
 
+// Spatially varying radii (paper section 5). Table 1's conflict rules: f(x, y) for an earlier
+// sample x and a later point y is r(x) (prior), r(y) (current), max (bigger) or min (smaller),
+// both for the empty-disk property (Eq. 10: no later sample y with |x - y| < f) and for coverage
+// (Eq. 11: every point y has a sample x with |x - y| < f).
+enum class SizingRule { Prior, Current, Bigger, Smaller };
+// Where each new sample lands: uniform over the uncovered set (Eq. 4), or with density
+// proportional to 1 / r(x)^2 there (Eq. 12).
+enum class Weighting { Uniform, Density };
+
+// A sizing field r(x) and its rule. The field is the expression (vrpd/sizing.h's language), or a
+// greyscale PNG or binary PGM image mapped onto the box with r = r_min + (r_max - r_min) grey
+// (dark = small radius = dense). The sampler tabulates it once, in fixed point on a grid fine
+// enough that the interpolant stays within 0.1 % of it where the lattice allows (the measured
+// error is in Sampling::field), and r at a lattice point is that table's bilinear interpolant
+// in integers: the same number on every backend.
+struct Sizing {
+    std::string expression;      // or
+    std::string image;           // a path
+    double r_min = 0, r_max = 0; // the image's radii, 0 < r_min <= r_max
+    double lipschitz = -1;       // >= 0: use the largest L-Lipschitz field below r (on the table's nodes)
+    SizingRule rule = SizingRule::Smaller;
+    Weighting weighting = Weighting::Uniform;
+};
+
 struct SampleOptions {
     double radius = 0.0;         // inhibition radius Rf: no two samples closer (paper Eq. 5)
     double coverage = 0.0;       // coverage radius Rc, Rf <= Rc <= 4 Rf: every point within Rc of a
@@ -76,6 +101,9 @@ struct SampleOptions {
     // Run on the application's Vulkan device (vrpd/vulkan_target.h; Gpu backend) instead of one
     // vrpd opens; not owned.
     const VulkanTarget* vulkan = nullptr;
+    // A sizing field r(x) instead of radius and coverage (which stay 0): the samples are
+    // conflict-free and maximal under its rule, each with r at it in Sampling::local_radius.
+    std::optional<Sizing> sizing;
 };
 
 // Where a run's time went: one phase of the host engines, or one kernel of the Vulkan engine
@@ -85,6 +113,14 @@ struct PhaseTime {
     std::string name;
     double seconds = 0.0;
     std::uint64_t calls = 0;     // times the phase ran (rounds, or dispatches)
+};
+
+// A sizing field as a run tabulated it (Sizing).
+struct FieldStats {
+    double r_min = 0, r_max = 0;   // over the table's nodes, in box units
+    double lipschitz = 0;          // of the interpolant, exactly (the largest gradient at a table cell's corner)
+    double tabulation_error = 0;   // largest |table - source| / source found at the table cells' centres and edge midpoints
+    std::uint64_t table_nodes = 0;
 };
 
 struct SamplingStats {
@@ -116,6 +152,7 @@ struct Sampling {
     std::vector<double> birth;         // column "t": the scale t at which the sample was born (section 4)
     double hierarchy_start = 1;        // a hierarchy's S: at birth t the radii were t S (radius, coverage)
     std::vector<double> local_radius;  // column "r": the radius at the sample (section 5)
+    FieldStats field;                  // with a sizing field: the field as tabulated
 
     std::size_t size() const { return lattice.size(); }
     glm::dvec2 point(std::size_t i) const {

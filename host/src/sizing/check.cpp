@@ -29,7 +29,7 @@ double rule_lipschitz_bound(SizingRule rule) {
     return rule == SizingRule::Prior || rule == SizingRule::Bigger ? 0.5 : 1.0;
 }
 
-FieldSummary summarize_field(const SizingExpression& r, const Box& box, std::size_t n) {
+FieldSummary summarize_field(const SizingFunction& r, const Box& box, std::size_t n) {
     FieldSummary f;
     f.nodes_per_side = n + 1;
     f.r_min = INFINITY;
@@ -38,7 +38,7 @@ FieldSummary summarize_field(const SizingExpression& r, const Box& box, std::siz
         const double y = box.height * double(j) / double(n);
         for (std::size_t i = 0; i <= n; ++i) {
             const double x = box.width * double(i) / double(n);
-            const double v = r(x, y, box);
+            const double v = r({x, y});
             if (!(std::isfinite(v) && v > 0))
                 throw Error(fmt::format("sizing field: r({}, {}) = {}; it must be a finite number > 0 everywhere in "
                                         "the box",
@@ -60,10 +60,10 @@ FieldSummary summarize_field(const SizingExpression& r, const Box& box, std::siz
     return f;
 }
 
-SizingReport check_sizing(const std::vector<glm::dvec2>& pts, const SizingExpression& r, SizingRule rule,
-                          const Box& box, double tolerance) {
+SizingReport check_sizing(const std::vector<glm::dvec2>& pts, const SizingFunction& r, SizingRule rule,
+                          const Box& box, double tolerance, const FieldSummary& field) {
     SizingReport rep;
-    rep.field = summarize_field(r, box);
+    rep.field = field;
     rep.points = pts.size();
     if (pts.empty()) throw Error("no points: an empty set covers nothing");
     const bool periodic = box.boundary == Boundary::Periodic;
@@ -73,7 +73,7 @@ SizingReport check_sizing(const std::vector<glm::dvec2>& pts, const SizingExpres
         if (!(p.x >= 0 && p.y >= 0 && p.x < box.width && p.y < box.height))
             throw Error(fmt::format("point {} ({}, {}) is outside the box [0,{}) x [0,{})", i + 1, p.x, p.y,
                                     box.width, box.height));
-        radius[i] = r(p.x, p.y, box);
+        radius[i] = r(p);
         if (!(std::isfinite(radius[i]) && radius[i] > 0))
             throw Error(fmt::format("sizing field: r = {} at point {}", radius[i], i + 1));
     }
@@ -156,7 +156,7 @@ SizingReport check_sizing(const std::vector<glm::dvec2>& pts, const SizingExpres
                 const double d = distance(pts[i], node);
                 if (d > reach) continue;
                 // The node is a point that came after every sample: f(r(sample), r(node)).
-                const double f = rule_radius(rule, radius[i], r(node.x, node.y, box)) + tolerance;
+                const double f = rule_radius(rule, radius[i], r(node)) + tolerance;
                 float& b = best[std::size_t(uy) * gx + std::size_t(ux)];
                 b = std::min(b, float(d / f));
             }

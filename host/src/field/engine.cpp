@@ -1,0 +1,362 @@
+// The sampler of a sizing field (paper section 5): arrival-order random sequential adsorption on
+// the lattice, exact under the rule, maximal on the lattice. Rounds of darts, a Poisson process
+// over the active cells (uniform in the weighted measure), resolved in arrival order; active
+// cells dropped when one sample covers them under the rule, split where darts fell. Design and
+// bounds: docs/design.md, "Sizing fields".
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "field.h"
+#include "quadtree.h"
+#include "../cpu/thread_pool.h"
+#include "../plan.h"
+#include "shared/darts.h"
+
+namespace vrpd::detail {
+
+FieldQuadtree::FieldQuadtree(const FieldTable& t, std::uint64_t max_leaves) : t_(t) {
+    roots_.resize(std::size_t(t.tiles_x) * t.tiles_y);
+    for (std::uint32_t j = 0; j < t.tiles_y; ++j)
+        for (std::uint32_t i = 0; i < t.tiles_x; ++i)
+            roots_[std::size_t(j) * t.tiles_x + i] = build({i << t.tile_bits, j << t.tile_bits}, t.tile_bits, max_leaves);
+    sample_.assign(corner_.size(), kNone);
+}
+
+std::uint32_t FieldQuadtree::build(glm::uvec2 c, std::uint32_t bits, std::uint64_t max_leaves) {
+    if (c.x >= t_.lattice.extent_x || c.y >= t_.lattice.extent_y) return kOutside;
+    const std::uint64_t side = std::uint64_t(1) << bits;
+    const glm::uvec2 b(std::uint32_t(std::min<std::uint64_t>(c.x + side - 1, t_.lattice.extent_x - 1)),
+                       std::uint32_t(std::min<std::uint64_t>(c.y + side - 1, t_.lattice.extent_y - 1)));
+    const std::uint64_t r = t_.min_over(c, b);
+    if (2 * (side - 1) * (side - 1) < r * r) {
+        if (corner_.size() >= max_leaves)
+            throw Error(fmt::format("the field needs more than {} base cells, past the memory this machine allows",
+                                    max_leaves));
+        depth_ = std::max(depth_, t_.tile_bits - bits);
+        corner_.push_back(c);
+        bits_.push_back(std::uint8_t(bits));
+        return kLeaf | std::uint32_t(corner_.size() - 1);
+    }
+    const std::uint32_t first = std::uint32_t(nodes_.size());
+    nodes_.resize(nodes_.size() + 4);
+    const std::uint32_t half = 1u << (bits - 1);
+    for (std::uint32_t k = 0; k < 4; ++k) {
+        const std::uint32_t child = build({c.x + (k & 1) * half, c.y + (k >> 1) * half}, bits - 1, max_leaves);
+        nodes_[first + k] = child;
+    }
+    return first;
+}
+
+namespace {
+
+using shared::uvec2;
+using Clock = std::chrono::steady_clock;
+
+// Poisson mean of darts per active cell per round, and the most one cell takes before it is split.
+constexpr double kLambda = 1.0;
+constexpr double kSplitAbove = 4.0;
+constexpr std::uint32_t kMaxRounds = 1000000;  // a bug guard, far above any run
+constexpr int kExpBias = 64;
+constexpr std::uint32_t kNever = UINT32_MAX;                    // exp_neg's index: weighted area exponent + 64
+// Bytes per expected sample: the sample (12), its share of leaves and tree (about 3 leaves of 17
+// bytes), active cells (two lists of 16-byte cells, a few per sample at the peak) and darts.
+constexpr double kBytesPerSample = 200;
+
+struct Cell {
+    uvec2 corner;
+    std::uint32_t leaf;
+    std::uint8_t bits;
+    std::uint8_t weight;  // Eq. 12: darts at the rate of radius r_lo 2^weight (<= r over the cell)
+};
+
+struct Dart {
+    uvec2 p;
+    std::uint32_t key, r;
+    std::uint32_t cell, index;  // the tie-break of equal keys: cell order, then index in the cell
+};
+
+class FieldSampler {
+public:
+    FieldSampler(const FieldTable& t, const SampleOptions& o, std::uint64_t max_leaves)
+        : t_(t), tree_(t, max_leaves), rule_(t.rule), density_(o.sizing->weighting == Weighting::Density),
+          pool_(o.backend == Backend::Serial ? 1 : o.threads == 0 ? std::thread::hardware_concurrency() : o.threads),
+          seed_(o.seed) {}
+
+    Sampling run();
+
+private:
+    // The farthest an earlier sample conflicting with some point of [a, b] can be, given the
+    // largest r over [a, b] (docs/design.md derives each rule's bound).
+    std::uint64_t reach(uvec2 a, uvec2 b, std::uint32_t r_hi) const;
+    // The farthest a point sample x (radius r) may cover under the rule.
+    std::uint64_t cover_reach(uvec2 x, std::uint32_t r) const;
+    std::uint64_t grown_reach(uvec2 a, uvec2 b, std::uint32_t r_hi) const;
+    bool conflicts(uvec2 p, std::uint32_t r) const;
+    bool covered(uvec2 a, uvec2 b) const;
+    Cell make_cell(uvec2 corner, std::uint32_t bits, std::uint32_t leaf) const;
+    uvec2 far_corner(const Cell& c) const {
+        const std::uint64_t s = (std::uint64_t(1) << c.bits) - 1;
+        return {std::uint32_t(std::min<std::uint64_t>(c.corner.x + s, t_.lattice.extent_x - 1)),
+                std::uint32_t(std::min<std::uint64_t>(c.corner.y + s, t_.lattice.extent_y - 1))};
+    }
+    int exponent(const Cell& c) const { return 2 * int(c.bits) - (density_ ? 2 * int(c.weight) : 0); }
+    // Splits cells expecting more than kSplitAbove darts at this round's rate; returns the rate.
+    double balance();
+    void throw_darts(std::uint32_t round);
+    void resolve(std::uint32_t round);
+    void refine(std::uint32_t round);
+    void note_bytes() {
+        bytes_ = std::max<std::uint64_t>(bytes_, tree_.bytes() + cells_.capacity() * 16 + next_.capacity() * 16 +
+                                                     darts_.capacity() * sizeof(Dart) + lattice_.capacity() * 12 +
+                                                     got_.capacity());
+    }
+
+    const FieldTable& t_;
+    FieldQuadtree tree_;
+    std::uint32_t rule_;
+    bool density_;
+    ThreadPool pool_;
+    std::uint32_t seed_;
+    std::vector<Cell> cells_, next_;
+    std::vector<std::uint8_t> got_;  // the cell took darts this round
+    // The round in which a sample that may cover part of the leaf was last accepted: only cells
+    // of such leaves (and cells that took darts) can have become covered.
+    std::vector<std::uint32_t> touched_;
+    std::vector<Dart> darts_;
+    std::vector<uvec2> lattice_;
+    std::vector<std::uint32_t> radii_;
+    std::uint32_t exp_neg_[128] = {};
+    std::uint64_t darts_thrown_ = 0, bytes_ = 0;
+};
+
+std::uint64_t FieldSampler::reach(uvec2 a, uvec2 b, std::uint32_t r_hi) const {
+    // current, smaller: f <= r(y) <= r_hi.
+    if (rule_ == shared::RULE_CURRENT || rule_ == shared::RULE_SMALLER) return r_hi;
+    return grown_reach(a, b, r_hi);
+}
+
+std::uint64_t FieldSampler::cover_reach(uvec2 x, std::uint32_t r) const {
+    // prior, smaller: f <= r(x); current, bigger: f <= max(r(x), r(y)), with y within the reach.
+    if (rule_ == shared::RULE_PRIOR || rule_ == shared::RULE_SMALLER) return r;
+    return grown_reach(x, x, r);
+}
+
+std::uint64_t FieldSampler::grown_reach(uvec2 a, uvec2 b, std::uint32_t r_hi) const {
+    // A point z within the reach of [a, b] with |z - [a, b]| < max(r(z), r_hi): start from the
+    // field's largest radius, or r_hi grown by the Lipschitz bound (r(z) <= r(y) + L |z - y| + 1,
+    // the 1 for the floor), and shrink to the largest r over the square around [a, b] while it does.
+    std::uint64_t rho = t_.r_hi;
+    if (t_.lipschitz < 1) rho = std::min<std::uint64_t>(rho, std::uint64_t(std::ceil((r_hi + 1.0) / (1 - t_.lipschitz))) + 1);
+    const uvec2 centre((a.x + b.x) / 2, (a.y + b.y) / 2);
+    const std::uint64_t half = std::max(b.x - a.x, b.y - a.y) / 2 + 1;
+    for (int i = 0; i < 4; ++i) {
+        const std::uint64_t m = std::max<std::uint64_t>(t_.max_near(centre, rho + half), r_hi);
+        if (m >= rho) break;
+        rho = m;
+    }
+    return rho;
+}
+
+bool FieldSampler::conflicts(uvec2 p, std::uint32_t r) const {
+    return tree_.near(p, p, reach(p, p, r), [&](std::uint32_t leaf) {
+        const std::uint32_t s = tree_.sample(leaf);
+        return s != FieldQuadtree::kNone &&
+               shared::field_conflict(shared::rule_f(rule_, radii_[s], r), shared::distance2(t_.lattice, lattice_[s], p));
+    });
+}
+
+bool FieldSampler::covered(uvec2 a, uvec2 b) const {
+    const std::uint32_t lo = t_.min_over(a, b), hi = t_.max_over(a, b);
+    return tree_.near(a, b, reach(a, b, hi), [&](std::uint32_t leaf) {
+        const std::uint32_t s = tree_.sample(leaf);
+        if (s == FieldQuadtree::kNone) return false;
+        const uvec2 x = lattice_[s];
+        std::uint64_t far = 0;
+        for (uvec2 c : {a, b, uvec2(a.x, b.y), uvec2(b.x, a.y)}) far = std::max(far, shared::distance2(t_.lattice, x, c));
+        return shared::field_conflict(shared::rule_f(rule_, radii_[s], lo), far);
+    });
+}
+
+Cell FieldSampler::make_cell(uvec2 corner, std::uint32_t bits, std::uint32_t leaf) const {
+    Cell c{corner, leaf, std::uint8_t(bits), 0};
+    if (density_) {
+        const std::uint32_t lo = t_.min_over(corner, far_corner(c));
+        while (c.weight < 31 && (std::uint64_t(t_.r_lo) << (c.weight + 1)) <= lo) ++c.weight;
+    }
+    return c;
+}
+
+double FieldSampler::balance() {
+    for (;;) {
+        double area = 0;
+        for (const Cell& c : cells_) area += std::ldexp(1.0, exponent(c));
+        const double rate = kLambda * double(cells_.size()) / area;
+        bool split = false;
+        next_.clear();
+        for (const Cell& c : cells_) {
+            if (c.bits == 0 || rate * std::ldexp(1.0, exponent(c)) <= kSplitAbove) {
+                next_.push_back(c);
+                continue;
+            }
+            split = true;
+            const std::uint32_t half = 1u << (c.bits - 1);
+            for (std::uint32_t k = 0; k < 4; ++k) {
+                const uvec2 corner(c.corner.x + (k & 1) * half, c.corner.y + (k >> 1) * half);
+                if (corner.x >= t_.lattice.extent_x || corner.y >= t_.lattice.extent_y) continue;
+                const Cell child = make_cell(corner, c.bits - 1, c.leaf);
+                if (lattice_.empty() || !covered(child.corner, far_corner(child))) next_.push_back(child);
+            }
+        }
+        std::swap(cells_, next_);
+        if (!split) return rate;
+    }
+}
+
+void FieldSampler::throw_darts(std::uint32_t round) {
+    const double rate = balance();
+    for (int e = 0; e < 128; ++e)
+        exp_neg_[e] = std::uint32_t(std::floor(std::exp(-rate * std::ldexp(1.0, e - kExpBias)) * 4294967296.0));
+    const std::uint32_t key = shared::round_key(seed_, round);
+    got_.assign(cells_.size(), 0);
+    std::vector<std::vector<Dart>> parts(pool_.size());
+    std::vector<std::uint64_t> thrown(pool_.size(), 0);
+    pool_.parallel_for(cells_.size(), [&](std::size_t begin, std::size_t end, unsigned w) {
+        std::vector<Dart>& out = parts[w];
+        for (std::size_t i = begin; i < end; ++i) {
+            const Cell& c = cells_[i];
+            const std::uint32_t stream = shared::cell_stream(key, c.corner);
+            const std::uint32_t n = shared::dart_count(stream, exp_neg_[exponent(c) + kExpBias]);
+            thrown[w] += n;
+            got_[i] = n > 0;
+            const std::uint32_t bound = std::uint32_t(std::min<std::uint64_t>(std::uint64_t(t_.r_lo) << c.weight, UINT32_MAX));
+            for (std::uint32_t j = 0; j < n; ++j) {
+                const glm::uvec4 d = shared::make_dart(stream, j, c.corner, 1u << c.bits);
+                const uvec2 p(d.x, d.y);
+                if (!shared::in_lattice(t_.lattice, p)) continue;
+                const std::uint32_t r = t_.radius(p);
+                if (density_ && !shared::keep_weighted(shared::hash_mix(shared::hash_mix(stream, 0xD1B54A35u), j), bound, r))
+                    continue;
+                if (tree_.sample(c.leaf) != FieldQuadtree::kNone || conflicts(p, r)) continue;
+                out.push_back({p, d.z, r, std::uint32_t(i), j});
+            }
+        }
+    });
+    // Worker w's chunk precedes worker w + 1's (thread_pool.cpp): in worker order is cell order.
+    darts_.clear();
+    for (unsigned w = 0; w < pool_.size(); ++w) {
+        darts_.insert(darts_.end(), parts[w].begin(), parts[w].end());
+        darts_thrown_ += thrown[w];
+    }
+}
+
+void FieldSampler::resolve(std::uint32_t round) {
+    std::sort(darts_.begin(), darts_.end(), [](const Dart& a, const Dart& b) {
+        return a.key != b.key ? a.key < b.key : (a.cell != b.cell ? a.cell < b.cell : a.index < b.index);
+    });
+    for (const Dart& d : darts_) {
+        const std::uint32_t leaf = cells_[d.cell].leaf;
+        if (tree_.sample(leaf) != FieldQuadtree::kNone || conflicts(d.p, d.r)) continue;
+        tree_.set_sample(leaf, std::uint32_t(lattice_.size()));
+        lattice_.push_back(d.p);
+        radii_.push_back(d.r);
+        tree_.near(d.p, d.p, cover_reach(d.p, d.r), [&](std::uint32_t l) {
+            touched_[l] = round;
+            return false;
+        });
+    }
+}
+
+void FieldSampler::refine(std::uint32_t round) {
+    std::vector<std::vector<Cell>> parts(pool_.size());
+    pool_.parallel_for(cells_.size(), [&](std::size_t begin, std::size_t end, unsigned w) {
+        std::vector<Cell>& out = parts[w];
+        for (std::size_t i = begin; i < end; ++i) {
+            const Cell& c = cells_[i];
+            if (!got_[i] && touched_[c.leaf] != round) {
+                out.push_back(c);
+                continue;
+            }
+            if (tree_.sample(c.leaf) != FieldQuadtree::kNone || covered(c.corner, far_corner(c))) continue;
+            if (!got_[i] || c.bits == 0) {
+                out.push_back(c);
+                continue;
+            }
+            const std::uint32_t half = 1u << (c.bits - 1);
+            for (std::uint32_t k = 0; k < 4; ++k) {
+                const uvec2 corner(c.corner.x + (k & 1) * half, c.corner.y + (k >> 1) * half);
+                if (corner.x >= t_.lattice.extent_x || corner.y >= t_.lattice.extent_y) continue;
+                const Cell child = make_cell(corner, c.bits - 1, c.leaf);
+                if (!covered(child.corner, far_corner(child))) out.push_back(child);
+            }
+        }
+    });
+    next_.clear();
+    for (unsigned w = 0; w < pool_.size(); ++w) next_.insert(next_.end(), parts[w].begin(), parts[w].end());
+    std::swap(cells_, next_);
+}
+
+Sampling FieldSampler::run() {
+    const auto start = Clock::now();
+    cells_.reserve(tree_.leaves());
+    touched_.assign(tree_.leaves(), kNever);
+    for (std::uint32_t leaf = 0; leaf < tree_.leaves(); ++leaf) cells_.push_back(make_cell(tree_.corner(leaf), tree_.bits(leaf), leaf));
+    std::uint32_t round = 0;
+    std::uint32_t deepest = 0;
+    while (!cells_.empty()) {
+        if (round == kMaxRounds) throw Error("internal: the sizing-field sampler did not converge");
+        throw_darts(round);
+        resolve(round);
+        note_bytes();
+        refine(round++);
+        for (const Cell& c : cells_) deepest = std::max(deepest, t_.tile_bits - c.bits);
+    }
+    Sampling s;
+    s.lattice.reserve(lattice_.size());
+    for (uvec2 p : lattice_) s.lattice.push_back(p);
+    s.quantum = t_.quantum;
+    s.radius = s.coverage = t_.r_lo * t_.quantum;
+    s.local_radius.reserve(radii_.size());
+    for (std::uint32_t r : radii_) s.local_radius.push_back(r * t_.quantum);
+    s.field = t_.stats();
+    s.stats.levels = deepest;
+    s.stats.rounds = round;
+    s.stats.darts = darts_thrown_;
+    s.stats.peak_bytes = bytes_ + t_.nodes.capacity() * 4 * 2;
+    s.stats.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    return s;
+}
+
+}  // namespace
+
+std::uint64_t expected_field_samples(const FieldTable& t) {
+    // A maximal uniform sampling has n r^2 = 0.70 per unit area; integrated over the table's
+    // cells at the least r of each.
+    const double cell = double(std::uint64_t(1) << t.cell_bits);
+    double n = 0;
+    for (std::size_t k = 0; k < t.lo[0].size(); ++k) n += cell * cell / (double(t.lo[0][k]) * t.lo[0][k]);
+    const double inside = double(t.lattice.extent_x) * t.lattice.extent_y /
+                          (double(t.cells_x) * t.cells_y * cell * cell);
+    return std::uint64_t(0.70 * n * inside) + 64;
+}
+
+Sampling sample_field(const SampleOptions& o, const FieldTable& t) {
+    const MemoryLimit limit = host_memory_limit();
+    const double expected = double(expected_field_samples(t));
+    const double bytes = expected * kBytesPerSample + double(t.nodes.size()) * 8;
+    if (bytes > double(limit.bytes))
+        throw Error(fmt::format("the field needs about {:.3g} samples and {:.0f} MiB, more than the {} ({:.0f} MiB)",
+                                expected, bytes / (1 << 20), limit.what, double(limit.bytes) / (1 << 20)));
+    const auto start = Clock::now();
+    FieldSampler sampler(t, o, std::uint64_t(double(limit.bytes) / 64));
+    Sampling s = sampler.run();
+    s.stats.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    s.box = o.box;
+    s.backend = o.backend == Backend::Serial ? Backend::Serial : Backend::Cpu;
+    s.device = "host";
+    return s;
+}
+
+}  // namespace vrpd::detail

@@ -1,0 +1,48 @@
+// Sampling with a sizing field (vrpd.h, Sizing): tabulate, then the field sampler, or the uniform
+// engines when the field is one constant (every rule is then the one-radius case).
+#include <fmt/format.h>
+
+#include "field.h"
+#include "vrpd/sizing.h"
+
+namespace vrpd {
+
+SizingField::SizingField(const Sizing& sizing, const Box& box)
+    : table_(std::make_shared<const detail::FieldTable>(detail::tabulate(sizing, box))) {}
+
+double SizingField::operator()(glm::dvec2 p) const {
+    const detail::FieldTable& t = *table_;
+    auto coord = [&](double v, std::uint32_t extent) {
+        const double u = std::round(v / t.quantum);
+        return std::uint32_t(std::clamp(u, 0.0, double(extent - 1)));
+    };
+    return t.radius({coord(p.x, t.lattice.extent_x), coord(p.y, t.lattice.extent_y)}) * t.quantum;
+}
+
+FieldStats SizingField::stats() const { return table_->stats(); }
+double SizingField::quantum() const { return table_->quantum; }
+
+namespace detail {
+
+Sampling sample_sized(const SampleOptions& o) {
+    validate(o);
+    const SizingField field(*o.sizing, o.box);
+    const FieldTable& t = field.table();
+    if (t.constant > 0) {
+        SampleOptions uniform = o;
+        uniform.sizing.reset();
+        uniform.radius = t.constant;
+        Sampling s = sample(uniform);
+        s.local_radius.assign(s.size(), t.constant);
+        s.field = t.stats();
+        return s;
+    }
+    if (o.backend == Backend::Gpu)
+        throw Error("a varying sizing field runs on the cpu and serial backends; its Vulkan kernels are not built");
+    Sampling s = sample_field(o, t);
+    if (o.backend == Backend::Auto) s.choice = "a varying sizing field runs on the host";
+    return s;
+}
+
+}  // namespace detail
+}  // namespace vrpd

@@ -1,0 +1,85 @@
+// A sizing field's source (field/table.h): an expression, or a greyscale image decoded by stb_image
+// (Debian's libstb, a maintained decoder of PNG and binary PGM among others).
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <memory>
+
+#include <fmt/format.h>
+#include <stb_image.h>
+
+#include "table.h"
+#include "vrpd/sizing.h"
+
+namespace vrpd::detail {
+namespace {
+
+constexpr int kMaxImageSide = 16384;
+
+// Grey levels in [0, 1], row 0 at the top of the box (y = height), as the image is seen.
+struct GreyImage {
+    int width = 0, height = 0;
+    std::vector<float> grey;
+
+    // Bilinear between pixel centres, constant past the outer half pixel.
+    double at(double u, double v) const {
+        const double fx = std::clamp(u * width - 0.5, 0.0, double(width - 1));
+        const double fy = std::clamp((1.0 - v) * height - 0.5, 0.0, double(height - 1));
+        const int x0 = int(fx), y0 = int(fy);
+        const int x1 = std::min(x0 + 1, width - 1), y1 = std::min(y0 + 1, height - 1);
+        const double tx = fx - x0, ty = fy - y0;
+        auto g = [&](int x, int y) { return double(grey[std::size_t(y) * std::size_t(width) + std::size_t(x)]); };
+        return (g(x0, y0) * (1 - tx) + g(x1, y0) * tx) * (1 - ty) + (g(x0, y1) * (1 - tx) + g(x1, y1) * tx) * ty;
+    }
+};
+
+GreyImage load_grey(const std::string& path) {
+    std::FILE* file = std::fopen(path.c_str(), "rb");
+    if (!file) throw Error(fmt::format("cannot read the sizing image {}: {}", path, std::strerror(errno)));
+    std::unique_ptr<std::FILE, int (*)(std::FILE*)> closer(file, &std::fclose);
+    int w = 0, h = 0, channels = 0;
+    if (!stbi_info_from_file(file, &w, &h, &channels))
+        throw Error(fmt::format("the sizing image {} is not a PNG or binary PGM image stb_image can decode ({})", path,
+                                stbi_failure_reason()));
+    if (channels > 2)
+        throw Error(fmt::format("the sizing image {} has {} colour channels: it must be greyscale", path, channels));
+    if (w > kMaxImageSide || h > kMaxImageSide)
+        throw Error(fmt::format("the sizing image {} is {} x {} pixels; at most {} per side", path, w, h,
+                                kMaxImageSide));
+    GreyImage img;
+    img.width = w;
+    img.height = h;
+    img.grey.resize(std::size_t(w) * std::size_t(h));
+    const bool deep = stbi_is_16_bit_from_file(file);
+    int cw = 0, ch = 0, cc = 0;
+    if (deep) {
+        std::unique_ptr<stbi_us, void (*)(void*)> px(stbi_load_from_file_16(file, &cw, &ch, &cc, 1), &stbi_image_free);
+        if (!px) throw Error(fmt::format("cannot decode the sizing image {}: {}", path, stbi_failure_reason()));
+        for (std::size_t i = 0; i < img.grey.size(); ++i) img.grey[i] = float(px.get()[i]) / 65535.0f;
+    } else {
+        std::unique_ptr<stbi_uc, void (*)(void*)> px(stbi_load_from_file(file, &cw, &ch, &cc, 1), &stbi_image_free);
+        if (!px) throw Error(fmt::format("cannot decode the sizing image {}: {}", path, stbi_failure_reason()));
+        for (std::size_t i = 0; i < img.grey.size(); ++i) img.grey[i] = float(px.get()[i]) / 255.0f;
+    }
+    return img;
+}
+
+}  // namespace
+
+FieldSource field_source(const Sizing& s, const Box& box) {
+    if (s.expression.empty() == s.image.empty()) throw Error("a sizing field is an expression or an image, one of them");
+    if (!s.expression.empty()) {
+        auto expr = std::make_shared<SizingExpression>(s.expression);
+        return [expr, box](double x, double y) { return (*expr)(x, y, box); };
+    }
+    if (!(std::isfinite(s.r_min) && std::isfinite(s.r_max) && s.r_min > 0 && s.r_min <= s.r_max))
+        throw Error(fmt::format("an image's radii need 0 < r_min <= r_max, finite (got r_min {}, r_max {})", s.r_min,
+                                s.r_max));
+    auto img = std::make_shared<GreyImage>(load_grey(s.image));
+    const double lo = s.r_min, span = s.r_max - s.r_min;
+    return [img, box, lo, span](double x, double y) { return lo + span * img->at(x / box.width, y / box.height); };
+}
+
+}  // namespace vrpd::detail

@@ -1,0 +1,311 @@
+// Tabulating a sizing field (field/table.h). The lattice: quadtree roots (tiles) about r_max wide,
+// table cells of 2^15 lattice units at most 8 r_min wide, so r_min spans at least 4096 lattice
+// units and the interpolant's rounding costs under 0.025 %. The table is refined (table cells and
+// lattice halved together) while its interpolant is further than 0.075 % from the source at
+// some table cell's centre or edge midpoint, within the 31-bit lattice and a budget of 8 nodes
+// per expected sample (a kink, such as abs()'s, converges only linearly: refining it to 0.1 %
+// would take far more nodes than samples).
+#include "table.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+
+namespace vrpd::detail {
+namespace {
+
+constexpr std::uint64_t kLatticeLimit = 0x7FFFFFFFu;
+constexpr std::uint64_t kMaxTableNodes = std::uint64_t(16) << 20;
+constexpr double kTargetError = 0.00075;
+constexpr double kNodesPerSample = 8;
+constexpr std::uint64_t kMinTableNodes = std::uint64_t(1) << 16;
+constexpr std::uint32_t kMinLatticeRadius = 4096;
+constexpr std::uint32_t kSurvey = 256;
+
+double checked(const FieldSource& f, double x, double y) {
+    const double v = f(x, y);
+    if (!(std::isfinite(v) && v > 0))
+        throw Error(fmt::format("sizing field: r({:.6g}, {:.6g}) = {}; it must be a finite number > 0 everywhere in "
+                                "the box",
+                                x, y, v));
+    return v;
+}
+
+// A periodic box tiled exactly by n x m square tiles no wider than `target`.
+bool periodic_tiles(const Box& box, double target, std::uint64_t& nx, std::uint64_t& ny) {
+    const std::uint64_t first = std::uint64_t(std::ceil(box.width / target));
+    for (std::uint64_t n = first; n <= 4 * first + 16; ++n) {
+        const double rows = box.height / (box.width / double(n));
+        const double whole = std::round(rows);
+        if (whole >= 1 && std::abs(rows - whole) <= 1e-9 * rows) {
+            nx = n;
+            ny = std::uint64_t(whole);
+            return true;
+        }
+    }
+    return false;
+}
+
+// The double-valued table at a resolution, with its largest relative error against the source.
+struct Draft {
+    std::uint32_t cells_x = 0, cells_y = 0;
+    double h = 0;
+    std::vector<double> values;
+    double error = 0;
+};
+
+Draft draft(const FieldSource& f, const Box& box, std::uint32_t cells_x, std::uint32_t cells_y, double h) {
+    Draft d{cells_x, cells_y, h, {}, 0};
+    const bool periodic = box.boundary == Boundary::Periodic;
+    const std::size_t row = std::size_t(cells_x) + 1;
+    d.values.resize(row * (std::size_t(cells_y) + 1));
+    for (std::uint32_t j = 0; j <= cells_y; ++j)
+        for (std::uint32_t i = 0; i <= cells_x; ++i) {
+            // On a torus the last row and column are the first: the field wraps.
+            const std::uint32_t si = periodic && i == cells_x ? 0 : i, sj = periodic && j == cells_y ? 0 : j;
+            d.values[j * row + i] = checked(f, std::min(si * h, box.width), std::min(sj * h, box.height));
+        }
+    auto interp = [&](std::uint32_t i, std::uint32_t j, double tx, double ty) {
+        const double* v = &d.values[j * row + i];
+        return (v[0] * (1 - tx) + v[1] * tx) * (1 - ty) + (v[row] * (1 - tx) + v[row + 1] * tx) * ty;
+    };
+    for (std::uint32_t j = 0; j < cells_y && j * h < box.height; ++j)
+        for (std::uint32_t i = 0; i < cells_x && i * h < box.width; ++i)
+            for (auto [tx, ty] : {std::pair{0.5, 0.5}, {0.5, 0.0}, {0.0, 0.5}}) {
+                const double x = (i + tx) * h, y = (j + ty) * h;
+                if (x >= box.width || y >= box.height) continue;
+                const double v = checked(f, x, y);
+                d.error = std::max(d.error, std::abs(interp(i, j, tx, ty) - v) / v);
+            }
+    return d;
+}
+
+// The largest L-Lipschitz function at or below the nodes: each node's least v_j + L |x_i - x_j|,
+// searched ring by ring until no farther node can lower it.
+void limit_lipschitz(Draft& d, double L, bool periodic) {
+    const std::int64_t nx = std::int64_t(d.cells_x) + 1, ny = std::int64_t(d.cells_y) + 1;
+    const std::int64_t wx = periodic ? nx - 1 : nx, wy = periodic ? ny - 1 : ny;  // distinct nodes per axis
+    const double least = *std::min_element(d.values.begin(), d.values.end());
+    std::vector<double> out(d.values.size());
+    auto at = [&](std::int64_t i, std::int64_t j, double& v) {
+        if (periodic) {
+            i = ((i % wx) + wx) % wx;
+            j = ((j % wy) + wy) % wy;
+        } else if (i < 0 || j < 0 || i >= nx || j >= ny) {
+            return false;
+        }
+        v = d.values[std::size_t(j * nx + i)];
+        return true;
+    };
+    const std::int64_t max_ring = std::max(nx, ny);
+    for (std::int64_t j = 0; j < ny; ++j)
+        for (std::int64_t i = 0; i < nx; ++i) {
+            double best = d.values[std::size_t(j * nx + i)];
+            for (std::int64_t k = 1; k <= max_ring && least + L * double(k) * d.h < best; ++k)
+                for (std::int64_t dj = -k; dj <= k; ++dj)
+                    for (std::int64_t di = -k; di <= k; di += (dj == -k || dj == k) ? 1 : 2 * k) {
+                        double v;
+                        if (at(i + di, j + dj, v))
+                            best = std::min(best, v + L * d.h * std::hypot(double(di), double(dj)));
+                    }
+            out[std::size_t(j * nx + i)] = best;
+        }
+    d.values = std::move(out);
+}
+
+void build_pyramids(FieldTable& t) {
+    std::uint32_t w = t.cells_x, h = t.cells_y;
+    std::vector<std::uint32_t> lo(std::size_t(w) * h), hi(lo.size());
+    for (std::uint32_t j = 0; j < h; ++j)
+        for (std::uint32_t i = 0; i < w; ++i) {
+            const std::uint32_t v[4] = {t.node(i, j), t.node(i + 1, j), t.node(i, j + 1), t.node(i + 1, j + 1)};
+            lo[std::size_t(j) * w + i] = *std::min_element(v, v + 4);
+            hi[std::size_t(j) * w + i] = *std::max_element(v, v + 4);
+        }
+    t.lo.push_back(std::move(lo));
+    t.hi.push_back(std::move(hi));
+    while (w > 1 || h > 1) {
+        const std::uint32_t pw = w, nw = (w + 1) / 2, nh = (h + 1) / 2;
+        std::vector<std::uint32_t> nlo(std::size_t(nw) * nh, UINT32_MAX), nhi(nlo.size(), 0);
+        const auto& plo = t.lo.back();
+        const auto& phi = t.hi.back();
+        for (std::uint32_t j = 0; j < h; ++j)
+            for (std::uint32_t i = 0; i < w; ++i) {
+                const std::size_t to = std::size_t(j / 2) * nw + i / 2, from = std::size_t(j) * pw + i;
+                nlo[to] = std::min(nlo[to], plo[from]);
+                nhi[to] = std::max(nhi[to], phi[from]);
+            }
+        t.lo.push_back(std::move(nlo));
+        t.hi.push_back(std::move(nhi));
+        w = nw;
+        h = nh;
+    }
+}
+
+}  // namespace
+
+std::uint32_t FieldTable::radius(glm::uvec2 p) const {
+    const std::uint32_t mask = (1u << cell_bits) - 1u, i = p.x >> cell_bits, j = p.y >> cell_bits;
+    return shared::field_interpolate(glm::uvec4(node(i, j), node(i + 1, j), node(i, j + 1), node(i + 1, j + 1)),
+                                     glm::uvec2(p.x & mask, p.y & mask), cell_bits);
+}
+
+namespace {
+// The pyramid level and block range holding table cells [i0, i1] x [j0, j1] in at most 2 x 2 blocks.
+template <typename Pick>
+std::uint32_t over_blocks(const FieldTable& t, const std::vector<std::vector<std::uint32_t>>& pyr, glm::uvec2 a,
+                          glm::uvec2 b, std::uint32_t init, Pick pick) {
+    std::uint32_t i0 = a.x >> t.cell_bits, i1 = b.x >> t.cell_bits, j0 = a.y >> t.cell_bits, j1 = b.y >> t.cell_bits;
+    std::uint32_t k = 0;
+    while ((i1 >> k) - (i0 >> k) > 1 || (j1 >> k) - (j0 >> k) > 1) ++k;
+    const std::uint32_t w = (t.cells_x + (1u << k) - 1) >> k;
+    std::uint32_t v = init;
+    for (std::uint32_t j = j0 >> k; j <= j1 >> k; ++j)
+        for (std::uint32_t i = i0 >> k; i <= i1 >> k; ++i) v = pick(v, pyr[k][std::size_t(j) * w + i]);
+    return v;
+}
+}  // namespace
+
+std::uint32_t FieldTable::min_over(glm::uvec2 a, glm::uvec2 b) const {
+    if ((a.x >> cell_bits) == (b.x >> cell_bits) && (a.y >> cell_bits) == (b.y >> cell_bits))
+        return std::min({radius(a), radius(b), radius({a.x, b.y}), radius({b.x, a.y})});
+    return over_blocks(*this, lo, a, b, UINT32_MAX, [](std::uint32_t x, std::uint32_t y) { return std::min(x, y); });
+}
+
+std::uint32_t FieldTable::max_over(glm::uvec2 a, glm::uvec2 b) const {
+    if ((a.x >> cell_bits) == (b.x >> cell_bits) && (a.y >> cell_bits) == (b.y >> cell_bits))
+        return std::max({radius(a), radius(b), radius({a.x, b.y}), radius({b.x, a.y})});
+    return over_blocks(*this, hi, a, b, 0u, [](std::uint32_t x, std::uint32_t y) { return std::max(x, y); });
+}
+
+std::uint32_t FieldTable::max_near(glm::uvec2 p, std::uint64_t reach) const {
+    // Each axis as one or two inclusive ranges of the lattice.
+    auto ranges = [&](std::uint32_t c, std::uint32_t extent, std::uint64_t lo_r[2], std::uint64_t hi_r[2]) {
+        const std::int64_t a = std::int64_t(c) - std::int64_t(reach), b = std::int64_t(c) + std::int64_t(reach);
+        if (!lattice.periodic || b - a + 1 >= std::int64_t(extent)) {
+            lo_r[0] = std::uint64_t(std::max<std::int64_t>(a, 0));
+            hi_r[0] = std::uint64_t(std::min<std::int64_t>(b, std::int64_t(extent) - 1));
+            if (lattice.periodic) lo_r[0] = 0, hi_r[0] = extent - 1;
+            return 1;
+        }
+        if (a < 0) {
+            lo_r[0] = 0, hi_r[0] = std::uint64_t(b);
+            lo_r[1] = std::uint64_t(a + std::int64_t(extent)), hi_r[1] = extent - 1;
+            return 2;
+        }
+        if (b >= std::int64_t(extent)) {
+            lo_r[0] = std::uint64_t(a), hi_r[0] = extent - 1;
+            lo_r[1] = 0, hi_r[1] = std::uint64_t(b - std::int64_t(extent));
+            return 2;
+        }
+        lo_r[0] = std::uint64_t(a), hi_r[0] = std::uint64_t(b);
+        return 1;
+    };
+    std::uint64_t xl[2], xh[2], yl[2], yh[2];
+    const int nx = ranges(p.x, lattice.extent_x, xl, xh), ny = ranges(p.y, lattice.extent_y, yl, yh);
+    std::uint32_t m = 0;
+    for (int j = 0; j < ny; ++j)
+        for (int i = 0; i < nx; ++i)
+            m = std::max(m, max_over({std::uint32_t(xl[i]), std::uint32_t(yl[j])},
+                                     {std::uint32_t(xh[i]), std::uint32_t(yh[j])}));
+    return m;
+}
+
+FieldStats FieldTable::stats() const {
+    return {r_lo * quantum, r_hi * quantum, lipschitz, tabulation_error, std::uint64_t(nodes.size())};
+}
+
+FieldTable tabulate(const Sizing& s, const Box& box) {
+    if (s.lipschitz != -1 && !(std::isfinite(s.lipschitz) && s.lipschitz >= 0))
+        throw Error(fmt::format("the Lipschitz bound must be a finite number >= 0 (got {})", s.lipschitz));
+    const FieldSource f = field_source(s, box);
+    const bool periodic = box.boundary == Boundary::Periodic;
+    double lo = INFINITY, hi = 0;
+    for (std::uint32_t j = 0; j <= kSurvey; ++j)
+        for (std::uint32_t i = 0; i <= kSurvey; ++i) {
+            const double v = checked(f, box.width * i / kSurvey * (1 - 1e-12), box.height * j / kSurvey * (1 - 1e-12));
+            lo = std::min(lo, v);
+            hi = std::max(hi, v);
+        }
+    const double short_side = std::min(box.width, box.height);
+    if (periodic && hi >= short_side / 2)
+        throw Error(fmt::format("the field's largest radius {:.6g} is too large for a periodic box of {} x {}: it must "
+                                "be < {} (half the shorter side)",
+                                hi, box.width, box.height, short_side / 2));
+
+    FieldTable t;
+    std::uint64_t tx = 0, ty = 0;
+    double tile = std::min(hi, std::max(box.width, box.height));
+    if (periodic) {
+        if (!periodic_tiles(box, tile, tx, ty))
+            throw Error(fmt::format("periodic box {} x {}: width/height must be a ratio of small integers so that "
+                                    "square tiles fit it",
+                                    box.width, box.height));
+        tile = box.width / double(tx);
+    } else {
+        tx = std::uint64_t(std::ceil(box.width / tile));
+        ty = std::uint64_t(std::ceil(box.height / tile));
+    }
+    auto fits = [&](std::uint32_t a) {
+        return (std::max(tx, ty) << (a + shared::MAX_FIELD_CELL_BITS)) <= kLatticeLimit &&
+               ((tx * ty) << (2 * a)) <= kMaxTableNodes;
+    };
+    std::uint32_t a = 0;
+    while (tile / double(1u << a) > 8 * lo && a < 30) ++a;
+    if (!fits(a))
+        throw Error(fmt::format("the field's radii ({:.6g} to {:.6g}) span more of the box than the 31-bit lattice and "
+                                "the table's {} nodes hold",
+                                lo, hi, kMaxTableNodes));
+    Draft d;
+    for (;;) {
+        d = draft(f, box, std::uint32_t(tx << a), std::uint32_t(ty << a), tile / double(1u << a));
+        const double quantum = d.h / double(1u << shared::MAX_FIELD_CELL_BITS);
+        const double least = *std::min_element(d.values.begin(), d.values.end());
+        const bool fine = d.error <= kTargetError && least / quantum >= kMinLatticeRadius;
+        // The table stays within a few nodes per expected sample (0.70 per r^2 of area).
+        double samples = 0;
+        for (double v : d.values) samples += 0.70 * d.h * d.h / (v * v);
+        const double next_nodes = double(tx << (a + 1)) * double(ty << (a + 1));
+        const bool affordable = next_nodes <= std::max(kNodesPerSample * samples, double(kMinTableNodes));
+        if (fine || !fits(a + 1) || (least / quantum >= kMinLatticeRadius && !affordable)) break;
+        ++a;
+    }
+    if (lo == hi && std::all_of(d.values.begin(), d.values.end(), [&](double v) { return v == lo; })) t.constant = lo;
+    if (s.lipschitz >= 0) limit_lipschitz(d, s.lipschitz, periodic);
+
+    t.cell_bits = shared::MAX_FIELD_CELL_BITS;
+    t.quantum = d.h / double(1u << t.cell_bits);
+    t.tile_bits = a + t.cell_bits;
+    t.tiles_x = std::uint32_t(tx);
+    t.tiles_y = std::uint32_t(ty);
+    t.cells_x = d.cells_x;
+    t.cells_y = d.cells_y;
+    t.lattice.periodic = periodic ? 1u : 0u;
+    const std::uint64_t ex = tx << t.tile_bits, ey = ty << t.tile_bits;
+    t.lattice.extent_x = periodic ? std::uint32_t(ex) : std::uint32_t(std::min<double>(std::ceil(box.width / t.quantum), double(ex)));
+    t.lattice.extent_y = periodic ? std::uint32_t(ey) : std::uint32_t(std::min<double>(std::ceil(box.height / t.quantum), double(ey)));
+    t.tabulation_error = d.error;
+    t.nodes.resize(d.values.size());
+    for (std::size_t i = 0; i < d.values.size(); ++i) {
+        const double units = std::round(d.values[i] / t.quantum);
+        if (units >= 4294967295.0)
+            throw Error(fmt::format("the field's radius {:.6g} is too large for the lattice of this box", d.values[i]));
+        t.nodes[i] = std::max<std::uint32_t>(1, std::uint32_t(units));
+    }
+    t.r_lo = *std::min_element(t.nodes.begin(), t.nodes.end());
+    t.r_hi = *std::max_element(t.nodes.begin(), t.nodes.end());
+    // The interpolant's gradient is largest at a table cell's corner (|grad|^2 is convex on the cell).
+    const double c = double(1u << t.cell_bits);
+    for (std::uint32_t j = 0; j < t.cells_y; ++j)
+        for (std::uint32_t i = 0; i < t.cells_x; ++i) {
+            const double v00 = t.node(i, j), v10 = t.node(i + 1, j), v01 = t.node(i, j + 1), v11 = t.node(i + 1, j + 1);
+            for (double gx : {v10 - v00, v11 - v01})
+                for (double gy : {v01 - v00, v11 - v10}) t.lipschitz = std::max(t.lipschitz, std::hypot(gx, gy) / c);
+        }
+    t.rule = std::uint32_t(s.rule);
+    build_pyramids(t);
+    return t;
+}
+
+}  // namespace vrpd::detail

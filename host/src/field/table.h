@@ -1,0 +1,54 @@
+// A sizing field tabulated for a run (vrpd.h, Sizing): the lattice it runs on, the table of node
+// radii in lattice units (shared/field.h), and min/max pyramids that bound r over any block.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include "shared/field.h"
+#include "shared/lattice.h"
+#include "vrpd/vrpd.h"
+
+namespace vrpd::detail {
+
+// A sizing field's source as a function of a point of the box; throws nothing.
+using FieldSource = std::function<double(double, double)>;
+
+// The source a Sizing names: its expression, or its image (loaded, checked greyscale), over the box.
+FieldSource field_source(const Sizing& sizing, const Box& box);
+
+struct FieldTable {
+    shared::Lattice lattice;
+    double quantum = 0;            // lattice spacing in box units
+    std::uint32_t tile_bits = 0;   // quadtree roots (tiles) span 2^tile_bits lattice units
+    std::uint32_t tiles_x = 0, tiles_y = 0;
+    std::uint32_t cell_bits = 0;   // table cells span 2^cell_bits lattice units
+    std::uint32_t cells_x = 0, cells_y = 0;     // table cells over the tiles
+    std::vector<std::uint32_t> nodes;           // (cells_x + 1) x (cells_y + 1), row by row
+    // lo[k], hi[k]: the least and greatest node over blocks of 2^k x 2^k table cells (their
+    // boundary nodes included), cells_x >> k (rounded up) per row.
+    std::vector<std::vector<std::uint32_t>> lo, hi;
+    std::uint32_t r_lo = 0, r_hi = 0;          // over all nodes
+    double lipschitz = 0;                      // of the interpolant, exact
+    double tabulation_error = 0;
+    std::uint32_t rule = 0;
+    double constant = 0;                       // the source's value where it is one constant, else 0
+
+    std::uint32_t node(std::uint32_t i, std::uint32_t j) const { return nodes[std::size_t(j) * (cells_x + 1) + i]; }
+    // r at lattice point p (inside the lattice).
+    std::uint32_t radius(glm::uvec2 p) const;
+    // The least and greatest r over the lattice points of [x0, x1] x [y0, y1] (inclusive, inside
+    // the lattice): exact inside one table cell, else a bound from the pyramid.
+    std::uint32_t min_over(glm::uvec2 a, glm::uvec2 b) const;
+    std::uint32_t max_over(glm::uvec2 a, glm::uvec2 b) const;
+    // The same over a square of half-width `reach` around p (wrapping on a torus, clipped to a free box).
+    std::uint32_t max_near(glm::uvec2 p, std::uint64_t reach) const;
+    FieldStats stats() const;
+};
+
+// Tabulates the field of `sizing` over `box`. Throws Error with the reason for a field that is
+// not a finite number > 0 somewhere, an image that cannot be read, or radii the lattice cannot hold.
+FieldTable tabulate(const Sizing& sizing, const Box& box);
+
+}  // namespace vrpd::detail

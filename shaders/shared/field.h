@@ -1,0 +1,53 @@
+// Spatially varying radii (paper section 5, Eqs. 10-12) on the integer lattice. The sizing field
+// is a table of radii in lattice units at the nodes of a square grid whose cells span 2^bits
+// lattice units (bits <= MAX_FIELD_CELL_BITS); r at a lattice point is the floor of the bilinear
+// interpolant of its cell's four nodes, computed in 64-bit integers: one rounding, the same on
+// every device. The rules' radius f, conflicts |x - y|^2 < f^2 and the thinning of Eq. 12 are
+// integer functions of it too.
+#ifndef VRPD_FIELD_H
+#define VRPD_FIELD_H
+#include "bridge.h"
+
+VRPD_BEGIN
+
+// With node values below 2^32 and 2^bits-unit cells, the interpolant's sums stay below 2^(32 + 2 bits).
+const uint MAX_FIELD_CELL_BITS = 15u;
+
+// Table 1's rules (SizingRule's order): f(x, y) for an earlier sample x and a later point y.
+const uint RULE_PRIOR = 0u;
+const uint RULE_CURRENT = 1u;
+const uint RULE_BIGGER = 2u;
+const uint RULE_SMALLER = 3u;
+
+// r at offset f (0 <= f < 2^bits on each axis) inside a table cell with nodes
+// v = (v00, v10, v01, v11) (x first): floor of the bilinear interpolant.
+VRPD_FN uint field_interpolate(uvec4 v, uvec2 f, uint bits) {
+    uint64_t c = uint64_t(1) << bits;
+    uint64_t a0 = uint64_t(v.x) * (c - uint64_t(f.x)) + uint64_t(v.y) * uint64_t(f.x);
+    uint64_t a1 = uint64_t(v.z) * (c - uint64_t(f.x)) + uint64_t(v.w) * uint64_t(f.x);
+    uint64_t s = a0 * (c - uint64_t(f.y)) + a1 * uint64_t(f.y);
+    return uint(s >> (2u * bits));
+}
+
+// f(x, y) from r(x) of the earlier sample and r(y) of the later point. Non-decreasing in both,
+// so a lower bound of r over a region gives a lower bound of f over it.
+VRPD_FN uint rule_f(uint rule, uint r_earlier, uint r_later) {
+    if (rule == RULE_PRIOR) return r_earlier;
+    if (rule == RULE_CURRENT) return r_later;
+    if (rule == RULE_BIGGER) return max(r_earlier, r_later);
+    return min(r_earlier, r_later);
+}
+
+// Eq. 10: points at squared lattice distance d2 conflict under radius f (f < 2^32: f^2 < 2^64).
+VRPD_FN bool field_conflict(uint f, uint64_t d2) { return d2 < uint64_t(f) * uint64_t(f); }
+
+// Eq. 12 by thinning: a dart thrown at the rate of radius `bound` <= r is kept with probability
+// (bound / r)^2, decided by comparing a uniform 32-bit hash with it in 2^-32 units.
+VRPD_FN bool keep_weighted(uint hash, uint bound, uint r) {
+    if (bound >= r) return true;
+    uint64_t t = (uint64_t(bound) << 32) / uint64_t(r);  // < 2^32
+    return uint64_t(hash) < ((t * t) >> 32);
+}
+
+VRPD_END
+#endif

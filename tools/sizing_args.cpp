@@ -1,0 +1,77 @@
+// The sizing-field options of sample and check (cli_common.h, SizingArgs).
+#include <cmath>
+#include <ostream>
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include "cli_common.h"
+#include "vrpd/sizing.h"
+
+namespace vrpd::cli {
+
+bool SizingArgs::given() const {
+    return !expression.empty() || !image.empty() || !rule.empty() || !weighting.empty() || r_min || r_max ||
+           lipschitz;
+}
+
+std::optional<Sizing> parse_sizing(const SizingArgs& a) {
+    if (!a.given()) return std::nullopt;
+    if (a.expression.empty() == a.image.empty()) throw Error("give --sizing EXPR or --sizing-image FILE (one of them)");
+    if (!a.image.empty() && !(a.r_min && a.r_max)) throw Error("--sizing-image needs --r-min and --r-max");
+    if (a.image.empty() && (a.r_min || a.r_max)) throw Error("--r-min and --r-max go with --sizing-image");
+    if (a.rule.empty()) throw Error("a sizing field needs --rule prior, current, bigger or smaller");
+    Sizing s;
+    s.expression = a.expression;
+    s.image = a.image;
+    s.r_min = a.r_min.value_or(0);
+    s.r_max = a.r_max.value_or(0);
+    s.rule = parse_sizing_rule(a.rule);
+    if (a.lipschitz) {
+        if (!(std::isfinite(*a.lipschitz) && *a.lipschitz >= 0))
+            throw Error(fmt::format("--lipschitz must be a finite number >= 0 (got {})", *a.lipschitz));
+        s.lipschitz = *a.lipschitz;
+    }
+    if (a.weighting == "density")
+        s.weighting = Weighting::Density;
+    else if (!a.weighting.empty() && a.weighting != "uniform")
+        throw Error(fmt::format("unknown weighting '{}': use uniform or density", a.weighting));
+    return s;
+}
+
+void add_sizing_options(CLI::App& app, SizingArgs& a, bool weighting) {
+    app.add_option("--sizing", a.expression,
+                   "a sizing field r(x, y) (paper section 5), e.g. \"0.001 + 0.3*x\"; variables x y d w h pi");
+    app.add_option("--sizing-image", a.image,
+                   "a greyscale PNG or binary PGM sizing field: r = r-min + (r-max - r-min) grey, dark = dense");
+    app.add_option("--r-min", a.r_min, "with --sizing-image: r at black");
+    app.add_option("--r-max", a.r_max, "with --sizing-image: r at white");
+    app.add_option("--lipschitz", a.lipschitz, "use the largest L-Lipschitz field below r");
+    app.add_option("--rule", a.rule, "with a sizing field: prior, current, bigger or smaller (Table 1)");
+    if (weighting)
+        app.add_option("--weighting", a.weighting,
+                       "uniform (default: each sample uniform over the uncovered set) or density (1/r^2, Eq. 12)");
+}
+
+void print_field_summary(const Sampling& s, const Sizing& sizing, std::ostream& out) {
+    const FieldStats& f = s.field;
+    out << fmt::format("vrpd: {} samples, r {:.6g} to {:.6g}, rule {}, {} weighting; table of {} nodes within "
+                       "{:.3g} % of the source, L {:.4g}; {:.3f} s, {:.3g} points/s, {} rounds, {} darts, {:.1f} MiB "
+                       "of arrays, device {}{}\n",
+                       s.size(), f.r_min, f.r_max, sizing_rule_name(sizing.rule),
+                       sizing.weighting == Weighting::Density ? "density" : "uniform", f.table_nodes,
+                       100 * f.tabulation_error, f.lipschitz, s.stats.seconds, double(s.size()) / s.stats.seconds,
+                       s.stats.rounds, s.stats.darts, double(s.stats.peak_bytes) / (1 << 20), s.device,
+                       s.choice.empty() ? "" : " (auto: " + s.choice + ")");
+    const double bound = rule_lipschitz_bound(sizing.rule);
+    if (f.lipschitz > bound)
+        out << fmt::format("vrpd: warning: the field's L {:.4g} exceeds the {} rule's bound {} (Table 1): its quality "
+                           "guarantees lapse (--lipschitz {} enforces it)\n",
+                           f.lipschitz, sizing_rule_name(sizing.rule), bound, bound);
+    if (f.tabulation_error > 0.001)
+        out << fmt::format("vrpd: warning: the table is {:.3g} % from the source somewhere (more than 0.1 %): the "
+                           "lattice or the table's node budget stopped its refinement\n",
+                           100 * f.tabulation_error);
+}
+
+}  // namespace vrpd::cli
