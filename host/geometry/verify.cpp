@@ -279,4 +279,32 @@ Report verify(const std::vector<glm::dvec2>& pts, Radii radii, const Box& box) {
     return r;
 }
 
+SizingQuality sizing_quality(const std::vector<glm::dvec2>& pts, const std::vector<double>& radius,
+                             const Box& box) {
+    if (pts.size() != radius.size()) throw Error("sizing_quality: one radius per point");
+    const double r_max = radius.empty() ? 0 : *std::max_element(radius.begin(), radius.end());
+    const bool periodic = box.boundary == Boundary::Periodic;
+    const Delaunay dt = triangulate(pts, box, periodic ? std::min(3 * r_max, std::max(box.width, box.height)) : 0.0);
+    SizingQuality q;
+    q.edge_min = INFINITY;
+    q.sin_min = 1;
+    for (auto f = dt.finite_faces_begin(); f != dt.finite_faces_end(); ++f) {
+        if (!inside(dt.circumcenter(f), box)) continue;
+        ++q.triangles;
+        for (int i = 0; i < 3; ++i) {
+            const auto va = f->vertex(i), vb = f->vertex((i + 1) % 3), vc = f->vertex((i + 2) % 3);
+            const double angle = angle_at(va->point(), vb->point(), vc->point());
+            q.sin_min = std::min(q.sin_min, std::sin(angle * std::numbers::pi / 180.0));
+            add(q.angles, angle);
+            const double len = std::sqrt(CGAL::squared_distance(va->point(), vb->point()));
+            for (const double r : {radius[va->info()], radius[vb->info()]}) {
+                q.edge_min = std::min(q.edge_min, len / r);
+                q.edge_max = std::max(q.edge_max, len / r);
+            }
+        }
+    }
+    if (q.triangles == 0) q.edge_min = q.sin_min = 0;
+    return q;
+}
+
 }  // namespace vrpd

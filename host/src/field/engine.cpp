@@ -61,9 +61,6 @@ constexpr double kSplitAbove = 4.0;
 constexpr std::uint32_t kMaxRounds = 1000000;  // a bug guard, far above any run
 constexpr int kExpBias = 64;
 constexpr std::uint32_t kNever = UINT32_MAX;                    // exp_neg's index: weighted area exponent + 64
-// Bytes per expected sample: the sample (12), its share of leaves and tree (about 3 leaves of 17
-// bytes), active cells (two lists of 16-byte cells, a few per sample at the peak) and darts.
-constexpr double kBytesPerSample = 200;
 
 struct Cell {
     uvec2 corner;
@@ -345,7 +342,7 @@ std::uint64_t expected_field_samples(const FieldTable& t) {
 Sampling sample_field(const SampleOptions& o, const FieldTable& t) {
     const MemoryLimit limit = host_memory_limit();
     const double expected = double(expected_field_samples(t));
-    const double bytes = expected * kBytesPerSample + double(t.nodes.size()) * 8;
+    const double bytes = expected * kFieldBytesPerSample + double(t.nodes.size()) * 8;
     if (bytes > double(limit.bytes))
         throw Error(fmt::format("the field needs about {:.3g} samples and {:.0f} MiB, more than the {} ({:.0f} MiB)",
                                 expected, bytes / (1 << 20), limit.what, double(limit.bytes) / (1 << 20)));

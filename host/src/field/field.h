@@ -8,6 +8,11 @@
 
 namespace vrpd::detail {
 
+// Bytes per expected sample, at the peak: the sample (12), its share of the leaves and tree
+// (about 3 leaves of 17 bytes), the active cells (two lists of 16-byte cells, a few per sample)
+// and the darts.
+inline constexpr double kFieldBytesPerSample = 200;
+
 // Samples a maximal sampling of o.box under the field's rule, on the host's threads (o.threads;
 // one for Backend::Serial; the points do not depend on the count). Throws Error before it starts
 // if the expected samples would not fit in memory.

@@ -7,6 +7,9 @@
 // would take far more nodes than samples).
 #include "table.h"
 
+#include "field.h"
+#include "../plan.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -63,8 +66,12 @@ Draft draft(const FieldSource& f, const Box& box, std::uint32_t cells_x, std::ui
     for (std::uint32_t j = 0; j <= cells_y; ++j)
         for (std::uint32_t i = 0; i <= cells_x; ++i) {
             // On a torus the last row and column are the first: the field wraps.
+            // Past a free box's edge, the source there if it is a radius, else its value at the edge.
             const std::uint32_t si = periodic && i == cells_x ? 0 : i, sj = periodic && j == cells_y ? 0 : j;
-            d.values[j * row + i] = checked(f, std::min(si * h, box.width), std::min(sj * h, box.height));
+            const double x = si * h, y = sj * h, beyond = f(x, y);
+            d.values[j * row + i] = (x <= box.width && y <= box.height) || !(std::isfinite(beyond) && beyond > 0)
+                                        ? checked(f, std::min(x, box.width), std::min(y, box.height))
+                                        : beyond;
         }
     auto interp = [&](std::uint32_t i, std::uint32_t j, double tx, double ty) {
         const double* v = &d.values[j * row + i];
@@ -73,8 +80,10 @@ Draft draft(const FieldSource& f, const Box& box, std::uint32_t cells_x, std::ui
     for (std::uint32_t j = 0; j < cells_y && j * h < box.height; ++j)
         for (std::uint32_t i = 0; i < cells_x && i * h < box.width; ++i)
             for (auto [tx, ty] : {std::pair{0.5, 0.5}, {0.5, 0.0}, {0.0, 0.5}}) {
-                const double x = (i + tx) * h, y = (j + ty) * h;
-                if (x >= box.width || y >= box.height) continue;
+                // Points past a free box's edge are judged at the edge, inside the cell.
+                const double x = std::min((i + tx) * h, box.width), y = std::min((j + ty) * h, box.height);
+                tx = x / h - i;
+                ty = y / h - j;
                 const double v = checked(f, x, y);
                 d.error = std::max(d.error, std::abs(interp(i, j, tx, ty) - v) / v);
             }
@@ -213,7 +222,7 @@ std::uint32_t FieldTable::max_near(glm::uvec2 p, std::uint64_t reach) const {
 }
 
 FieldStats FieldTable::stats() const {
-    return {r_lo * quantum, r_hi * quantum, lipschitz, tabulation_error, std::uint64_t(nodes.size())};
+    return {box_lo * quantum, box_hi * quantum, lipschitz, tabulation_error, std::uint64_t(nodes.size())};
 }
 
 FieldTable tabulate(const Sizing& s, const Box& box) {
@@ -228,6 +237,18 @@ FieldTable tabulate(const Sizing& s, const Box& box) {
             lo = std::min(lo, v);
             hi = std::max(hi, v);
         }
+    // The samples to expect, 0.70 per r^2 of area (as for one radius), refused past memory.
+    double expected = 0;
+    for (std::uint32_t j = 0; j < kSurvey; ++j)
+        for (std::uint32_t i = 0; i < kSurvey; ++i) {
+            const double v = f(box.width * (i + 0.5) / kSurvey, box.height * (j + 0.5) / kSurvey);
+            expected += 0.70 * box.width * box.height / (kSurvey * kSurvey) / (v * v);
+        }
+    const MemoryLimit limit = host_memory_limit();
+    if (!(expected * kFieldBytesPerSample <= double(limit.bytes)))
+        throw Error(fmt::format("the field needs about {:.3g} samples and {:.0f} MiB, more than the {} ({:.0f} MiB)",
+                                expected, expected * kFieldBytesPerSample / (1 << 20), limit.what,
+                                double(limit.bytes) / (1 << 20)));
     const double short_side = std::min(box.width, box.height);
     if (periodic && hi >= short_side / 2)
         throw Error(fmt::format("the field's largest radius {:.6g} is too large for a periodic box of {} x {}: it must "
@@ -295,6 +316,21 @@ FieldTable tabulate(const Sizing& s, const Box& box) {
     }
     t.r_lo = *std::min_element(t.nodes.begin(), t.nodes.end());
     t.r_hi = *std::max_element(t.nodes.begin(), t.nodes.end());
+    // Over the box, r's extremes are at the corners of the table cells clipped to it: the nodes
+    // inside, the points where node lines meet the far edges, and the far corner.
+    t.box_lo = UINT32_MAX;
+    const std::uint32_t last_x = t.lattice.extent_x - 1, last_y = t.lattice.extent_y - 1;
+    for (std::uint32_t j = 0; j <= t.cells_y; ++j)
+        for (std::uint32_t i = 0; i <= t.cells_x; ++i) {
+            const std::uint64_t x = std::uint64_t(i) << t.cell_bits, y = std::uint64_t(j) << t.cell_bits;
+            if ((x > last_x && i > 0 && (std::uint64_t(i - 1) << t.cell_bits) > last_x) ||
+                (y > last_y && j > 0 && (std::uint64_t(j - 1) << t.cell_bits) > last_y))
+                continue;
+            const std::uint32_t r = t.radius({std::uint32_t(std::min<std::uint64_t>(x, last_x)),
+                                              std::uint32_t(std::min<std::uint64_t>(y, last_y))});
+            t.box_lo = std::min(t.box_lo, r);
+            t.box_hi = std::max(t.box_hi, r);
+        }
     // The interpolant's gradient is largest at a table cell's corner (|grad|^2 is convex on the cell).
     const double c = double(1u << t.cell_bits);
     for (std::uint32_t j = 0; j < t.cells_y; ++j)

@@ -29,7 +29,8 @@ struct FieldTable {
     // lo[k], hi[k]: the least and greatest node over blocks of 2^k x 2^k table cells (their
     // boundary nodes included), cells_x >> k (rounded up) per row.
     std::vector<std::vector<std::uint32_t>> lo, hi;
-    std::uint32_t r_lo = 0, r_hi = 0;          // over all nodes
+    std::uint32_t r_lo = 0, r_hi = 0;          // over all nodes (a free box's outer ones too)
+    std::uint32_t box_lo = 0, box_hi = 0;      // r's least and greatest over the box's lattice points
     double lipschitz = 0;                      // of the interpolant, exact
     double tabulation_error = 0;
     std::uint32_t rule = 0;

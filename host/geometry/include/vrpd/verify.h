@@ -50,4 +50,17 @@ struct Report {
 // Any nonempty set is judged, down to one point; min_distance is infinite without a pair.
 Report verify(const std::vector<glm::dvec2>& points, Radii radii, const Box& box);
 
+// Table 1's Delaunay columns for a sampling under a sizing field, over the triangles verify
+// counts (periodic: each once; free: circumcentre in the box): each edge's length as a factor of
+// r at either endpoint (least and greatest), the least sine of an angle, and the angles.
+struct SizingQuality {
+    std::uint64_t triangles = 0;
+    double edge_min = 0, edge_max = 0;  // |x - y| / r(x) over edges, both ends
+    double sin_min = 0;
+    Histogram angles{1.0, 180, {}};     // degrees
+};
+// radius[i] is r at points[i]; on a torus, triangles within 3 max(radius) of the box are built.
+SizingQuality sizing_quality(const std::vector<glm::dvec2>& points, const std::vector<double>& radius,
+                             const Box& box);
+
 }  // namespace vrpd

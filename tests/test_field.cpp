@@ -1,0 +1,310 @@
+// Sampling under a sizing field (paper section 5): the fixed-point field, the four rules'
+// samplings judged by check_sizing, parity of the backends, the constant field as the uniform
+// case, Eq. 12's density weighting, Lipschitz limiting, and refused input.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <random>
+
+#include "field/table.h"
+#include "vrpd/sizing.h"
+#include "support.h"
+#include "vrpd/sizing.h"
+
+using namespace vrpd;
+
+namespace {
+
+std::filesystem::path scratch_dir() {
+    static const vrpd::test::ScratchDir dir("vrpd_field_test");
+    return dir.path;
+}
+
+const SizingRule kRules[] = {SizingRule::Prior, SizingRule::Current, SizingRule::Bigger, SizingRule::Smaller};
+
+SampleOptions field_options(const std::string& expr, SizingRule rule, Boundary b, std::uint32_t seed) {
+    SampleOptions o;
+    o.box.boundary = b;
+    o.seed = seed;
+    o.backend = Backend::Cpu;
+    o.sizing = Sizing{};
+    o.sizing->expression = expr;
+    o.sizing->rule = rule;
+    return o;
+}
+
+// A greyscale binary PGM whose grey is x across the image (a known L: (r_max - r_min) / width).
+std::string write_gradient_pgm(const std::string& name, int w, int h) {
+    const std::string path = (scratch_dir() / name).string();
+    std::ofstream out(path, std::ios::binary);
+    out << "P5\n" << w << " " << h << "\n255\n";
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) out.put(char(std::lround(255.0 * x / (w - 1))));
+    return path;
+}
+
+SizingReport judge(const Sampling& s, const Sizing& sizing) {
+    const SizingField field(sizing, s.box);
+    const FieldStats f = field.stats();
+    std::vector<glm::dvec2> pts(s.size());
+    for (std::size_t i = 0; i < s.size(); ++i) pts[i] = s.point(i);
+    return check_sizing(pts, std::cref(field), sizing.rule, s.box, 1e-9, {f.r_min, f.r_max, f.lipschitz, 0});
+}
+
+}  // namespace
+
+TEST_CASE("field_interpolate is the floor of the exact bilinear interpolant", "[field]") {
+    std::mt19937_64 rng(7);
+    for (int i = 0; i < 20000; ++i) {
+        const std::uint32_t bits = std::uint32_t(rng() % (shared::MAX_FIELD_CELL_BITS + 1));
+        const std::uint64_t c = std::uint64_t(1) << bits;
+        const glm::uvec4 v{std::uint32_t(rng()), std::uint32_t(rng()), std::uint32_t(rng()), std::uint32_t(rng())};
+        const glm::uvec2 f{std::uint32_t(rng() % c), std::uint32_t(rng() % c)};
+        const unsigned __int128 s = (unsigned __int128)v.x * (c - f.x) * (c - f.y) +
+                                    (unsigned __int128)v.y * f.x * (c - f.y) + (unsigned __int128)v.z * (c - f.x) * f.y +
+                                    (unsigned __int128)v.w * f.x * f.y;
+        const std::uint32_t r = shared::field_interpolate(v, f, bits);
+        REQUIRE(r == std::uint32_t(s / ((unsigned __int128)c * c)));
+        REQUIRE(r >= std::min({v.x, v.y, v.z, v.w}));
+        REQUIRE(r <= std::max({v.x, v.y, v.z, v.w}));
+    }
+}
+
+TEST_CASE("a tabulated ramp is within 0.1 % of its source, with its L measured", "[field]") {
+    Sizing s;
+    s.expression = "0.001 + 0.3*x";
+    const Box box{1, 1, Boundary::Free};
+    const SizingField field(s, box);
+    const FieldStats f = field.stats();
+    CHECK(f.tabulation_error <= 0.001);
+    CHECK(f.r_min == Approx(0.001).epsilon(1e-3));
+    CHECK(f.r_max == Approx(0.301).epsilon(1e-3));
+    CHECK(f.lipschitz == Approx(0.3).epsilon(1e-3));
+    std::mt19937_64 rng(3);
+    std::uniform_real_distribution<double> u(0, 1);
+    for (int i = 0; i < 2000; ++i) {
+        const glm::dvec2 p(u(rng), u(rng));
+        REQUIRE(field(p) == Approx(0.001 + 0.3 * p.x).epsilon(1e-3));
+    }
+}
+
+TEST_CASE("min_over and max_over bound r over a block, exactly inside one table cell", "[field]") {
+    Sizing s;
+    s.expression = "0.02 + 0.01*sin(9*x)*cos(7*y)";
+    const detail::FieldTable t = detail::tabulate(s, {1, 1, Boundary::Periodic});
+    std::mt19937_64 rng(5);
+    for (int i = 0; i < 3000; ++i) {
+        const std::uint32_t side = 1u << (rng() % 20);
+        const glm::uvec2 a(std::uint32_t(rng() % (t.lattice.extent_x - side)),
+                           std::uint32_t(rng() % (t.lattice.extent_y - side)));
+        const glm::uvec2 b(a.x + side - 1, a.y + side - 1);
+        const std::uint32_t lo = t.min_over(a, b), hi = t.max_over(a, b);
+        std::uint32_t seen_lo = UINT32_MAX, seen_hi = 0;
+        for (int k = 0; k < 64; ++k) {
+            const glm::uvec2 p(a.x + std::uint32_t(rng() % side), a.y + std::uint32_t(rng() % side));
+            seen_lo = std::min(seen_lo, t.radius(p));
+            seen_hi = std::max(seen_hi, t.radius(p));
+        }
+        for (glm::uvec2 p : {a, b, glm::uvec2(a.x, b.y), glm::uvec2(b.x, a.y)}) {
+            seen_lo = std::min(seen_lo, t.radius(p));
+            seen_hi = std::max(seen_hi, t.radius(p));
+        }
+        REQUIRE(lo <= seen_lo);
+        REQUIRE(hi >= seen_hi);
+        if ((a.x >> t.cell_bits) == (b.x >> t.cell_bits) && (a.y >> t.cell_bits) == (b.y >> t.cell_bits)) {
+            // The interpolant is bilinear there: its extremes are at the corners.
+            REQUIRE(lo == seen_lo);
+            REQUIRE(hi == seen_hi);
+        }
+    }
+}
+
+TEST_CASE("each rule on a ramp, a rectified sine and an image: conflict-free and maximal under it", "[field]") {
+    const std::string image = write_gradient_pgm("gradient.pgm", 64, 48);
+    struct Field {
+        Sizing sizing;
+        Boundary boundary;
+    };
+    std::vector<Field> fields(3);
+    fields[0].sizing.expression = "0.004 + 0.06*x";
+    fields[0].boundary = Boundary::Free;
+    fields[1].sizing.expression = "0.02 + (0.004-0.02)*abs(sin(4*pi*d))";
+    fields[1].boundary = Boundary::Periodic;
+    fields[2].sizing.image = image;
+    fields[2].sizing.r_min = 0.005;
+    fields[2].sizing.r_max = 0.03;
+    fields[2].boundary = Boundary::Free;
+    for (const Field& f : fields)
+        for (SizingRule rule : kRules)
+            for (std::uint32_t seed : {1u, 2u}) {
+                SampleOptions o = field_options("", rule, f.boundary, seed);
+                o.sizing = f.sizing;
+                o.sizing->rule = rule;
+                const Sampling s = sample(o);
+                INFO(f.sizing.expression << f.sizing.image << " rule " << sizing_rule_name(rule) << " seed " << seed);
+                REQUIRE(s.size() > 500);
+                REQUIRE(s.local_radius.size() == s.size());
+                const SizingReport r = judge(s, *o.sizing);
+                CHECK(r.conflicts == 0);
+                CHECK(r.uncovered == 0);
+            }
+    // The image's L: its steepest step between pixel centres (grey steps of 4 or 5 levels of 255
+    // over 1/64 of the box), and at least its mean slope, (r_max - r_min) / width.
+    int step = 0;
+    for (int x = 0; x + 1 < 64; ++x)
+        step = std::max<int>(step, int(std::lround(255.0 * (x + 1) / 63) - std::lround(255.0 * x / 63)));
+    const SizingField img(fields[2].sizing, {1, 1, Boundary::Free});
+    CHECK(img.stats().lipschitz <= 0.025 * step / 255.0 * 64 * 1.01);
+    CHECK(img.stats().lipschitz >= 0.025 * 0.99);
+}
+
+TEST_CASE("sizing fields: cpu on 1 or 3 threads and serial give the same samples", "[field]") {
+    for (SizingRule rule : kRules)
+        for (Weighting w : {Weighting::Uniform, Weighting::Density}) {
+            SampleOptions o = field_options("0.01 + 0.04*x*y", rule, Boundary::Periodic, 9);
+            o.sizing->weighting = w;
+            o.threads = 1;
+            const Sampling one = sample(o);
+            o.threads = 3;
+            const Sampling three = sample(o);
+            o.backend = Backend::Serial;
+            const Sampling serial = sample(o);
+            INFO(sizing_rule_name(rule));
+            REQUIRE(one.size() > 500);
+            CHECK(one.lattice == three.lattice);
+            CHECK(one.lattice == serial.lattice);
+            CHECK(one.local_radius == serial.local_radius);
+        }
+}
+
+TEST_CASE("a constant field under every rule is the uniform sampling at that radius, point for point", "[field]") {
+    for (Boundary b : {Boundary::Periodic, Boundary::Free}) {
+        SampleOptions uniform;
+        uniform.radius = 0.02;
+        uniform.box.boundary = b;
+        uniform.seed = 4;
+        uniform.backend = Backend::Cpu;
+        const Sampling u = sample(uniform);
+        for (SizingRule rule : kRules) {
+            const Sampling s = sample(field_options("0.02", rule, b, 4));
+            CHECK(s.lattice == u.lattice);
+            CHECK(s.quantum == u.quantum);
+            CHECK(s.local_radius == std::vector<double>(u.size(), 0.02));
+        }
+    }
+}
+
+TEST_CASE("Eq. 12: an early prefix follows 1/r^2 along a ramp with density weighting, the area without", "[field]") {
+    // Ramps r = a (1 + 9 x) on a free unit box, counted in 10 columns of x. Density weighting:
+    // the first 4 % of 12 samplings at a = 0.004 (about 4 400 samples each); their disks cover
+    // the same share of every column, so the law is 1/r^2 throughout. Uniform weighting: the
+    // first 3 samples of 100 samplings at a = 0.008 (under 0.3 % of about 1 100, covering at most
+    // 6 % of a column), uniform over the box. Chi-square with 9 degrees of freedom against each
+    // law: the threshold 27.9 is its 0.999 quantile, so a correct law fails once in a thousand runs.
+    std::vector<double> inverse_square(10), area(10, 0.1);
+    double total = 0;
+    for (int b = 0; b < 10; ++b) {
+        // The integral of 1/r^2 over the column, up to the factor 1/a^2: [-1 / (9 (1 + 9 x))].
+        inverse_square[b] = (1 / (1 + 0.9 * b) - 1 / (1 + 0.9 * (b + 1))) / 9;
+        total += inverse_square[b];
+    }
+    for (double& v : inverse_square) v /= total;
+    auto chi2 = [](const std::vector<double>& counts, const std::vector<double>& law) {
+        double n = 0, c = 0;
+        for (double v : counts) n += v;
+        for (std::size_t b = 0; b < counts.size(); ++b) c += std::pow(counts[b] - n * law[b], 2) / (n * law[b]);
+        return c;
+    };
+    for (Weighting w : {Weighting::Density, Weighting::Uniform}) {
+        const bool density = w == Weighting::Density;
+        std::vector<double> counts(10, 0);
+        for (std::uint32_t seed = 0; seed < (density ? 12u : 100u); ++seed) {
+            SampleOptions o = field_options(density ? "0.004 + 0.036*x" : "0.008 + 0.072*x", SizingRule::Smaller,
+                                            Boundary::Free, seed);
+            o.sizing->weighting = w;
+            const Sampling s = sample(o);
+            const std::size_t prefix = density ? s.size() * 4 / 100 : 3;
+            for (std::size_t i = 0; i < prefix; ++i) counts[std::min<std::size_t>(9, std::size_t(s.point(i).x * 10))]++;
+        }
+        const double to_density = chi2(counts, inverse_square), to_area = chi2(counts, area);
+        INFO((density ? "density" : "uniform") << ": chi2 to 1/r^2 " << to_density << ", to area " << to_area);
+        CHECK((density ? to_density : to_area) < 27.9);
+        CHECK((density ? to_area : to_density) > 27.9);
+    }
+}
+
+TEST_CASE("--lipschitz: the largest L-Lipschitz field below the source", "[field]") {
+    Sizing s;
+    s.expression = "0.005 + 0.4*abs(x - 0.5)";
+    s.lipschitz = 0.05;
+    const Box box{1, 1, Boundary::Free};
+    const SizingField limited(s, box);
+    // On the nodes the field is L-Lipschitz; between them the bilinear interpolant's gradient
+    // may reach sqrt(2) L.
+    CHECK(limited.stats().lipschitz <= 0.05 * std::sqrt(2.0) * 1.01);
+    CHECK(limited.stats().lipschitz >= 0.05 * 0.99);
+    // Away from the kink (where the table rounds the V off), the field is the cone
+    // min_y r(y) + L |x - y|: here 0.005 + 0.05 |x - 0.5| below the source's 0.4 slope.
+    for (double x : {0.05, 0.2, 0.35, 0.65, 0.8, 0.95})
+        for (double y : {0.1, 0.5, 0.9}) {
+            // The least node lies within half a table cell of the kink: the cone rises by up to
+            // 0.4 of that.
+            const double cell = limited.quantum() * double(1u << limited.table().cell_bits);
+            REQUIRE(limited({x, y}) == Approx(0.005 + 0.05 * std::abs(x - 0.5)).margin(0.2 * cell + 1e-6));
+        }
+    SampleOptions o = field_options("", SizingRule::Bigger, Boundary::Free, 3);
+    o.sizing = s;
+    o.sizing->rule = SizingRule::Bigger;
+    const Sampling smp = sample(o);
+    const SizingReport r = judge(smp, *o.sizing);
+    CHECK(r.conflicts == 0);
+    CHECK(r.uncovered == 0);
+}
+
+TEST_CASE("bad sizing input is refused with its reason", "[field]") {
+    auto refused = [](SampleOptions o) {
+        try {
+            sample(o);
+        } catch (const Error& e) {
+            return std::string(e.what());
+        }
+        return std::string("accepted");
+    };
+    const Boundary free = Boundary::Free;
+    CHECK_THAT(refused(field_options("0.01 +* x", SizingRule::Prior, free, 0)), Catch::Contains("^"));
+    CHECK_THAT(refused(field_options("0.01 - x", SizingRule::Prior, free, 0)), Catch::Contains("finite number > 0"));
+    CHECK_THAT(refused(field_options("sqrt(x - 0.5)", SizingRule::Prior, free, 0)), Catch::Contains("nan"));
+    CHECK_THAT(refused(field_options("3e-5 + 1e-6*x", SizingRule::Prior, free, 0)), Catch::Contains("MiB, more than"));
+    CHECK_THAT(refused(field_options("1e-9 + 1e-10*x", SizingRule::Prior, free, 0)), Catch::Contains("MiB, more than"));
+    SampleOptions gpu = field_options("0.01 + 0.01*x", SizingRule::Prior, free, 0);
+    gpu.backend = Backend::Gpu;
+    CHECK_THAT(refused(gpu), Catch::Contains("cpu and serial backends"));
+    SampleOptions both = field_options("0.01", SizingRule::Prior, free, 0);
+    both.radius = 0.01;
+    CHECK_THAT(refused(both), Catch::Contains("not both"));
+    SampleOptions lip = field_options("0.01", SizingRule::Prior, free, 0);
+    lip.sizing->lipschitz = -0.5;
+    CHECK_THAT(refused(lip), Catch::Contains("Lipschitz"));
+
+    auto image = [&](const std::string& path, double lo, double hi) {
+        SampleOptions o = field_options("", SizingRule::Current, free, 0);
+        o.sizing->image = path;
+        o.sizing->r_min = lo;
+        o.sizing->r_max = hi;
+        return refused(o);
+    };
+    const std::string grey = write_gradient_pgm("grey.pgm", 8, 8);
+    CHECK_THAT(image(grey, 0.02, 0.01), Catch::Contains("r_min <= r_max"));
+    CHECK_THAT(image((scratch_dir() / "missing.png").string(), 0.01, 0.02), Catch::Contains("cannot read"));
+    const std::string corrupt = (scratch_dir() / "corrupt.png").string();
+    std::ofstream(corrupt, std::ios::binary) << "\x89PNG\r\n\x1a\n garbage";
+    CHECK_THAT(image(corrupt, 0.01, 0.02), Catch::Contains("not a PNG or binary PGM"));
+    const std::string colour = (scratch_dir() / "colour.ppm").string();
+    {
+        std::ofstream out(colour, std::ios::binary);
+        out << "P6\n2 2\n255\n" << std::string(12, '\x40');
+    }
+    CHECK_THAT(image(colour, 0.01, 0.02), Catch::Contains("must be greyscale"));
+}
