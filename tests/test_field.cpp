@@ -8,7 +8,9 @@
 #include <fstream>
 #include <random>
 
+#include "cli_support.h"
 #include "field/table.h"
+#include "vrpd/io.h"
 #include "vrpd/sizing.h"
 #include "support.h"
 #include "vrpd/sizing.h"
@@ -307,4 +309,39 @@ TEST_CASE("bad sizing input is refused with its reason", "[field]") {
         out << "P6\n2 2\n255\n" << std::string(12, '\x40');
     }
     CHECK_THAT(image(colour, 0.01, 0.02), Catch::Contains("must be greyscale"));
+}
+
+TEST_CASE("sample --sizing from the command line: x,y,r rows, and bad input refused before any file", "[field][cli]") {
+    using test::cli;
+    const auto dir = test::scratch();
+    const std::string out = (dir / "ramp.csv").string();
+    const test::Run ok = cli("sample --sizing \"0.01 + 0.05*x\" --rule smaller --boundary free --seed 3 -o " + out);
+    REQUIRE(ok.code == 0);
+    CHECK(ok.err.find("rule smaller, uniform weighting") != std::string::npos);
+    const PointSet set = read_point_set(out);
+    REQUIRE(set.columns == std::vector<std::string>{"r"});
+    REQUIRE(set.points.size() > 500);
+    for (std::size_t i = 0; i < set.points.size(); ++i)
+        REQUIRE((*set.column("r"))[i] == Approx(0.01 + 0.05 * set.points[i].x).epsilon(2.5e-4));  // the lattice rounding
+    // A field above the rule's Lipschitz bound is sampled, with a warning.
+    const test::Run steep = cli("sample --sizing \"0.01 + 0.8*x\" --rule bigger --boundary free -o " + out);
+    CHECK(steep.code == 0);
+    CHECK(steep.err.find("warning: the field's L 0.8") != std::string::npos);
+    const std::string never = (dir / "never.csv").string();
+    for (const std::string& bad :
+         {std::string("--sizing \"0.01 +* x\" --rule prior"), std::string("--sizing \"0.01 - x\" --rule prior"),
+          std::string("--sizing 0.01"), std::string("--sizing 0.01 --rule widest"),
+          std::string("--sizing 0.01 --rule prior --radius 0.01"), std::string("--sizing-image x.png --rule prior"),
+          std::string("--sizing-image missing.png --r-min 0.01 --r-max 0.02 --rule prior"),
+          std::string("--sizing-image missing.png --r-min 0.02 --r-max 0.01 --rule prior"),
+          std::string("--sizing \"0.01 + 0.01*x\" --rule prior --lipschitz -1"),
+          std::string("--sizing \"0.01 + 0.01*x\" --rule prior --weighting heavy"),
+          std::string("--sizing \"3e-5 + 1e-6*x\" --rule prior"),
+          std::string("--sizing \"0.01 + 0.01*x\" --rule prior --device gpu")}) {
+        const test::Run r = cli("sample " + bad + " -o " + never);
+        INFO(bad << "\n" << r.err);
+        CHECK(r.code == 2);
+        CHECK(std::count(r.err.begin(), r.err.end(), '\n') == (bad.find("+*") != std::string::npos ? 3 : 1));
+        CHECK(!std::filesystem::exists(never));
+    }
 }

@@ -9,6 +9,7 @@
 #include "cli_support.h"
 #include "support.h"
 #include "vrpd/sizing.h"
+#include "vrpd/verify.h"
 
 using namespace vrpd;
 
@@ -160,5 +161,56 @@ TEST_CASE("check --sizing from the command line", "[sizing][cli]") {
         INFO(bad << "\n" << r.err);
         CHECK(r.code == 2);
         CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+    }
+}
+
+TEST_CASE("Table 1 measured: Delaunay edges and angles within each rule's bounds, and its other columns", "[sizing]") {
+    // A periodic field with L = 0.04 * 2 pi = 0.25, below every rule's bound.
+    Sizing sizing;
+    sizing.expression = "0.01 + 0.04*(1 + sin(2*pi*x))";
+    const Box box{1, 1, Boundary::Periodic};
+    const SizingField field(sizing, box);
+    const double L = field.stats().lipschitz;
+    REQUIRE(L == Approx(0.08 * std::numbers::pi).epsilon(1e-3));
+    const FieldSummary summary{field.stats().r_min, field.stats().r_max, L, 0};
+    const auto judge = [&](const std::vector<glm::dvec2>& p, SizingRule rule) {
+        return check_sizing(p, std::cref(field), rule, box, 1e-9, summary);
+    };
+    for (const SizingRule rule : {SizingRule::Prior, SizingRule::Current, SizingRule::Bigger, SizingRule::Smaller}) {
+        SampleOptions o;
+        o.box = box;
+        o.seed = 5;
+        o.backend = Backend::Cpu;
+        o.sizing = sizing;
+        o.sizing->rule = rule;
+        const Sampling s = sample(o);
+        std::vector<glm::dvec2> p(s.size());
+        for (std::size_t i = 0; i < s.size(); ++i) p[i] = s.point(i);
+        const SizingQuality q = sizing_quality(p, s.local_radius, box);
+        const bool half = rule == SizingRule::Prior || rule == SizingRule::Bigger;  // Max L 1/2, else 1
+        const double edge_min = rule == SizingRule::Bigger ? 1 : 1 / (1 + L);
+        const double edge_max = half ? 2 / (1 - 2 * L) : 2 / (1 - L);
+        const double sin_min = half ? (1 - 2 * L) / 2 : (1 - L) / 2;
+        INFO(sizing_rule_name(rule) << ": " << s.size() << " samples, edges " << q.edge_min << ".." << q.edge_max
+                                    << " r, sin " << q.sin_min);
+        REQUIRE(q.triangles > 1000);
+        CHECK(q.edge_min >= edge_min * (1 - 1e-6));
+        CHECK(q.edge_max <= edge_max);
+        CHECK(q.sin_min >= sin_min);
+        // Order independence: the symmetric rules hold in any order (here reversed); prior and
+        // current have an order that breaks them (reversed, here).
+        const std::vector<glm::dvec2> reversed(p.rbegin(), p.rend());
+        if (rule == SizingRule::Bigger || rule == SizingRule::Smaller)
+            CHECK(judge(reversed, rule).conflicts == 0);
+        else
+            CHECK(judge(reversed, rule).conflicts > 0);
+        // Full coverage (every point within some sample's own r, i.e. prior's coverage): smaller
+        // has it, bigger not. Conflict free (no sample inside another's own r, i.e. bigger's
+        // conflicts in any order): bigger has it, smaller not.
+        if (rule == SizingRule::Smaller) {
+            CHECK(judge(p, SizingRule::Prior).uncovered == 0);
+            CHECK(judge(p, SizingRule::Bigger).conflicts > 0);
+        }
+        if (rule == SizingRule::Bigger) CHECK(judge(p, SizingRule::Prior).uncovered > 0);
     }
 }
