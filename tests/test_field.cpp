@@ -237,7 +237,7 @@ TEST_CASE("Eq. 12: an early prefix follows 1/r^2 along a ramp with density weigh
     }
 }
 
-TEST_CASE("--lipschitz: the largest L-Lipschitz field below the source", "[field]") {
+TEST_CASE("Lipschitz limiting: the largest L-Lipschitz field below the source", "[field]") {
     Sizing s;
     s.expression = "0.005 + 0.4*abs(x - 0.5)";
     s.lipschitz = 0.05;
