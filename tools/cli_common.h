@@ -82,6 +82,7 @@ int run_plot(const PlotOptions& options);
 struct FiguresOptions {
     std::string out, device = "auto";
     unsigned sets = 10;
+    bool full = false;  // Figure 16 at the paper's smallest radius (about 2.2 M samples)
 };
 int run_figures(const FiguresOptions& options);
 

@@ -33,13 +33,6 @@ constexpr Figure kFigures[] = {
     {"10", "Uniform random points", 0, 0, 0, 2010, 2010, ""},
 };
 
-// Figures whose feature vrpd does not have yet: listed, not faked.
-constexpr std::pair<const char*, const char*> kNotBuilt[] = {
-    {"11", "spatially varying radii, the four conflict rules (not built yet)"},
-    {"12", "a stippled image resampled (spatially varying radii are not built yet)"},
-    {"16", "bigger-disk sampling of a rectified sine (spatially varying radii are not built yet)"},
-};
-
 Sets make_sets(const Figure& f, unsigned count, Backend backend, std::string& device) {
     Sets sets;
     for (unsigned s = 1; s <= count; ++s) {
@@ -119,9 +112,7 @@ int run_figures(const FiguresOptions& o) {
         std::cerr << fmt::format("vrpd: figure {}: {:.1f} points per set, delta_x {:.3f}\n", f.id,
                                  j["n"].get<double>(), j["delta_x"].get<double>());
     }
-    body += "<h2>Not reproduced yet</h2>\n<ul>\n";
-    for (const auto& [id, what] : kNotBuilt) body += fmt::format("<li>Figure {}: {}</li>\n", id, what);
-    body += "</ul>\n";
+    body += sizing_figures(dir, backend, o.full, all);
     std::ofstream html(dir.path("index.html"));
     html << "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>vrpd: the paper's figures</title>\n"
             "<style>body{font-family:sans-serif;max-width:1400px;margin:auto}td,th{padding:2px 10px;"

@@ -40,4 +40,9 @@ void write_json(const std::string& path, const Json& j);
 Json analyse(const Sets& sets, const Box& box, std::optional<RadiiGiven> radii, SpectrumOptions spectrum_options,
              const ReportDir& dir, const std::string& stem, const std::string& name);
 
+// Figures 11, 12 and 16 (spatially varying radii), drawn into `dir`; their numbers go to
+// all["11"], ["12"], ["16"]. Returns their part of the page. `full`: Figure 16 at the paper's
+// scale (about 2.2 M samples).
+std::string sizing_figures(const ReportDir& dir, Backend backend, bool full, Json& all);
+
 }  // namespace vrpd::cli

@@ -300,6 +300,7 @@ int main(int argc, char** argv) {
     figures_cmd->add_option("--out", figures.out, "directory for the figures")->required();
     figures_cmd->add_option("--sets", figures.sets, "point sets per figure, seeds 1.. (default 10)");
     figures_cmd->add_option("--device", figures.device, "auto (default), gpu, cpu or serial");
+    figures_cmd->add_flag("--full", figures.full, "Figure 16 at the paper's scale (about 2.2 M samples)");
 #endif
 
     cli::BenchOptions bench;
