@@ -1,7 +1,8 @@
 // `vrpd bench`: best-of-N wall time, points/s, darts per sample and peak memory per (radii,
 // device) on the unit torus: one radius r, two radii Rf < Rc (paper section 3), and with
-// --hierarchy K, ten-step-style discrete hierarchies to each r (section 4). Each case runs in a
-// child process so its peak RSS is its own.
+// --hierarchy K, ten-step-style discrete hierarchies to each r (section 4), and with --fields,
+// sizing fields under each rule (section 5; host backends). Each case runs in a child process so
+// its peak RSS is its own.
 #include <chrono>
 #include <cstring>
 #include <fstream>
@@ -16,6 +17,7 @@
 #include "cli_common.h"
 #include "vrpd/hierarchy.h"
 #include "vrpd/io.h"
+#include "vrpd/sizing.h"
 
 namespace vrpd::cli {
 namespace {
@@ -36,17 +38,43 @@ struct CaseResult {
 struct Radii {
     double rf, rc;
     unsigned steps;  // a discrete hierarchy of this many steps (S = steps), or 0
+    std::string field;  // a sizing field's name (kFields), with `rule`; rf and rc then unused
+    SizingRule rule = SizingRule::Smaller;
 };
+
+// The sizing fields of --fields: Figure 11's ramp (free box) and a rectified sine (periodic).
+struct NamedField {
+    const char* name;
+    const char* expression;
+    Boundary boundary;
+};
+constexpr NamedField kFields[] = {
+    {"ramp", "0.001 + 0.3*x", Boundary::Free},
+    {"sine", "0.015 + (0.0015 - 0.015)*abs(sin(8*pi*d))", Boundary::Periodic},
+};
+
+SampleOptions options_for(const Radii& radii) {
+    SampleOptions opt;
+    for (const NamedField& f : kFields)
+        if (radii.field == f.name) {
+            opt.sizing = Sizing{};
+            opt.sizing->expression = f.expression;
+            opt.sizing->rule = radii.rule;
+            opt.box.boundary = f.boundary;
+            return opt;
+        }
+    opt.radius = radii.rf;
+    opt.coverage = radii.rc;
+    opt.hierarchy.steps = radii.steps;
+    return opt;
+}
 
 CaseResult run_case(Radii radii, Backend backend, const BenchOptions& o) {
     CaseResult r{};
     try {
-        SampleOptions opt;
-        opt.radius = radii.rf;
-        opt.coverage = radii.rc;
+        SampleOptions opt = options_for(radii);
         opt.seed = o.seed;
         opt.backend = backend;
-        opt.hierarchy.steps = radii.steps;
         r.best_seconds = 1e300;
         for (unsigned i = 0; i < o.repeat; ++i) {
             Sampling s = sample(opt);
@@ -113,13 +141,14 @@ int run_bench(const BenchOptions& o) {
     for (double rc : o.coverage_radii) cases.push_back({rc / o.coverage_ratio, rc, 0});
     if (o.hierarchy_steps != 0)
         for (double r : o.radii) cases.push_back({r, r, o.hierarchy_steps});
-    for (const Radii& c : cases) {
-        SampleOptions check;
-        check.radius = c.rf;
-        check.coverage = c.rc;
-        check.hierarchy.steps = c.steps;
-        validate(check);
+    for (const std::string& name : o.fields) {
+        bool known = false;
+        for (const NamedField& f : kFields) known = known || name == f.name;
+        if (!known) throw Error(fmt::format("unknown field '{}': use ramp or sine", name));
+        for (SizingRule rule : {SizingRule::Prior, SizingRule::Current, SizingRule::Bigger, SizingRule::Smaller})
+            cases.push_back({0, 0, 0, name, rule});
     }
+    for (const Radii& c : cases) validate(options_for(c));
     if (!o.json.empty()) check_writable(o.json);
 
     nlohmann::json rows = nlohmann::json::array();
@@ -131,7 +160,10 @@ int run_bench(const BenchOptions& o) {
         std::string label =
             radii.rf == radii.rc ? fmt::format("{}", radii.rf) : fmt::format("{}/{}", radii.rf, radii.rc);
         if (radii.steps != 0) label += fmt::format(" h{}", radii.steps);
+        if (!radii.field.empty()) label = radii.field + " " + sizing_rule_name(radii.rule);
         for (Backend b : backends) {
+            // A varying field has no Vulkan kernels: its rows run on the host backends only.
+            if (!radii.field.empty() && b == Backend::Gpu) continue;
             CaseResult c = run_in_child(radii, b, o);
             if (!c.ok) {
                 std::cout << fmt::format("{:>13} {:>7}  error: {}\n", label, backend_name(b), c.error);
@@ -142,7 +174,8 @@ int run_bench(const BenchOptions& o) {
             const double pps = double(c.samples) / c.best_seconds;
             std::cout << fmt::format(
                 "{:>13} {:>7} {:>9} {:>8.5f} {:>9.3f} {:>10.3g} {:>8.2f} {:>7.2f} {:>9.1f} {:>8.1f} {:>8.1f}  {}\n",
-                label, backend_name(b), c.samples, double(c.samples) * radii.rc * radii.rc, c.best_seconds, pps,
+                label, backend_name(b), c.samples, radii.field.empty() ? double(c.samples) * radii.rc * radii.rc : 0.0,
+                c.best_seconds, pps,
                 1e6 / pps, double(c.darts) / double(c.samples), c.peak_bytes / (1 << 20),
                 c.peak_bytes / double(c.samples), c.array_bytes / double(c.samples), c.device);
             if (radii.steps != 0)
@@ -150,6 +183,8 @@ int run_bench(const BenchOptions& o) {
             std::cout.flush();
             rows.push_back({{"rf", radii.rf},
                             {"rc", radii.rc},
+                            {"field", radii.field},
+                            {"rule", sizing_rule_name(radii.rule)},
                             {"device", backend_name(b)},
                             {"device_name", c.device},
                             {"samples", c.samples},

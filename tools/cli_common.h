@@ -91,6 +91,7 @@ struct BenchOptions {
     std::vector<double> coverage_radii{0.002};  // two-radii rows: Rc, with Rf = Rc / coverage_ratio
     double coverage_ratio = 2.0;
     unsigned hierarchy_steps = 0;  // rows of discrete:K hierarchies to each one-radius r; 0: none
+    std::vector<std::string> fields;  // rows of these sizing fields (ramp, sine) under each rule
     std::vector<std::string> devices{"gpu", "cpu", "serial"};
     unsigned repeat = 3;
     std::uint32_t seed = 1;

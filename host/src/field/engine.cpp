@@ -92,7 +92,11 @@ private:
     std::uint64_t cover_reach(uvec2 x, std::uint32_t r) const;
     std::uint64_t grown_reach(uvec2 a, uvec2 b, std::uint32_t r_hi) const;
     bool conflicts(uvec2 p, std::uint32_t r) const;
-    bool covered(uvec2 a, uvec2 b) const;
+    // The samples that may conflict with some point of [a, b]: every sample that can cover any
+    // part of it (the reach of [a, b] holds the reach of each part).
+    void gather(uvec2 a, uvec2 b, std::vector<std::uint32_t>& out) const;
+    // Does one of `near` cover every point of [a, b] under the rule (f's least value over it)?
+    bool covered_by(const std::vector<std::uint32_t>& near, uvec2 a, uvec2 b) const;
     Cell make_cell(uvec2 corner, std::uint32_t bits, std::uint32_t leaf) const;
     uvec2 far_corner(const Cell& c) const {
         const std::uint64_t s = (std::uint64_t(1) << c.bits) - 1;
@@ -165,16 +169,23 @@ bool FieldSampler::conflicts(uvec2 p, std::uint32_t r) const {
     });
 }
 
-bool FieldSampler::covered(uvec2 a, uvec2 b) const {
-    const std::uint32_t lo = t_.min_over(a, b), hi = t_.max_over(a, b);
-    return tree_.near(a, b, reach(a, b, hi), [&](std::uint32_t leaf) {
-        const std::uint32_t s = tree_.sample(leaf);
-        if (s == FieldQuadtree::kNone) return false;
+void FieldSampler::gather(uvec2 a, uvec2 b, std::vector<std::uint32_t>& out) const {
+    out.clear();
+    tree_.near(a, b, reach(a, b, t_.max_over(a, b)), [&](std::uint32_t leaf) {
+        if (tree_.sample(leaf) != FieldQuadtree::kNone) out.push_back(tree_.sample(leaf));
+        return false;
+    });
+}
+
+bool FieldSampler::covered_by(const std::vector<std::uint32_t>& near, uvec2 a, uvec2 b) const {
+    const std::uint32_t lo = t_.min_over(a, b);
+    for (std::uint32_t s : near) {
         const uvec2 x = lattice_[s];
         std::uint64_t far = 0;
         for (uvec2 c : {a, b, uvec2(a.x, b.y), uvec2(b.x, a.y)}) far = std::max(far, shared::distance2(t_.lattice, x, c));
-        return shared::field_conflict(shared::rule_f(rule_, radii_[s], lo), far);
-    });
+        if (shared::field_conflict(shared::rule_f(rule_, radii_[s], lo), far)) return true;
+    }
+    return false;
 }
 
 Cell FieldSampler::make_cell(uvec2 corner, std::uint32_t bits, std::uint32_t leaf) const {
@@ -187,6 +198,7 @@ Cell FieldSampler::make_cell(uvec2 corner, std::uint32_t bits, std::uint32_t lea
 }
 
 double FieldSampler::balance() {
+    std::vector<std::uint32_t> near;
     for (;;) {
         double area = 0;
         for (const Cell& c : cells_) area += std::ldexp(1.0, exponent(c));
@@ -199,12 +211,17 @@ double FieldSampler::balance() {
                 continue;
             }
             split = true;
+            near.clear();
             const std::uint32_t half = 1u << (c.bits - 1);
             for (std::uint32_t k = 0; k < 4; ++k) {
                 const uvec2 corner(c.corner.x + (k & 1) * half, c.corner.y + (k >> 1) * half);
                 if (corner.x >= t_.lattice.extent_x || corner.y >= t_.lattice.extent_y) continue;
                 const Cell child = make_cell(corner, c.bits - 1, c.leaf);
-                if (lattice_.empty() || !covered(child.corner, far_corner(child))) next_.push_back(child);
+                if (!lattice_.empty()) {
+                    if (near.empty()) gather(c.corner, far_corner(c), near);
+                    if (covered_by(near, child.corner, far_corner(child))) continue;
+                }
+                next_.push_back(child);
             }
         }
         std::swap(cells_, next_);
@@ -270,13 +287,16 @@ void FieldSampler::refine(std::uint32_t round) {
     std::vector<std::vector<Cell>> parts(pool_.size());
     pool_.parallel_for(cells_.size(), [&](std::size_t begin, std::size_t end, unsigned w) {
         std::vector<Cell>& out = parts[w];
+        std::vector<std::uint32_t> near;
         for (std::size_t i = begin; i < end; ++i) {
             const Cell& c = cells_[i];
             if (!got_[i] && touched_[c.leaf] != round) {
                 out.push_back(c);
                 continue;
             }
-            if (tree_.sample(c.leaf) != FieldQuadtree::kNone || covered(c.corner, far_corner(c))) continue;
+            if (tree_.sample(c.leaf) != FieldQuadtree::kNone) continue;
+            gather(c.corner, far_corner(c), near);
+            if (covered_by(near, c.corner, far_corner(c))) continue;
             if (!got_[i] || c.bits == 0) {
                 out.push_back(c);
                 continue;
@@ -286,7 +306,7 @@ void FieldSampler::refine(std::uint32_t round) {
                 const uvec2 corner(c.corner.x + (k & 1) * half, c.corner.y + (k >> 1) * half);
                 if (corner.x >= t_.lattice.extent_x || corner.y >= t_.lattice.extent_y) continue;
                 const Cell child = make_cell(corner, c.bits - 1, c.leaf);
-                if (!covered(child.corner, far_corner(child))) out.push_back(child);
+                if (!covered_by(near, child.corner, far_corner(child))) out.push_back(child);
             }
         }
     });

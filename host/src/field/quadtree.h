@@ -3,6 +3,8 @@
 // which covers it under every rule), and the neighbour search over them.
 #pragma once
 
+#include <bit>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -62,12 +64,26 @@ bool FieldQuadtree::descend(std::uint32_t node, std::int64_t ox, std::int64_t oy
     const std::uint64_t gy = all_y ? 0 : std::uint64_t(gap(oy, oy + side - 1, q[1], q[3]));
     if (gx * gx + gy * gy > reach2) return false;
     if (node & kLeaf) return visit(node & ~kLeaf);
-    const std::int64_t half = side / 2;
+    std::int64_t half = side / 2;
+    // While the query and its reach lie within one child, go down to it without testing the others.
+    while (!all_x && !all_y && !(node & kLeaf) && half > 0) {
+        const std::int64_t r = std::int64_t(std::sqrt(double(reach2))) + 1;
+        const bool right = q[0] - r >= ox + half, left = q[2] + r < ox + half;
+        const bool top = q[1] - r >= oy + half, bottom = q[3] + r < oy + half;
+        if (!(right || left) || !(top || bottom)) break;
+        const std::uint32_t c = std::uint32_t(right) | std::uint32_t(top) << 1;
+        node = nodes_[node + c];
+        if (node == kOutside) return false;
+        ox += (c & 1) * half;
+        oy += (c >> 1) * half;
+        half /= 2;
+    }
+    if (node & kLeaf) return visit(node & ~kLeaf);
     // The child holding the query's middle first, then its row neighbour, column neighbour, diagonal.
     const std::uint32_t first = std::uint32_t((q[0] + q[2]) / 2 >= ox + half) | std::uint32_t((q[1] + q[3]) / 2 >= oy + half) << 1;
     for (std::uint32_t k = 0; k < 4; ++k) {
         const std::uint32_t c = first ^ k;
-        if (descend(nodes_[node + c], ox + (c & 1) * half, oy + (c >> 1) * half, bits - 1, q, all_x, all_y, reach2,
+        if (descend(nodes_[node + c], ox + (c & 1) * half, oy + (c >> 1) * half, std::uint32_t(std::countr_zero(std::uint64_t(half))), q, all_x, all_y, reach2,
                     visit))
             return true;
     }
