@@ -119,20 +119,18 @@ TEST_CASE("analyze, plot, figures: bad input is one line, exit 2, and leaves no 
         CHECK(entry.path().filename().string().rfind(".vrpd-report-", 0) != 0);
 }
 
-TEST_CASE("figures: the paper's figures that exist, an index page, the rest listed as not built", "[cli][analysis]") {
+TEST_CASE("figures: the paper's figures, an index page that links every file, their numbers", "[cli][analysis]") {
     const fs::path out = scratch() / "figures";
     const Run run = cli("figures --sets 1 --device cpu --out " + out.string());
     INFO(run.err);
     REQUIRE(run.code == 0);
     const std::string html = slurp(out / "index.html");
     for (const char* id : {"Figure 4:", "Figure 5:", "Figure 6:", "Figure 7:", "Figure 8:", "Figure 9:", "Figure 10:",
-                           "Figures 14 and 15"}) {
+                           "Figure 11:", "Figure 12:", "Figures 14 and 15", "Figure 16:"}) {
         INFO(id);
         CHECK(html.find(id) != std::string::npos);
     }
-    CHECK(html.find("Not reproduced yet") != std::string::npos);
-    CHECK(html.find("spatially varying radii are not built yet") != std::string::npos);
-    CHECK(html.find("hierarchies are not built") == std::string::npos);
+    CHECK(html.find("not built") == std::string::npos);
     for (const char* png : {"figure4-points.png", "figure5-angles.png", "figure8-edges.png", "figure10-spectrum.png"})
         CHECK(is_png(out / png));
     // The page links every figure written, PNG and SVG.
@@ -144,7 +142,9 @@ TEST_CASE("figures: the paper's figures that exist, an index page, the rest list
         CHECK(html.find("\"" + name + "\"") != std::string::npos);
         ++linked;
     }
-    CHECK(linked == 2 * (7 * 3 + 6 * 2));  // 7 figures x 3 panels, 6 with radii x 2 Delaunay panels
+    // 7 figures x 3 panels, 6 with radii x 2 Delaunay panels; Figure 11's 4 ramps and 4 angle
+    // histograms, 12 and 16 one each.
+    CHECK(linked == 2 * (7 * 3 + 6 * 2 + 8 + 2));
     const auto j = nlohmann::json::parse(slurp(out / "figures.json"));
     CHECK(j["4"]["paper_count"] == 6656);
     CHECK(j["6"]["paper_count"] == 6727);
@@ -155,4 +155,15 @@ TEST_CASE("figures: the paper's figures that exist, an index page, the rest list
     CHECK(j["5"]["min_angle_bound_deg"].get<double>() == Approx(14.4775).epsilon(1e-4));
     CHECK(j["5"]["min_angle_deg"].get<double>() >= j["5"]["min_angle_bound_deg"].get<double>());
     CHECK(j["10"]["delta_x"].get<double>() < 0.2);  // uniform random points are not spread out
+    // Figure 11: each rule's smallest angle on the sine obeys Table 1, and smaller's is the largest
+    // (the paper: "the smaller-disk construction yields a larger minimum angle").
+    for (const char* rule : {"prior", "current", "bigger", "smaller"}) {
+        INFO(rule);
+        CHECK(j["11"][rule]["min_angle_deg"].get<double>() >= j["11"][rule]["angle_bound_deg"].get<double>());
+        CHECK(j["11"][rule]["ramp_samples"].get<double>() > 1500);
+    }
+    for (const char* rule : {"prior", "current", "bigger"})
+        CHECK(j["11"]["smaller"]["min_angle_deg"].get<double>() > j["11"][rule]["min_angle_deg"].get<double>());
+    CHECK(j["12"]["samples"].get<double>() > 1000);
+    CHECK(j["16"]["samples"].get<double>() > 50000);
 }
