@@ -95,8 +95,12 @@ private:
     // The samples that may conflict with some point of [a, b]: every sample that can cover any
     // part of it (the reach of [a, b] holds the reach of each part).
     void gather(uvec2 a, uvec2 b, std::vector<std::uint32_t>& out) const;
-    // Does one of `near` cover every point of [a, b] under the rule (f's least value over it)?
+    // Does one of `near` (or of all samples) cover every point of [a, b] under the rule?
     bool covered_by(const std::vector<std::uint32_t>& near, uvec2 a, uvec2 b) const;
+    bool covered(uvec2 a, uvec2 b) const;
+    // Does sample s cover [a, b], given r's least value `lo` over it: is the farthest corner
+    // within f(r(s), lo), f's least value over the block?
+    bool covers(std::uint32_t s, std::uint32_t lo, uvec2 a, uvec2 b) const;
     Cell make_cell(uvec2 corner, std::uint32_t bits, std::uint32_t leaf) const;
     uvec2 far_corner(const Cell& c) const {
         const std::uint64_t s = (std::uint64_t(1) << c.bits) - 1;
@@ -177,14 +181,25 @@ void FieldSampler::gather(uvec2 a, uvec2 b, std::vector<std::uint32_t>& out) con
     });
 }
 
+bool FieldSampler::covered(uvec2 a, uvec2 b) const {
+    const std::uint32_t lo = t_.min_over(a, b);
+    return tree_.near(a, b, reach(a, b, t_.max_over(a, b)), [&](std::uint32_t leaf) {
+        const std::uint32_t s = tree_.sample(leaf);
+        return s != FieldQuadtree::kNone && covers(s, lo, a, b);
+    });
+}
+
+bool FieldSampler::covers(std::uint32_t s, std::uint32_t lo, uvec2 a, uvec2 b) const {
+    const uvec2 x = lattice_[s];
+    std::uint64_t far = 0;
+    for (uvec2 c : {a, b, uvec2(a.x, b.y), uvec2(b.x, a.y)}) far = std::max(far, shared::distance2(t_.lattice, x, c));
+    return shared::field_conflict(shared::rule_f(rule_, radii_[s], lo), far);
+}
+
 bool FieldSampler::covered_by(const std::vector<std::uint32_t>& near, uvec2 a, uvec2 b) const {
     const std::uint32_t lo = t_.min_over(a, b);
-    for (std::uint32_t s : near) {
-        const uvec2 x = lattice_[s];
-        std::uint64_t far = 0;
-        for (uvec2 c : {a, b, uvec2(a.x, b.y), uvec2(b.x, a.y)}) far = std::max(far, shared::distance2(t_.lattice, x, c));
-        if (shared::field_conflict(shared::rule_f(rule_, radii_[s], lo), far)) return true;
-    }
+    for (std::uint32_t s : near)
+        if (covers(s, lo, a, b)) return true;
     return false;
 }
 
@@ -270,9 +285,12 @@ void FieldSampler::resolve(std::uint32_t round) {
     std::sort(darts_.begin(), darts_.end(), [](const Dart& a, const Dart& b) {
         return a.key != b.key ? a.key < b.key : (a.cell != b.cell ? a.cell < b.cell : a.index < b.index);
     });
+    // Each dart was tested against the earlier rounds' samples when thrown; of this round's, only
+    // those that marked its leaf (over their cover reach, which holds every point they conflict
+    // with) can conflict with it.
     for (const Dart& d : darts_) {
         const std::uint32_t leaf = cells_[d.cell].leaf;
-        if (tree_.sample(leaf) != FieldQuadtree::kNone || conflicts(d.p, d.r)) continue;
+        if (tree_.sample(leaf) != FieldQuadtree::kNone || (touched_[leaf] == round && conflicts(d.p, d.r))) continue;
         tree_.set_sample(leaf, std::uint32_t(lattice_.size()));
         lattice_.push_back(d.p);
         radii_.push_back(d.r);
@@ -295,12 +313,14 @@ void FieldSampler::refine(std::uint32_t round) {
                 continue;
             }
             if (tree_.sample(c.leaf) != FieldQuadtree::kNone) continue;
-            gather(c.corner, far_corner(c), near);
-            if (covered_by(near, c.corner, far_corner(c))) continue;
             if (!got_[i] || c.bits == 0) {
-                out.push_back(c);
+                // Kept whole: one search, ended by the first sample that covers it.
+                if (!covered(c.corner, far_corner(c))) out.push_back(c);
                 continue;
             }
+            // Split: the cell and its children are tested against one search's samples.
+            gather(c.corner, far_corner(c), near);
+            if (covered_by(near, c.corner, far_corner(c))) continue;
             const std::uint32_t half = 1u << (c.bits - 1);
             for (std::uint32_t k = 0; k < 4; ++k) {
                 const uvec2 corner(c.corner.x + (k & 1) * half, c.corner.y + (k >> 1) * half);

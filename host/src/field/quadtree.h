@@ -3,8 +3,6 @@
 // which covers it under every rule), and the neighbour search over them.
 #pragma once
 
-#include <bit>
-#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -27,10 +25,9 @@ public:
     std::uint32_t depth() const { return depth_; }
     std::uint64_t bytes() const { return nodes_.capacity() * 4 + corner_.capacity() * 13 + roots_.capacity() * 4; }
 
-    // Calls visit(leaf) for each leaf that may hold a point within `reach` of some lattice point
-    // of [a, b] (inclusive); on a torus, of any of its images, until a call returns true. Leaves
-    // past the reach are skipped by their rectangle's gap to [a, b]; the nearer children of a
-    // node go first, so that a search for any one hit ends early.
+    // Calls visit(leaf) for each leaf that meets the square `reach` around [a, b] (inclusive), so
+    // every leaf holding a point within `reach` of a point of [a, b]; on a torus, of any of its
+    // images. Stops at a call that returns true and returns true.
     template <typename Visit>
     bool near(glm::uvec2 a, glm::uvec2 b, std::uint64_t reach, Visit&& visit) const;
 
@@ -46,46 +43,54 @@ private:
 
     static constexpr std::uint32_t kLeaf = 0x80000000u;
     static constexpr std::uint32_t kOutside = 0xFFFFFFFFu;
+    // Query bounds: the lattice square [lo, hi] per axis (unwrapped), or the whole axis.
+    struct Query {
+        std::int64_t lo[2], hi[2];
+        bool all[2];
+    };
     template <typename Visit>
-    bool descend(std::uint32_t node, std::int64_t ox, std::int64_t oy, std::uint32_t bits, const std::int64_t q[4],
-                 bool all_x, bool all_y, std::uint64_t reach2, Visit& visit) const;
+    bool descend(std::uint32_t node, std::int64_t ox, std::int64_t oy, std::uint32_t bits, const Query& q,
+                 Visit& visit) const;
 };
 
 template <typename Visit>
-bool FieldQuadtree::descend(std::uint32_t node, std::int64_t ox, std::int64_t oy, std::uint32_t bits,
-                            const std::int64_t q[4], bool all_x, bool all_y, std::uint64_t reach2,
-                            Visit& visit) const {
-    if (node == kOutside) return false;
-    const std::int64_t side = std::int64_t(1) << bits;
-    auto gap = [](std::int64_t lo, std::int64_t hi, std::int64_t a, std::int64_t b) {
-        return lo > b ? lo - b : (a > hi ? a - hi : 0);
+bool FieldQuadtree::descend(std::uint32_t root, std::int64_t root_x, std::int64_t root_y, std::uint32_t root_bits,
+                            const Query& q, Visit& visit) const {
+    struct Item {
+        std::uint32_t node, bits;
+        std::int64_t x, y;
     };
-    const std::uint64_t gx = all_x ? 0 : std::uint64_t(gap(ox, ox + side - 1, q[0], q[2]));
-    const std::uint64_t gy = all_y ? 0 : std::uint64_t(gap(oy, oy + side - 1, q[1], q[3]));
-    if (gx * gx + gy * gy > reach2) return false;
-    if (node & kLeaf) return visit(node & ~kLeaf);
-    std::int64_t half = side / 2;
-    // While the query and its reach lie within one child, go down to it without testing the others.
-    while (!all_x && !all_y && !(node & kLeaf) && half > 0) {
-        const std::int64_t r = std::int64_t(std::sqrt(double(reach2))) + 1;
-        const bool right = q[0] - r >= ox + half, left = q[2] + r < ox + half;
-        const bool top = q[1] - r >= oy + half, bottom = q[3] + r < oy + half;
-        if (!(right || left) || !(top || bottom)) break;
-        const std::uint32_t c = std::uint32_t(right) | std::uint32_t(top) << 1;
-        node = nodes_[node + c];
-        if (node == kOutside) return false;
-        ox += (c & 1) * half;
-        oy += (c >> 1) * half;
-        half /= 2;
-    }
-    if (node & kLeaf) return visit(node & ~kLeaf);
-    // The child holding the query's middle first, then its row neighbour, column neighbour, diagonal.
-    const std::uint32_t first = std::uint32_t((q[0] + q[2]) / 2 >= ox + half) | std::uint32_t((q[1] + q[3]) / 2 >= oy + half) << 1;
-    for (std::uint32_t k = 0; k < 4; ++k) {
-        const std::uint32_t c = first ^ k;
-        if (descend(nodes_[node + c], ox + (c & 1) * half, oy + (c >> 1) * half, std::uint32_t(std::countr_zero(std::uint64_t(half))), q, all_x, all_y, reach2,
-                    visit))
-            return true;
+    // Each level pushes at most 3 siblings beside the child it goes on with.
+    Item stack[4 * 32];
+    int top = 0;
+    stack[top++] = {root, root_bits, root_x, root_y};
+    const std::int64_t mid_x = (q.lo[0] + q.hi[0]) / 2, mid_y = (q.lo[1] + q.hi[1]) / 2;
+    // An item on the stack meets the query; the root is tested here.
+    const std::int64_t root_side = std::int64_t(1) << root_bits;
+    if (root == kOutside || (!q.all[0] && (root_x > q.hi[0] || root_x + root_side <= q.lo[0])) ||
+        (!q.all[1] && (root_y > q.hi[1] || root_y + root_side <= q.lo[1])))
+        return false;
+    while (top > 0) {
+        const Item it = stack[--top];
+        if (it.node & kLeaf) {
+            if (visit(it.node & ~kLeaf)) return true;
+            continue;
+        }
+        // The children that meet the query: in x, the left one unless the query starts right of
+        // the middle, the right one unless it ends left of it; the same in y.
+        const std::int64_t half = std::int64_t(1) << (it.bits - 1), mx = it.x + half, my = it.y + half;
+        const bool left = q.all[0] || q.lo[0] < mx, right = q.all[0] || q.hi[0] >= mx;
+        const bool low = q.all[1] || q.lo[1] < my, high = q.all[1] || q.hi[1] >= my;
+        const bool meets[4] = {left && low, right && low, left && high, right && high};
+        // The child holding the query's middle is searched first, then its row neighbour,
+        // column neighbour and diagonal: a search for any one hit ends early.
+        const std::uint32_t first = std::uint32_t(mid_x >= mx) | std::uint32_t(mid_y >= my) << 1;
+        for (std::uint32_t k = 4; k-- > 0;) {
+            const std::uint32_t c = first ^ k;
+            const std::uint32_t child = nodes_[it.node + c];
+            if (meets[c] && child != kOutside)
+                stack[top++] = {child, it.bits - 1, it.x + (c & 1) * half, it.y + (c >> 1) * half};
+        }
     }
     return false;
 }
@@ -113,12 +118,16 @@ bool FieldQuadtree::near(glm::uvec2 a, glm::uvec2 b, std::uint64_t reach, Visit&
             if (to < 0) return false;
         }
     }
-    const std::uint64_t reach2 = reach * reach;
+    Query query;
+    for (int k = 0; k < 2; ++k) {
+        query.lo[k] = q[k] - std::int64_t(reach);
+        query.hi[k] = q[k + 2] + std::int64_t(reach);
+        query.all[k] = all[k];
+    }
     for (std::int64_t ty = lo[1]; ty <= hi[1]; ++ty)
         for (std::int64_t tx = lo[0]; tx <= hi[0]; ++tx) {
             const std::int64_t wx = ((tx % tiles[0]) + tiles[0]) % tiles[0], wy = ((ty % tiles[1]) + tiles[1]) % tiles[1];
-            if (descend(roots_[std::size_t(wy * tiles[0] + wx)], tx * tile, ty * tile, t_.tile_bits, q, all[0],
-                        all[1], reach2, visit))
+            if (descend(roots_[std::size_t(wy * tiles[0] + wx)], tx * tile, ty * tile, t_.tile_bits, query, visit))
                 return true;
         }
     return false;
