@@ -8,10 +8,14 @@
 #include "table.h"
 
 #include "field.h"
+#include "../cpu/thread_pool.h"
 #include "../plan.h"
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
+#include <mutex>
+#include <string>
 
 #include <fmt/format.h>
 
@@ -58,35 +62,62 @@ struct Draft {
     double error = 0;
 };
 
+// Calls row(j) for j in [0, n) on the host's threads. A row that throws Error stops its own
+// work; the error of the lowest such row is rethrown, so the message does not depend on timing.
+void for_rows(std::size_t n, const std::function<void(std::size_t)>& row) {
+    ThreadPool pool;
+    std::mutex mutex;
+    std::size_t failed = SIZE_MAX;
+    std::string message;
+    pool.parallel_for(n, [&](std::size_t begin, std::size_t end, unsigned) {
+        for (std::size_t j = begin; j < end; ++j) {
+            try {
+                row(j);
+            } catch (const Error& e) {
+                const std::lock_guard lock(mutex);
+                if (j < failed) failed = j, message = e.what();
+                return;
+            }
+        }
+    });
+    if (failed != SIZE_MAX) throw Error(message);
+}
+
 Draft draft(const FieldSource& f, const Box& box, std::uint32_t cells_x, std::uint32_t cells_y, double h) {
     Draft d{cells_x, cells_y, h, {}, 0};
     const bool periodic = box.boundary == Boundary::Periodic;
     const std::size_t row = std::size_t(cells_x) + 1;
     d.values.resize(row * (std::size_t(cells_y) + 1));
-    for (std::uint32_t j = 0; j <= cells_y; ++j)
+    for_rows(std::size_t(cells_y) + 1, [&](std::size_t j) {
         for (std::uint32_t i = 0; i <= cells_x; ++i) {
             // On a torus the last row and column are the first: the field wraps.
             // Past a free box's edge, the source there if it is a radius, else its value at the edge.
-            const std::uint32_t si = periodic && i == cells_x ? 0 : i, sj = periodic && j == cells_y ? 0 : j;
-            const double x = si * h, y = sj * h, beyond = f(x, y);
+            const std::uint32_t si = periodic && i == cells_x ? 0 : i;
+            const std::size_t sj = periodic && j == cells_y ? 0 : j;
+            const double x = si * h, y = double(sj) * h, beyond = f(x, y);
             d.values[j * row + i] = (x <= box.width && y <= box.height) || !(std::isfinite(beyond) && beyond > 0)
                                         ? checked(f, std::min(x, box.width), std::min(y, box.height))
                                         : beyond;
         }
-    auto interp = [&](std::uint32_t i, std::uint32_t j, double tx, double ty) {
+    });
+    auto interp = [&](std::size_t i, std::size_t j, double tx, double ty) {
         const double* v = &d.values[j * row + i];
         return (v[0] * (1 - tx) + v[1] * tx) * (1 - ty) + (v[row] * (1 - tx) + v[row + 1] * tx) * ty;
     };
-    for (std::uint32_t j = 0; j < cells_y && j * h < box.height; ++j)
+    std::vector<double> error(cells_y, 0.0);  // per row, so that threads never share one
+    for_rows(cells_y, [&](std::size_t j) {
+        if (double(j) * h >= box.height) return;
         for (std::uint32_t i = 0; i < cells_x && i * h < box.width; ++i)
             for (auto [tx, ty] : {std::pair{0.5, 0.5}, {0.5, 0.0}, {0.0, 0.5}}) {
                 // Points past a free box's edge are judged at the edge, inside the cell.
-                const double x = std::min((i + tx) * h, box.width), y = std::min((j + ty) * h, box.height);
+                const double x = std::min((i + tx) * h, box.width), y = std::min((double(j) + ty) * h, box.height);
                 tx = x / h - i;
-                ty = y / h - j;
+                ty = y / h - double(j);
                 const double v = checked(f, x, y);
-                d.error = std::max(d.error, std::abs(interp(i, j, tx, ty) - v) / v);
+                error[j] = std::max(error[j], std::abs(interp(i, j, tx, ty) - v) / v);
             }
+    });
+    for (double e : error) d.error = std::max(d.error, e);
     return d;
 }
 
@@ -108,7 +139,8 @@ void limit_lipschitz(Draft& d, double L, bool periodic) {
         return true;
     };
     const std::int64_t max_ring = std::max(nx, ny);
-    for (std::int64_t j = 0; j < ny; ++j)
+    for_rows(std::size_t(ny), [&](std::size_t row) {
+        const std::int64_t j = std::int64_t(row);
         for (std::int64_t i = 0; i < nx; ++i) {
             double best = d.values[std::size_t(j * nx + i)];
             for (std::int64_t k = 1; k <= max_ring && least + L * double(k) * d.h < best; ++k)
@@ -120,6 +152,7 @@ void limit_lipschitz(Draft& d, double L, bool periodic) {
                     }
             out[std::size_t(j * nx + i)] = best;
         }
+    });
     d.values = std::move(out);
 }
 
