@@ -12,6 +12,7 @@
 #include "field.h"
 #include "quadtree.h"
 #include "../cpu/thread_pool.h"
+#include "../phase_times.h"
 #include "../plan.h"
 #include "shared/darts.h"
 
@@ -69,10 +70,11 @@ struct Cell {
     std::uint8_t weight;  // Eq. 12: darts at the rate of radius r_lo 2^weight (<= r over the cell)
 };
 
+// A dart still undecided after its throw, in throwing order (cell order, then index in the cell):
+// the tie-break of equal keys, kept by a stable sort.
 struct Dart {
     uvec2 p;
-    std::uint32_t key, r;
-    std::uint32_t cell, index;  // the tie-break of equal keys: cell order, then index in the cell
+    std::uint32_t key, cell;
 };
 
 class FieldSampler {
@@ -80,7 +82,7 @@ public:
     FieldSampler(const FieldTable& t, const SampleOptions& o, std::uint64_t max_leaves)
         : t_(t), tree_(t, max_leaves), rule_(t.rule), density_(o.sizing->weighting == Weighting::Density),
           pool_(o.backend == Backend::Serial ? 1 : o.threads == 0 ? std::thread::hardware_concurrency() : o.threads),
-          seed_(o.seed) {}
+          seed_(o.seed), profile_(o.profile) {}
 
     Sampling run();
 
@@ -135,6 +137,8 @@ private:
     std::vector<std::uint32_t> radii_;
     std::uint32_t exp_neg_[128] = {};
     std::uint64_t darts_thrown_ = 0, bytes_ = 0;
+    bool profile_;
+    PhaseTimes phases_;
 };
 
 std::uint64_t FieldSampler::reach(uvec2 a, uvec2 b, std::uint32_t r_hi) const {
@@ -269,7 +273,7 @@ void FieldSampler::throw_darts(std::uint32_t round) {
                 if (density_ && !shared::keep_weighted(shared::hash_mix(shared::hash_mix(stream, 0xD1B54A35u), j), bound, r))
                     continue;
                 if (tree_.sample(c.leaf) != FieldQuadtree::kNone || conflicts(p, r)) continue;
-                out.push_back({p, d.z, r, std::uint32_t(i), j});
+                out.push_back({p, d.z, std::uint32_t(i)});
             }
         }
     });
@@ -282,19 +286,19 @@ void FieldSampler::throw_darts(std::uint32_t round) {
 }
 
 void FieldSampler::resolve(std::uint32_t round) {
-    std::sort(darts_.begin(), darts_.end(), [](const Dart& a, const Dart& b) {
-        return a.key != b.key ? a.key < b.key : (a.cell != b.cell ? a.cell < b.cell : a.index < b.index);
-    });
+    std::stable_sort(darts_.begin(), darts_.end(), [](const Dart& a, const Dart& b) { return a.key < b.key; });
     // Each dart was tested against the earlier rounds' samples when thrown; of this round's, only
     // those that marked its leaf (over their cover reach, which holds every point they conflict
     // with) can conflict with it.
     for (const Dart& d : darts_) {
         const std::uint32_t leaf = cells_[d.cell].leaf;
-        if (tree_.sample(leaf) != FieldQuadtree::kNone || (touched_[leaf] == round && conflicts(d.p, d.r))) continue;
+        if (tree_.sample(leaf) != FieldQuadtree::kNone) continue;
+        const std::uint32_t r = t_.radius(d.p);
+        if (touched_[leaf] == round && conflicts(d.p, r)) continue;
         tree_.set_sample(leaf, std::uint32_t(lattice_.size()));
         lattice_.push_back(d.p);
-        radii_.push_back(d.r);
-        tree_.near(d.p, d.p, cover_reach(d.p, d.r), [&](std::uint32_t l) {
+        radii_.push_back(r);
+        tree_.near(d.p, d.p, cover_reach(d.p, r), [&](std::uint32_t l) {
             touched_[l] = round;
             return false;
         });
@@ -336,18 +340,23 @@ void FieldSampler::refine(std::uint32_t round) {
 }
 
 Sampling FieldSampler::run() {
-    const auto start = Clock::now();
     cells_.reserve(tree_.leaves());
     touched_.assign(tree_.leaves(), kNever);
     for (std::uint32_t leaf = 0; leaf < tree_.leaves(); ++leaf) cells_.push_back(make_cell(tree_.corner(leaf), tree_.bits(leaf), leaf));
     std::uint32_t round = 0;
     std::uint32_t deepest = 0;
+    // Runs one phase, timed when the run is profiled.
+    auto phase = [&](const char* name, auto&& body) {
+        const auto t0 = Clock::now();
+        body();
+        if (profile_) phases_.add(name, std::chrono::duration<double>(Clock::now() - t0).count());
+    };
     while (!cells_.empty()) {
         if (round == kMaxRounds) throw Error("internal: the sizing-field sampler did not converge");
-        throw_darts(round);
-        resolve(round);
+        phase("throw", [&] { throw_darts(round); });
+        phase("resolve", [&] { resolve(round); });
         note_bytes();
-        refine(round++);
+        phase("refine", [&] { refine(round++); });
         for (const Cell& c : cells_) deepest = std::max(deepest, t_.tile_bits - c.bits);
     }
     Sampling s;
@@ -362,7 +371,7 @@ Sampling FieldSampler::run() {
     s.stats.rounds = round;
     s.stats.darts = darts_thrown_;
     s.stats.peak_bytes = bytes_ + t_.nodes.capacity() * 4 * 2;
-    s.stats.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    s.stats.profile = phases_.phases();
     return s;
 }
 
@@ -388,8 +397,10 @@ Sampling sample_field(const SampleOptions& o, const FieldTable& t) {
                                 expected, bytes / (1 << 20), limit.what, double(limit.bytes) / (1 << 20)));
     const auto start = Clock::now();
     FieldSampler sampler(t, o, std::uint64_t(double(limit.bytes) / 64));
+    const double leaves = std::chrono::duration<double>(Clock::now() - start).count();
     Sampling s = sampler.run();
     s.stats.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    if (o.profile) s.stats.profile.insert(s.stats.profile.begin(), PhaseTime{"leaves", leaves, 1});
     s.box = o.box;
     s.backend = o.backend == Backend::Serial ? Backend::Serial : Backend::Cpu;
     s.device = "host";

@@ -1,5 +1,7 @@
 // Sampling with a sizing field (vrpd.h, Sizing): tabulate, then the field sampler, or the uniform
 // engines when the field is one constant (every rule is then the one-radius case).
+#include <chrono>
+
 #include <fmt/format.h>
 
 #include "field.h"
@@ -26,8 +28,10 @@ namespace detail {
 
 Sampling sample_sized(const SampleOptions& o) {
     validate(o);
+    const auto start = std::chrono::steady_clock::now();
     const SizingField field(*o.sizing, o.box);
     const FieldTable& t = field.table();
+    const double tabulation = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (t.constant > 0) {
         SampleOptions uniform = o;
         uniform.sizing.reset();
@@ -41,6 +45,8 @@ Sampling sample_sized(const SampleOptions& o) {
         throw Error("a varying sizing field runs on the cpu and serial backends; its Vulkan kernels are not built");
     Sampling s = sample_field(o, t);
     if (o.backend == Backend::Auto) s.choice = "a varying sizing field runs on the host";
+    s.stats.seconds += tabulation;
+    if (o.profile) s.stats.profile.insert(s.stats.profile.begin(), PhaseTime{"tabulate", tabulation, 1});
     return s;
 }
 
