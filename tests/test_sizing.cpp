@@ -6,6 +6,8 @@
 #include <cmath>
 #include <numbers>
 
+#include <nlohmann/json.hpp>
+
 #include "cli_support.h"
 #include "support.h"
 #include "vrpd/sizing.h"
@@ -147,6 +149,13 @@ TEST_CASE("check --sizing from the command line", "[sizing][cli]") {
     const std::string u = (dir / "uniform.csv").string();
     REQUIRE(cli("sample --radius 0.02 --seed 2 --device cpu -o " + u).code == 0);
     CHECK(cli("check " + u + " --sizing 0.02 --rule bigger").code == 0);
+    const std::string json = (dir / "sizing.json").string();
+    REQUIRE(cli("check " + u + " --sizing \"0.02 + 0.01*x\" --rule smaller --boundary free --json " + json).code == 1);
+    const auto j = nlohmann::json::parse(test::slurp(json));
+    CHECK(j["rule"] == "smaller");
+    CHECK(j["conflicts"].get<double>() > 0);
+    CHECK(j["passed"] == false);
+    CHECK(j["lipschitz"].get<double>() == Approx(0.01).epsilon(0.01));
     CHECK(cli("check " + u + " --sizing \"0.02 + 0.01*x\" --rule bigger").code == 1);
     const test::Run parse = cli("check " + u + " --sizing \"0.02 + q\" --rule prior");
     CHECK(parse.code == 2);

@@ -1,7 +1,10 @@
 // `vrpd check --sizing EXPR --rule RULE`: a point file judged under a spatially varying radius
 // (paper section 5): conflicts under the rule, coverage under the rule on a stated grid.
 #include <cmath>
+#include <fstream>
 #include <iostream>
+
+#include <nlohmann/json.hpp>
 
 #include <fmt/format.h>
 
@@ -13,7 +16,6 @@ namespace vrpd::cli {
 
 int run_check_sizing(const CheckOptions& o) {
     if (o.radius || o.rf || o.rc) throw Error("give --sizing or radii, not both");
-    if (!o.json.empty()) throw Error("--json is not written for --sizing checks yet");
     const Sizing sizing = *parse_sizing(o.sizing);
     const SizingRule rule = sizing.rule;
     Box box;
@@ -25,6 +27,7 @@ int run_check_sizing(const CheckOptions& o) {
         throw Error(fmt::format("--tolerance must be >= 0 (got {})", *o.tolerance));
     const double tolerance = o.tolerance ? *o.tolerance : kDefaultTolerance * std::max(box.width, box.height);
     // The field as vrpd sample tabulates it: the same r at each of its samples.
+    if (!o.json.empty()) check_writable(o.json);
     const SizingField r(sizing, box);
     const std::vector<glm::dvec2> points = read_points(o.file);
     const FieldStats f = r.stats();
@@ -51,6 +54,28 @@ int run_check_sizing(const CheckOptions& o) {
                              rep.resolution, rep.grid_points, rep.uncovered, rep.worst_point.x, rep.worst_point.y,
                              worst, rep.uncovered ? "NOT maximal" : "maximal");
     std::cout << (rep.passed() ? "PASS" : "FAIL") << "\n";
+    if (!o.json.empty()) {
+        const nlohmann::json j{{"points", rep.points},
+                               {"rule", sizing_rule_name(rule)},
+                               {"r_min", f.r_min},
+                               {"r_max", f.r_max},
+                               {"lipschitz", f.lipschitz},
+                               {"lipschitz_bound", bound},
+                               {"table_nodes", f.table_nodes},
+                               {"tabulation_error", f.tabulation_error},
+                               {"tolerance", tolerance},
+                               {"conflicts", rep.conflicts},
+                               {"first_conflict", {rep.first_a, rep.first_b}},
+                               {"coverage_resolution", rep.resolution},
+                               {"coverage_nodes", rep.grid_points},
+                               {"uncovered", rep.uncovered},
+                               {"worst_ratio", std::isfinite(rep.worst_ratio) ? rep.worst_ratio : -1.0},
+                               {"worst_point", {rep.worst_point.x, rep.worst_point.y}},
+                               {"passed", rep.passed()}};
+        std::ofstream out(o.json);
+        out << j.dump(2) << "\n";
+        if (!out) throw Error("cannot write " + o.json);
+    }
     return rep.passed() ? 0 : 1;
 }
 
