@@ -65,8 +65,8 @@ TEST_CASE("field_interpolate is the floor of the exact bilinear interpolant", "[
         const glm::uvec4 v{std::uint32_t(rng()), std::uint32_t(rng()), std::uint32_t(rng()), std::uint32_t(rng())};
         const glm::uvec2 f{std::uint32_t(rng() % c), std::uint32_t(rng() % c)};
         const unsigned __int128 s = (unsigned __int128)v.x * (c - f.x) * (c - f.y) +
-                                    (unsigned __int128)v.y * f.x * (c - f.y) + (unsigned __int128)v.z * (c - f.x) * f.y +
-                                    (unsigned __int128)v.w * f.x * f.y;
+                                    (unsigned __int128)v.y * f.x * (c - f.y) +
+                                    (unsigned __int128)v.z * (c - f.x) * f.y + (unsigned __int128)v.w * f.x * f.y;
         const std::uint32_t r = shared::field_interpolate(v, f, bits);
         REQUIRE(r == std::uint32_t(s / ((unsigned __int128)c * c)));
         REQUIRE(r >= std::min({v.x, v.y, v.z, v.w}));
@@ -322,7 +322,8 @@ TEST_CASE("sample --sizing from the command line: x,y,r rows, and bad input refu
     REQUIRE(set.columns == std::vector<std::string>{"r"});
     REQUIRE(set.points.size() > 500);
     for (std::size_t i = 0; i < set.points.size(); ++i)
-        REQUIRE((*set.column("r"))[i] == Approx(0.01 + 0.05 * set.points[i].x).epsilon(2.5e-4));  // the lattice rounding
+        REQUIRE((*set.column("r"))[i] ==
+                Approx(0.01 + 0.05 * set.points[i].x).epsilon(2.5e-4));  // the lattice rounding
     // A field above the rule's Lipschitz bound is sampled, with a warning.
     const test::Run steep = cli("sample --sizing \"0.01 + 0.8*x\" --rule bigger --boundary free -o " + out);
     CHECK(steep.code == 0);

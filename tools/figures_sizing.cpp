@@ -20,9 +20,7 @@ namespace {
 constexpr const char* kRamp = "0.001 + 0.3*x";
 constexpr SizingRule kRules[] = {SizingRule::Prior, SizingRule::Current, SizingRule::Bigger, SizingRule::Smaller};
 
-std::string sine(double r_small) {
-    return fmt::format("0.015 + ({} - 0.015)*abs(sin(8*pi*d))", r_small);
-}
+std::string sine(double r_small) { return fmt::format("0.015 + ({} - 0.015)*abs(sin(8*pi*d))", r_small); }
 
 Sampling run(const Sizing& sizing, Boundary boundary, Backend backend) {
     SampleOptions o;
@@ -65,11 +63,12 @@ std::string write_picture(const std::string& path) {
 std::string sizing_figures(const ReportDir& dir, Backend backend, bool full, Json& all) {
     std::string html;
     // Figure 11: the ramp under each rule, with one seed.
-    html += fmt::format("<h2>Figure 11: spatially varying radii under the four rules</h2>\n<p>Left: r = {}, free "
-                        "boundary, seed 1, coloured by r. Right: Delaunay angles on the rectified sine r = {} "
-                        "(periodic).</p>\n<table>\n<tr><th>rule</th><th>ramp samples</th><th>sine samples</th>"
-                        "<th>smallest angle on the sine</th><th>Table 1's bound</th></tr>\n",
-                        kRamp, sine(0.0015));
+    html += fmt::format(
+        "<h2>Figure 11: spatially varying radii under the four rules</h2>\n<p>Left: r = {}, free "
+        "boundary, seed 1, coloured by r. Right: Delaunay angles on the rectified sine r = {} "
+        "(periodic).</p>\n<table>\n<tr><th>rule</th><th>ramp samples</th><th>sine samples</th>"
+        "<th>smallest angle on the sine</th><th>Table 1's bound</th></tr>\n",
+        kRamp, sine(0.0015));
     std::string panels;
     Sampling bigger_sine;
     for (SizingRule rule : kRules) {
@@ -99,12 +98,8 @@ std::string sizing_figures(const ReportDir& dir, Backend backend, bool full, Jso
         html += fmt::format("<tr><td>{}</td><td>{}</td><td>{}</td><td>{:.2f} deg</td><td>{:.2f} deg</td></tr>\n", name,
                             r.size(), w.size(), min_angle, bound);
         panels += img(ramp_stem) + img(angle_stem);
-        all["11"][name] = {{"ramp_samples", r.size()},
-                           {"sine_samples", w.size()},
-                           {"sine_lipschitz", L},
-                           {"min_angle_deg", min_angle},
-                           {"angle_bound_deg", bound},
-                           {"edge_min_r", q.edge_min},
+        all["11"][name] = {{"ramp_samples", r.size()},   {"sine_samples", w.size()}, {"sine_lipschitz", L},
+                           {"min_angle_deg", min_angle}, {"angle_bound_deg", bound}, {"edge_min_r", q.edge_min},
                            {"edge_max_r", q.edge_max}};
         std::cerr << fmt::format("vrpd: figure 11 {}: {} ramp samples, {} on the sine, smallest angle {:.2f} deg\n",
                                  name, r.size(), w.size(), min_angle);
@@ -120,12 +115,12 @@ std::string sizing_figures(const ReportDir& dir, Backend backend, bool full, Jso
     picture.lipschitz = 0.3;
     picture.rule = SizingRule::Current;
     const Sampling st = run(picture, Boundary::Free, backend);
-    figures::plot_points(dir.path("figure12-stipple"), points(st), st.box, {},
-                         fmt::format("{} samples", st.size()));
-    html += fmt::format("<h2>Figure 12: a picture stippled</h2>\n<p>The grey levels of <a href=\"figure12-picture.pgm\">"
-                        "a test picture</a> (vrpd's own: two blobs and a ring) as r from 0.002 (black) to 0.02 "
-                        "(white), smoothed to L = 0.3, current rule: {} samples.</p>\n{}",
-                        st.size(), img("figure12-stipple"));
+    figures::plot_points(dir.path("figure12-stipple"), points(st), st.box, {}, fmt::format("{} samples", st.size()));
+    html += fmt::format(
+        "<h2>Figure 12: a picture stippled</h2>\n<p>The grey levels of <a href=\"figure12-picture.pgm\">"
+        "a test picture</a> (vrpd's own: two blobs and a ring) as r from 0.002 (black) to 0.02 "
+        "(white), smoothed to L = 0.3, current rule: {} samples.</p>\n{}",
+        st.size(), img("figure12-stipple"));
     all["12"] = {{"samples", st.size()}, {"lipschitz", st.field.lipschitz}};
 
     // Figure 16: bigger disks on the rectified sine; the paper's r_M = 0.00015 with --full.
@@ -139,12 +134,11 @@ std::string sizing_figures(const ReportDir& dir, Backend backend, bool full, Jso
     }
     figures::plot_points(dir.path("figure16-sine"), points(f16), f16.box, {},
                          fmt::format("{} samples, {:.1f} s", f16.size(), f16.stats.seconds));
-    html += fmt::format("<h2>Figure 16: bigger disks on a rectified sine</h2>\n<p>r = {} (periodic), L {:.3f}: {} "
-                        "samples in {:.2f} s, {:.0f} MiB of arrays{}.</p>\n{}",
-                        sine(r_small), f16.field.lipschitz, f16.size(), f16.stats.seconds,
-                        double(f16.stats.peak_bytes) / (1 << 20),
-                        full ? "" : " (the paper's r_M = 0.00015, about 2.2 M samples, with --full)",
-                        img("figure16-sine"));
+    html += fmt::format(
+        "<h2>Figure 16: bigger disks on a rectified sine</h2>\n<p>r = {} (periodic), L {:.3f}: {} "
+        "samples in {:.2f} s, {:.0f} MiB of arrays{}.</p>\n{}",
+        sine(r_small), f16.field.lipschitz, f16.size(), f16.stats.seconds, double(f16.stats.peak_bytes) / (1 << 20),
+        full ? "" : " (the paper's r_M = 0.00015, about 2.2 M samples, with --full)", img("figure16-sine"));
     all["16"] = {{"r_small", r_small},
                  {"samples", f16.size()},
                  {"seconds", f16.stats.seconds},

@@ -11,8 +11,7 @@
 namespace vrpd::cli {
 
 bool SizingArgs::given() const {
-    return !expression.empty() || !image.empty() || !rule.empty() || !weighting.empty() || r_min || r_max ||
-           lipschitz;
+    return !expression.empty() || !image.empty() || !rule.empty() || !weighting.empty() || r_min || r_max || lipschitz;
 }
 
 std::optional<Sizing> parse_sizing(const SizingArgs& a) {
@@ -55,23 +54,25 @@ void add_sizing_options(CLI::App& app, SizingArgs& a, bool weighting) {
 
 void print_field_summary(const Sampling& s, const Sizing& sizing, std::ostream& out) {
     const FieldStats& f = s.field;
-    out << fmt::format("vrpd: {} samples, r {:.6g} to {:.6g}, rule {}, {} weighting; table of {} nodes within "
-                       "{:.3g} % of the source, L {:.4g}; {:.3f} s, {:.3g} points/s, {} rounds, {} darts, {:.1f} MiB "
-                       "of arrays, device {}{}\n",
-                       s.size(), f.r_min, f.r_max, sizing_rule_name(sizing.rule),
-                       sizing.weighting == Weighting::Density ? "density" : "uniform", f.table_nodes,
-                       100 * f.tabulation_error, f.lipschitz, s.stats.seconds, double(s.size()) / s.stats.seconds,
-                       s.stats.rounds, s.stats.darts, double(s.stats.peak_bytes) / (1 << 20), s.device,
-                       s.choice.empty() ? "" : " (auto: " + s.choice + ")");
+    out << fmt::format(
+        "vrpd: {} samples, r {:.6g} to {:.6g}, rule {}, {} weighting; table of {} nodes within "
+        "{:.3g} % of the source, L {:.4g}; {:.3f} s, {:.3g} points/s, {} rounds, {} darts, {:.1f} MiB "
+        "of arrays, device {}{}\n",
+        s.size(), f.r_min, f.r_max, sizing_rule_name(sizing.rule),
+        sizing.weighting == Weighting::Density ? "density" : "uniform", f.table_nodes, 100 * f.tabulation_error,
+        f.lipschitz, s.stats.seconds, double(s.size()) / s.stats.seconds, s.stats.rounds, s.stats.darts,
+        double(s.stats.peak_bytes) / (1 << 20), s.device, s.choice.empty() ? "" : " (auto: " + s.choice + ")");
     const double bound = rule_lipschitz_bound(sizing.rule);
     if (f.lipschitz > bound)
-        out << fmt::format("vrpd: warning: the field's L {:.4g} exceeds the {} rule's bound {} (Table 1): its quality "
-                           "guarantees lapse (--lipschitz {} enforces it)\n",
-                           f.lipschitz, sizing_rule_name(sizing.rule), bound, bound);
+        out << fmt::format(
+            "vrpd: warning: the field's L {:.4g} exceeds the {} rule's bound {} (Table 1): its quality "
+            "guarantees lapse (--lipschitz {} enforces it)\n",
+            f.lipschitz, sizing_rule_name(sizing.rule), bound, bound);
     if (f.tabulation_error > 0.001)
-        out << fmt::format("vrpd: warning: the table is {:.3g} % from the source somewhere (more than 0.1 %): the "
-                           "lattice or the table's node budget stopped its refinement\n",
-                           100 * f.tabulation_error);
+        out << fmt::format(
+            "vrpd: warning: the table is {:.3g} % from the source somewhere (more than 0.1 %): the "
+            "lattice or the table's node budget stopped its refinement\n",
+            100 * f.tabulation_error);
 }
 
 }  // namespace vrpd::cli

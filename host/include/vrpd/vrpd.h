@@ -117,9 +117,10 @@ struct PhaseTime {
 
 // A sizing field as a run tabulated it (Sizing).
 struct FieldStats {
-    double r_min = 0, r_max = 0;   // over the table's nodes, in box units
-    double lipschitz = 0;          // of the interpolant, exactly (the largest gradient at a table cell's corner)
-    double tabulation_error = 0;   // largest |table - source| / source found at the table cells' centres and edge midpoints
+    double r_min = 0, r_max = 0;   // r's range over the box, in box units
+    double lipschitz = 0;          // the interpolant's, exactly (its largest gradient, at a table cell's corner)
+    double tabulation_error = 0;   // the largest |table - source| / source found at the table cells' centres
+                                   // and edge midpoints
     std::uint64_t table_nodes = 0;
 };
 

@@ -22,7 +22,8 @@ FieldQuadtree::FieldQuadtree(const FieldTable& t, std::uint64_t max_leaves) : t_
     roots_.resize(std::size_t(t.tiles_x) * t.tiles_y);
     for (std::uint32_t j = 0; j < t.tiles_y; ++j)
         for (std::uint32_t i = 0; i < t.tiles_x; ++i)
-            roots_[std::size_t(j) * t.tiles_x + i] = build({i << t.tile_bits, j << t.tile_bits}, t.tile_bits, max_leaves);
+            roots_[std::size_t(j) * t.tiles_x + i] =
+                build({i << t.tile_bits, j << t.tile_bits}, t.tile_bits, max_leaves);
     sample_.assign(corner_.size(), kNone);
 }
 
@@ -61,7 +62,7 @@ constexpr double kLambda = 1.0;
 constexpr double kSplitAbove = 4.0;
 constexpr std::uint32_t kMaxRounds = 1000000;  // a bug guard, far above any run
 constexpr int kExpBias = 64;
-constexpr std::uint32_t kNever = UINT32_MAX;                    // exp_neg's index: weighted area exponent + 64
+constexpr std::uint32_t kNever = UINT32_MAX;  // exp_neg's index: weighted area exponent + 64
 
 struct Cell {
     uvec2 corner;
@@ -80,9 +81,15 @@ struct Dart {
 class FieldSampler {
 public:
     FieldSampler(const FieldTable& t, const SampleOptions& o, std::uint64_t max_leaves)
-        : t_(t), tree_(t, max_leaves), rule_(t.rule), density_(o.sizing->weighting == Weighting::Density),
-          pool_(o.backend == Backend::Serial ? 1 : o.threads == 0 ? std::thread::hardware_concurrency() : o.threads),
-          seed_(o.seed), profile_(o.profile) {}
+        : t_(t),
+          tree_(t, max_leaves),
+          rule_(t.rule),
+          density_(o.sizing->weighting == Weighting::Density),
+          pool_(o.backend == Backend::Serial ? 1
+                : o.threads == 0             ? std::thread::hardware_concurrency()
+                                             : o.threads),
+          seed_(o.seed),
+          profile_(o.profile) {}
 
     Sampling run();
 
@@ -158,7 +165,8 @@ std::uint64_t FieldSampler::grown_reach(uvec2 a, uvec2 b, std::uint32_t r_hi) co
     // field's largest radius, or r_hi grown by the Lipschitz bound (r(z) <= r(y) + L |z - y| + 1,
     // the 1 for the floor), and shrink to the largest r over the square around [a, b] while it does.
     std::uint64_t rho = t_.r_hi;
-    if (t_.lipschitz < 1) rho = std::min<std::uint64_t>(rho, std::uint64_t(std::ceil((r_hi + 1.0) / (1 - t_.lipschitz))) + 1);
+    if (t_.lipschitz < 1)
+        rho = std::min<std::uint64_t>(rho, std::uint64_t(std::ceil((r_hi + 1.0) / (1 - t_.lipschitz))) + 1);
     const uvec2 centre((a.x + b.x) / 2, (a.y + b.y) / 2);
     const std::uint64_t half = std::max(b.x - a.x, b.y - a.y) / 2 + 1;
     for (int i = 0; i < 4; ++i) {
@@ -172,8 +180,8 @@ std::uint64_t FieldSampler::grown_reach(uvec2 a, uvec2 b, std::uint32_t r_hi) co
 bool FieldSampler::conflicts(uvec2 p, std::uint32_t r) const {
     return tree_.near(p, p, reach(p, p, r), [&](std::uint32_t leaf) {
         const std::uint32_t s = tree_.sample(leaf);
-        return s != FieldQuadtree::kNone &&
-               shared::field_conflict(shared::rule_f(rule_, radii_[s], r), shared::distance2(t_.lattice, lattice_[s], p));
+        return s != FieldQuadtree::kNone && shared::field_conflict(shared::rule_f(rule_, radii_[s], r),
+                                                                   shared::distance2(t_.lattice, lattice_[s], p));
     });
 }
 
@@ -264,13 +272,15 @@ void FieldSampler::throw_darts(std::uint32_t round) {
             const std::uint32_t n = shared::dart_count(stream, exp_neg_[exponent(c) + kExpBias]);
             thrown[w] += n;
             got_[i] = n > 0;
-            const std::uint32_t bound = std::uint32_t(std::min<std::uint64_t>(std::uint64_t(t_.r_lo) << c.weight, UINT32_MAX));
+            const std::uint32_t bound =
+                std::uint32_t(std::min<std::uint64_t>(std::uint64_t(t_.r_lo) << c.weight, UINT32_MAX));
             for (std::uint32_t j = 0; j < n; ++j) {
                 const glm::uvec4 d = shared::make_dart(stream, j, c.corner, 1u << c.bits);
                 const uvec2 p(d.x, d.y);
                 if (!shared::in_lattice(t_.lattice, p)) continue;
                 const std::uint32_t r = t_.radius(p);
-                if (density_ && !shared::keep_weighted(shared::hash_mix(shared::hash_mix(stream, 0xD1B54A35u), j), bound, r))
+                if (density_ &&
+                    !shared::keep_weighted(shared::hash_mix(shared::hash_mix(stream, 0xD1B54A35u), j), bound, r))
                     continue;
                 if (tree_.sample(c.leaf) != FieldQuadtree::kNone || conflicts(p, r)) continue;
                 out.push_back({p, d.z, std::uint32_t(i)});
@@ -342,7 +352,8 @@ void FieldSampler::refine(std::uint32_t round) {
 Sampling FieldSampler::run() {
     cells_.reserve(tree_.leaves());
     touched_.assign(tree_.leaves(), kNever);
-    for (std::uint32_t leaf = 0; leaf < tree_.leaves(); ++leaf) cells_.push_back(make_cell(tree_.corner(leaf), tree_.bits(leaf), leaf));
+    for (std::uint32_t leaf = 0; leaf < tree_.leaves(); ++leaf)
+        cells_.push_back(make_cell(tree_.corner(leaf), tree_.bits(leaf), leaf));
     std::uint32_t round = 0;
     std::uint32_t deepest = 0;
     // Runs one phase, timed when the run is profiled.
@@ -383,8 +394,8 @@ std::uint64_t expected_field_samples(const FieldTable& t) {
     const double cell = double(std::uint64_t(1) << t.cell_bits);
     double n = 0;
     for (std::size_t k = 0; k < t.lo[0].size(); ++k) n += cell * cell / (double(t.lo[0][k]) * t.lo[0][k]);
-    const double inside = double(t.lattice.extent_x) * t.lattice.extent_y /
-                          (double(t.cells_x) * t.cells_y * cell * cell);
+    const double inside =
+        double(t.lattice.extent_x) * t.lattice.extent_y / (double(t.cells_x) * t.cells_y * cell * cell);
     return std::uint64_t(0.70 * n * inside) + 64;
 }
 

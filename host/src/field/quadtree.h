@@ -126,7 +126,8 @@ bool FieldQuadtree::near(glm::uvec2 a, glm::uvec2 b, std::uint64_t reach, Visit&
     }
     for (std::int64_t ty = lo[1]; ty <= hi[1]; ++ty)
         for (std::int64_t tx = lo[0]; tx <= hi[0]; ++tx) {
-            const std::int64_t wx = ((tx % tiles[0]) + tiles[0]) % tiles[0], wy = ((ty % tiles[1]) + tiles[1]) % tiles[1];
+            const std::int64_t wx = ((tx % tiles[0]) + tiles[0]) % tiles[0],
+                               wy = ((ty % tiles[1]) + tiles[1]) % tiles[1];
             if (descend(roots_[std::size_t(wy * tiles[0] + wx)], tx * tile, ty * tile, t_.tile_bits, query, visit))
                 return true;
         }

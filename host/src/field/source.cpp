@@ -46,8 +46,8 @@ GreyImage load_grey(const std::string& path) {
     if (channels > 2)
         throw Error(fmt::format("the sizing image {} has {} colour channels: it must be greyscale", path, channels));
     if (w > kMaxImageSide || h > kMaxImageSide)
-        throw Error(fmt::format("the sizing image {} is {} x {} pixels; at most {} per side", path, w, h,
-                                kMaxImageSide));
+        throw Error(
+            fmt::format("the sizing image {} is {} x {} pixels; at most {} per side", path, w, h, kMaxImageSide));
     GreyImage img;
     img.width = w;
     img.height = h;
@@ -69,14 +69,15 @@ GreyImage load_grey(const std::string& path) {
 }  // namespace
 
 FieldSource field_source(const Sizing& s, const Box& box) {
-    if (s.expression.empty() == s.image.empty()) throw Error("a sizing field is an expression or an image, one of them");
+    if (s.expression.empty() == s.image.empty())
+        throw Error("a sizing field is an expression or an image, one of them");
     if (!s.expression.empty()) {
         auto expr = std::make_shared<SizingExpression>(s.expression);
         return [expr, box](double x, double y) { return (*expr)(x, y, box); };
     }
     if (!(std::isfinite(s.r_min) && std::isfinite(s.r_max) && s.r_min > 0 && s.r_min <= s.r_max))
-        throw Error(fmt::format("an image's radii need 0 < r_min <= r_max, finite (got r_min {}, r_max {})", s.r_min,
-                                s.r_max));
+        throw Error(
+            fmt::format("an image's radii need 0 < r_min <= r_max, finite (got r_min {}, r_max {})", s.r_min, s.r_max));
     auto img = std::make_shared<GreyImage>(load_grey(s.image));
     const double lo = s.r_min, span = s.r_max - s.r_min;
     return [img, box, lo, span](double x, double y) { return lo + span * img->at(x / box.width, y / box.height); };

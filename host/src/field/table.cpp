@@ -33,9 +33,10 @@ constexpr std::uint32_t kSurvey = 256;
 double checked(const FieldSource& f, double x, double y) {
     const double v = f(x, y);
     if (!(std::isfinite(v) && v > 0))
-        throw Error(fmt::format("sizing field: r({:.6g}, {:.6g}) = {}; it must be a finite number > 0 everywhere in "
-                                "the box",
-                                x, y, v));
+        throw Error(
+            fmt::format("sizing field: r({:.6g}, {:.6g}) = {}; it must be a finite number > 0 everywhere in "
+                        "the box",
+                        x, y, v));
     return v;
 }
 
@@ -284,18 +285,20 @@ FieldTable tabulate(const Sizing& s, const Box& box) {
                                 double(limit.bytes) / (1 << 20)));
     const double short_side = std::min(box.width, box.height);
     if (periodic && hi >= short_side / 2)
-        throw Error(fmt::format("the field's largest radius {:.6g} is too large for a periodic box of {} x {}: it must "
-                                "be < {} (half the shorter side)",
-                                hi, box.width, box.height, short_side / 2));
+        throw Error(
+            fmt::format("the field's largest radius {:.6g} is too large for a periodic box of {} x {}: it must "
+                        "be < {} (half the shorter side)",
+                        hi, box.width, box.height, short_side / 2));
 
     FieldTable t;
     std::uint64_t tx = 0, ty = 0;
     double tile = std::min(hi, std::max(box.width, box.height));
     if (periodic) {
         if (!periodic_tiles(box, tile, tx, ty))
-            throw Error(fmt::format("periodic box {} x {}: width/height must be a ratio of small integers so that "
-                                    "square tiles fit it",
-                                    box.width, box.height));
+            throw Error(
+                fmt::format("periodic box {} x {}: width/height must be a ratio of small integers so that "
+                            "square tiles fit it",
+                            box.width, box.height));
         tile = box.width / double(tx);
     } else {
         tx = std::uint64_t(std::ceil(box.width / tile));
@@ -308,9 +311,10 @@ FieldTable tabulate(const Sizing& s, const Box& box) {
     std::uint32_t a = 0;
     while (tile / double(1u << a) > 8 * lo && a < 30) ++a;
     if (!fits(a))
-        throw Error(fmt::format("the field's radii ({:.6g} to {:.6g}) span more of the box than the 31-bit lattice and "
-                                "the table's {} nodes hold",
-                                lo, hi, kMaxTableNodes));
+        throw Error(
+            fmt::format("the field's radii ({:.6g} to {:.6g}) span more of the box than the 31-bit lattice and "
+                        "the table's {} nodes hold",
+                        lo, hi, kMaxTableNodes));
     Draft d;
     for (;;) {
         d = draft(f, box, std::uint32_t(tx << a), std::uint32_t(ty << a), tile / double(1u << a));
@@ -337,8 +341,10 @@ FieldTable tabulate(const Sizing& s, const Box& box) {
     t.cells_y = d.cells_y;
     t.lattice.periodic = periodic ? 1u : 0u;
     const std::uint64_t ex = tx << t.tile_bits, ey = ty << t.tile_bits;
-    t.lattice.extent_x = periodic ? std::uint32_t(ex) : std::uint32_t(std::min<double>(std::ceil(box.width / t.quantum), double(ex)));
-    t.lattice.extent_y = periodic ? std::uint32_t(ey) : std::uint32_t(std::min<double>(std::ceil(box.height / t.quantum), double(ey)));
+    t.lattice.extent_x =
+        periodic ? std::uint32_t(ex) : std::uint32_t(std::min<double>(std::ceil(box.width / t.quantum), double(ex)));
+    t.lattice.extent_y =
+        periodic ? std::uint32_t(ey) : std::uint32_t(std::min<double>(std::ceil(box.height / t.quantum), double(ey)));
     t.tabulation_error = d.error;
     t.nodes.resize(d.values.size());
     for (std::size_t i = 0; i < d.values.size(); ++i) {
@@ -359,8 +365,8 @@ FieldTable tabulate(const Sizing& s, const Box& box) {
             if ((x > last_x && i > 0 && (std::uint64_t(i - 1) << t.cell_bits) > last_x) ||
                 (y > last_y && j > 0 && (std::uint64_t(j - 1) << t.cell_bits) > last_y))
                 continue;
-            const std::uint32_t r = t.radius({std::uint32_t(std::min<std::uint64_t>(x, last_x)),
-                                              std::uint32_t(std::min<std::uint64_t>(y, last_y))});
+            const std::uint32_t r = t.radius(
+                {std::uint32_t(std::min<std::uint64_t>(x, last_x)), std::uint32_t(std::min<std::uint64_t>(y, last_y))});
             t.box_lo = std::min(t.box_lo, r);
             t.box_hi = std::max(t.box_hi, r);
         }

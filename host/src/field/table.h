@@ -20,21 +20,21 @@ FieldSource field_source(const Sizing& sizing, const Box& box);
 
 struct FieldTable {
     shared::Lattice lattice;
-    double quantum = 0;            // lattice spacing in box units
-    std::uint32_t tile_bits = 0;   // quadtree roots (tiles) span 2^tile_bits lattice units
+    double quantum = 0;           // lattice spacing in box units
+    std::uint32_t tile_bits = 0;  // quadtree roots (tiles) span 2^tile_bits lattice units
     std::uint32_t tiles_x = 0, tiles_y = 0;
-    std::uint32_t cell_bits = 0;   // table cells span 2^cell_bits lattice units
-    std::uint32_t cells_x = 0, cells_y = 0;     // table cells over the tiles
-    std::vector<std::uint32_t> nodes;           // (cells_x + 1) x (cells_y + 1), row by row
+    std::uint32_t cell_bits = 0;             // table cells span 2^cell_bits lattice units
+    std::uint32_t cells_x = 0, cells_y = 0;  // table cells over the tiles
+    std::vector<std::uint32_t> nodes;        // (cells_x + 1) x (cells_y + 1), row by row
     // lo[k], hi[k]: the least and greatest node over blocks of 2^k x 2^k table cells (their
     // boundary nodes included), cells_x >> k (rounded up) per row.
     std::vector<std::vector<std::uint32_t>> lo, hi;
-    std::uint32_t r_lo = 0, r_hi = 0;          // over all nodes (a free box's outer ones too)
-    std::uint32_t box_lo = 0, box_hi = 0;      // r's least and greatest over the box's lattice points
-    double lipschitz = 0;                      // of the interpolant, exact
+    std::uint32_t r_lo = 0, r_hi = 0;      // over all nodes (a free box's outer ones too)
+    std::uint32_t box_lo = 0, box_hi = 0;  // r's least and greatest over the box's lattice points
+    double lipschitz = 0;                  // of the interpolant, exact
     double tabulation_error = 0;
     std::uint32_t rule = 0;
-    double constant = 0;                       // the source's value where it is one constant, else 0
+    double constant = 0;  // the source's value where it is one constant, else 0
 
     std::uint32_t node(std::uint32_t i, std::uint32_t j) const { return nodes[std::size_t(j) * (cells_x + 1) + i]; }
     // r at lattice point p (inside the lattice).
