@@ -165,5 +165,5 @@ TEST_CASE("figures: the paper's figures, an index page that links every file, th
     for (const char* rule : {"prior", "current", "bigger"})
         CHECK(j["11"]["smaller"]["min_angle_deg"].get<double>() > j["11"][rule]["min_angle_deg"].get<double>());
     CHECK(j["12"]["samples"].get<double>() > 1000);
-    CHECK(j["16"]["samples"].get<double>() > 50000);
+    CHECK(j["16"]["samples"].get<double>() > 20000);
 }
