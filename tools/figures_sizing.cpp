@@ -20,7 +20,7 @@ namespace {
 constexpr const char* kRamp = "0.001 + 0.3*x";
 constexpr SizingRule kRules[] = {SizingRule::Prior, SizingRule::Current, SizingRule::Bigger, SizingRule::Smaller};
 
-// The rectified sine's smallest radius on the page (about 25 000 samples; L 0.30); --full draws
+// The rectified sine's smallest radius on the page (about 25 000 samples; the source's L 0.30); --full draws
 // Figure 16 at the paper's 0.00015 (about 2.2 M samples, L 0.37).
 constexpr double kSineSmall = 0.003;
 
