@@ -4,6 +4,7 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <fstream>
 #include <numbers>
 
 #include <nlohmann/json.hpp>
@@ -149,6 +150,19 @@ TEST_CASE("check --sizing from the command line", "[sizing][cli]") {
     const std::string u = (dir / "uniform.csv").string();
     REQUIRE(cli("sample --radius 0.02 --seed 2 --device cpu -o " + u).code == 0);
     CHECK(cli("check " + u + " --sizing 0.02 --rule bigger").code == 0);
+    // An image field, sampled and checked through the same options.
+    const std::string pgm = (dir / "blob.pgm").string();
+    {
+        std::ofstream img(pgm, std::ios::binary);
+        img << "P5\n32 32\n255\n";
+        for (int y = 0; y < 32; ++y)
+            for (int x = 0; x < 32; ++x) img.put(char(std::min(255.0, 12.0 * std::hypot(x - 15.5, y - 15.5))));
+    }
+    const std::string stipple = (dir / "stipple.csv").string();
+    const std::string image = " --sizing-image " + pgm + " --r-min 0.01 --r-max 0.04 --rule current --boundary free";
+    REQUIRE(cli("sample" + image + " --seed 4 -o " + stipple).code == 0);
+    CHECK(cli("check " + stipple + image).code == 0);
+    CHECK(cli("check " + stipple + image + " --lipschitz 0.01").code == 1);  // a smaller field: uncovered
     const std::string json = (dir / "sizing.json").string();
     REQUIRE(cli("check " + u + " --sizing \"0.02 + 0.01*x\" --rule smaller --boundary free --json " + json).code == 1);
     const auto j = nlohmann::json::parse(test::slurp(json));
