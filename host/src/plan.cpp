@@ -28,27 +28,6 @@ constexpr unsigned kMaxThreads = 1024;  // a host thread each: far above any mac
 
 bool finite_positive(double v) { return std::isfinite(v) && v > 0.0; }
 
-// A periodic box must be tiled exactly by square base cells: W = nx s and H = ny s, with nx and ny
-// multiples of `multiple` (a hierarchy's coarser grids group multiple x multiple cells).
-bool periodic_tiling(double width, double height, double max_side, std::uint64_t multiple, std::uint64_t& nx,
-                     std::uint64_t& ny) {
-    std::uint64_t first = std::uint64_t(std::ceil(width / max_side));
-    // Cells no smaller than r/3 keep a disk's reach within MAX_REACH cells.
-    const std::uint64_t last = std::uint64_t(std::floor(width / (max_side * std::sqrt(2.0) / 3.0)));
-    for (std::uint64_t n = first; n <= last; ++n) {
-        double side = width / double(n);
-        double rows = height / side;
-        double whole = std::round(rows);
-        if (n % multiple != 0 || std::uint64_t(whole) % multiple != 0) continue;
-        if (whole >= 1.0 && std::abs(rows - whole) <= 1e-9 * rows && height / whole <= max_side) {
-            nx = n;
-            ny = std::uint64_t(whole);
-            return true;
-        }
-    }
-    return false;
-}
-
 // A hierarchy's coarsest grid groups 2^J x 2^J base cells: the largest power of two <= S.
 std::uint32_t hierarchy_levels(const SampleOptions& o) {
     if (o.hierarchy.steps == 0) return 0;
@@ -100,6 +79,25 @@ void set_radii(Plan& plan, double rf, double rc, bool two, const Box& box) {
 }
 
 }  // namespace
+
+bool periodic_tiling(double width, double height, double max_side, std::uint64_t multiple, std::uint64_t& nx,
+                     std::uint64_t& ny) {
+    std::uint64_t first = std::uint64_t(std::ceil(width / max_side));
+    // Cells no smaller than r/3 keep a disk's reach within MAX_REACH cells.
+    const std::uint64_t last = std::uint64_t(std::floor(width / (max_side * std::sqrt(2.0) / 3.0)));
+    for (std::uint64_t n = first; n <= last; ++n) {
+        double side = width / double(n);
+        double rows = height / side;
+        double whole = std::round(rows);
+        if (n % multiple != 0 || std::uint64_t(whole) % multiple != 0) continue;
+        if (whole >= 1.0 && std::abs(rows - whole) <= 1e-9 * rows && height / whole <= max_side) {
+            nx = n;
+            ny = std::uint64_t(whole);
+            return true;
+        }
+    }
+    return false;
+}
 
 double hierarchy_start(const SampleOptions& o) {
     if (o.hierarchy.start != 0) return o.hierarchy.start;

@@ -21,6 +21,12 @@ struct Plan {
 // level, where cells are single lattice points).
 Plan make_plan(const SampleOptions& options, std::uint32_t max_cell_bits = 30);
 
+// A periodic box tiled exactly by square cells of side at most max_side (and no smaller than
+// max_side sqrt(2) / 3): W = nx s and H = ny s, with nx and ny multiples of `multiple` (a
+// hierarchy's coarser grids group multiple x multiple cells). False if no such tiling exists.
+bool periodic_tiling(double width, double height, double max_side, std::uint64_t multiple, std::uint64_t& nx,
+                     std::uint64_t& ny);
+
 // A hierarchy's S (HierarchyOptions::start, or K if that is 0).
 double hierarchy_start(const SampleOptions& options);
 

@@ -40,21 +40,6 @@ double checked(const FieldSource& f, double x, double y) {
     return v;
 }
 
-// A periodic box tiled exactly by n x m square tiles no wider than `target`.
-bool periodic_tiles(const Box& box, double target, std::uint64_t& nx, std::uint64_t& ny) {
-    const std::uint64_t first = std::uint64_t(std::ceil(box.width / target));
-    for (std::uint64_t n = first; n <= 4 * first + 16; ++n) {
-        const double rows = box.height / (box.width / double(n));
-        const double whole = std::round(rows);
-        if (whole >= 1 && std::abs(rows - whole) <= 1e-9 * rows) {
-            nx = n;
-            ny = std::uint64_t(whole);
-            return true;
-        }
-    }
-    return false;
-}
-
 // The double-valued table at a resolution, with its largest relative error against the source.
 struct Draft {
     std::uint32_t cells_x = 0, cells_y = 0;
@@ -294,7 +279,7 @@ FieldTable tabulate(const Sizing& s, const Box& box) {
     std::uint64_t tx = 0, ty = 0;
     double tile = std::min(hi, std::max(box.width, box.height));
     if (periodic) {
-        if (!periodic_tiles(box, tile, tx, ty))
+        if (!periodic_tiling(box.width, box.height, tile, 1, tx, ty))
             throw Error(
                 fmt::format("periodic box {} x {}: width/height must be a ratio of small integers so that "
                             "square tiles fit it",
