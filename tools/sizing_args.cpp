@@ -70,8 +70,9 @@ void print_field_summary(const Sampling& s, const Sizing& sizing, std::ostream& 
             f.lipschitz, sizing_rule_name(sizing.rule), bound, bound);
     if (f.tabulation_error > 0.001)
         out << fmt::format(
-            "vrpd: warning: the table is {:.3g} % from the source somewhere (more than 0.1 %): the "
-            "lattice or the table's node budget stopped its refinement\n",
+            "vrpd: warning: the table is {:.3g} % from the source somewhere (more than 0.1 %): at a kink or "
+            "a jump (on a torus, a field that does not wrap) the lattice or the table's node budget stopped "
+            "its refinement\n",
             100 * f.tabulation_error);
 }
 
