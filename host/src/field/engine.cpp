@@ -388,24 +388,10 @@ Sampling FieldSampler::run() {
 
 }  // namespace
 
-std::uint64_t expected_field_samples(const FieldTable& t) {
-    // A maximal uniform sampling has n r^2 = 0.70 per unit area; integrated over the table's
-    // cells at the least r of each.
-    const double cell = double(std::uint64_t(1) << t.cell_bits);
-    double n = 0;
-    for (std::size_t k = 0; k < t.lo[0].size(); ++k) n += cell * cell / (double(t.lo[0][k]) * t.lo[0][k]);
-    const double inside =
-        double(t.lattice.extent_x) * t.lattice.extent_y / (double(t.cells_x) * t.cells_y * cell * cell);
-    return std::uint64_t(0.70 * n * inside) + 64;
-}
-
 Sampling sample_field(const SampleOptions& o, const FieldTable& t) {
+    // tabulate() refused a field whose expected samples exceed memory; the leaves stay within a
+    // 64th of it besides.
     const MemoryLimit limit = host_memory_limit();
-    const double expected = double(expected_field_samples(t));
-    const double bytes = expected * kFieldBytesPerSample + double(t.nodes.size()) * 8;
-    if (bytes > double(limit.bytes))
-        throw Error(fmt::format("the field needs about {:.3g} samples and {:.0f} MiB, more than the {} ({:.0f} MiB)",
-                                expected, bytes / (1 << 20), limit.what, double(limit.bytes) / (1 << 20)));
     const auto start = Clock::now();
     FieldSampler sampler(t, o, std::uint64_t(double(limit.bytes) / 64));
     const double leaves = std::chrono::duration<double>(Clock::now() - start).count();

@@ -14,11 +14,8 @@ namespace vrpd::detail {
 inline constexpr double kFieldBytesPerSample = 200;
 
 // Samples a maximal sampling of o.box under the field's rule, on the host's threads (o.threads;
-// one for Backend::Serial; the points do not depend on the count). Throws Error before it starts
-// if the expected samples would not fit in memory.
+// one for Backend::Serial; the points do not depend on the count). tabulate() has already
+// refused a field whose expected samples would not fit in memory.
 Sampling sample_field(const SampleOptions& o, const FieldTable& table);
-
-// Samples a run of the field is expected to end with, from n r^2 = 0.70 per unit area.
-std::uint64_t expected_field_samples(const FieldTable& table);
 
 }  // namespace vrpd::detail
