@@ -17,8 +17,9 @@ VRPD_FN bool inner_cell(Domain dom, uvec2 cell) {
     return cell.x >= r && cell.x + r < dom.cells_x && cell.y >= r && cell.y + r < dom.cells_y;
 }
 
-// neighbour_index for a cell near a side of the grid. make_plan guarantees influence_reach <=
-// cells per side, so one wrap step suffices on a torus.
+// The index of base cell (cx + dx, cy + dy) for a cell near a side of the grid (inner cells
+// use plain offsets), or GRID_EMPTY when it falls off a free boundary. make_plan guarantees
+// influence_reach <= cells per side, so one wrap step suffices on a torus.
 VRPD_COLD_FN uint wrapped_neighbour_index(Domain dom, uvec2 cell, int dx, int dy) {
     int x = int(cell.x) + dx;
     int y = int(cell.y) + dy;
@@ -31,13 +32,6 @@ VRPD_COLD_FN uint wrapped_neighbour_index(Domain dom, uvec2 cell, int dx, int dy
         return GRID_EMPTY;
     }
     return uint(y) * dom.cells_x + uint(x);
-}
-
-// Index of the base cell (cx + dx, cy + dy), or GRID_EMPTY when it falls off a free boundary.
-// `inner` is inner_cell(dom, cell), computed once per scan.
-VRPD_FN uint neighbour_index(Domain dom, uvec2 cell, bool inner, int dx, int dy) {
-    if (inner) return uint(int(base_index(dom, cell)) + dy * int(dom.cells_x) + dx);
-    return wrapped_neighbour_index(dom, cell, dx, dy);
 }
 
 // The columns a scan of row dy (|dy| <= reach) must visit: |dx| <= row_reach, the cells some of
@@ -75,11 +69,17 @@ VRPD_FN Domain local_domain(Domain dom, uvec2 cell) {
 // (an int: base cells number fewer than 2^31). The body follows as a block; `continue` goes to the
 // next cell, `return` ends the scan. GLSL has neither closures nor function pointers: a loop
 // macro keeps the scan written once while every compiler sees two plain nested loops (the
-// index and the inner-cell test ride in the outer loop's declaration).
-#define VRPD_FOR_EACH_NEIGHBOUR(dom, cell, reach, limit2, dx, dy, nb)                                          \
-    for (int dy = -(reach), nb = 0, vrpd_inner = inner_cell(dom, cell) ? 1 : 0; dy <= (reach); dy++)           \
-        for (int dx = -row_reach(dom, dy, reach, limit2), vrpd_row_end = -dx; dx <= vrpd_row_end; dx++)         \
-            if ((nb = int(neighbour_index(dom, cell, vrpd_inner != 0, dx, dy))) != int(GRID_EMPTY))
+// inner-cell test and the centre's index ride in the outer loop's declaration, each row's first
+// index in the inner one's, so an inner cell's neighbour costs one add).
+#define VRPD_FOR_EACH_NEIGHBOUR(dom, cell, reach, limit2, dx, dy, nb)                                           \
+    for (int dy = -(reach), nb = 0, vrpd_inner = inner_cell(dom, cell) ? 1 : 0,                                 \
+             vrpd_centre = int(base_index(dom, cell));                                                          \
+         dy <= (reach); dy++)                                                                                   \
+        for (int dx = -row_reach(dom, dy, reach, limit2), vrpd_row_end = -dx,                                    \
+                 vrpd_row = vrpd_centre + dy * int(dom.cells_x);                                                \
+             dx <= vrpd_row_end; dx++)                                                                          \
+            if ((nb = vrpd_inner != 0 ? vrpd_row + dx : int(wrapped_neighbour_index(dom, cell, dx, dy))) !=     \
+                int(GRID_EMPTY))
 
 // This round's darts [first, end) in a grid word, or an empty range if it holds none.
 VRPD_FN uvec2 darts_in(uvec2 word) { return grid_is_darts(word) ? grid_darts(word) : uvec2(0u, 0u); }
