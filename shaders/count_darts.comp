@@ -9,6 +9,12 @@ layout(push_constant) uniform Push { CellArgs a; };
 
 void main() {
     uint e = gl_GlobalInvocationID.x;
-    if (e < a.cell_count) a.scan.value[e] = dart_count(cell_stream(a.round_key, a.cells.cell[e]), a.param);
-    else if (e == a.cell_count) a.scan.value[e] = 0u;
+    // A list written at its worst-case size (VulkanEngine::refine_listed) ends in unused entries,
+    // (GRID_EMPTY, GRID_EMPTY): no darts.
+    if (e < a.cell_count) {
+        uvec2 corner = a.cells.cell[e];
+        a.scan.value[e] = corner.x == GRID_EMPTY ? 0u : dart_count(cell_stream(a.round_key, corner), a.param);
+    } else if (e == a.cell_count) {
+        a.scan.value[e] = 0u;
+    }
 }

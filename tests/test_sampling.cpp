@@ -205,6 +205,20 @@ TEST_CASE("profiling names the phases that ran, within the run's time, and chang
     }
 }
 
+// A submit the host waits on costs a real GPU a queue's latency however little it carries: past
+// level 0 a round (one per level) counts the next round's darts in its last submit, and small
+// active lists are written at their worst-case size in the same submit as their counts.
+TEST_CASE("the Vulkan engine waits on the device fewer than 4 times a level", "[sampling][gpu]") {
+    for (double r : {0.01, 0.004}) {
+        INFO("r = " << r);
+        const Sampling gpu = sample(options(r, 3, Backend::Gpu));
+        CHECK(gpu.stats.levels > 10);
+        CHECK(gpu.stats.round_trips > gpu.stats.levels);
+        CHECK(gpu.stats.round_trips < 4 * gpu.stats.levels);
+        CHECK(sample(options(r, 3, Backend::Cpu)).stats.round_trips == 0);
+    }
+}
+
 TEST_CASE("parity holds on a large first round (many darts per resolution pass)", "[sampling][gpu]") {
     const Sampling cpu = sample(options(0.004, 5, Backend::Cpu));
     const Sampling gpu = sample(options(0.004, 5, Backend::Gpu));

@@ -192,6 +192,9 @@ void print_profile(const SamplingStats& stats, std::ostream& out) {
     }
     const double rest = std::max(0.0, stats.seconds - timed);
     out << fmt::format("  {:<18} {:9.3f} {:6.1f}%\n", "(outside phases)", rest, 100.0 * rest / stats.seconds);
+    if (stats.round_trips > 0)
+        out << fmt::format("  host round trips: {}, {:.1f} per level ({} levels, {} rounds)\n", stats.round_trips,
+                           double(stats.round_trips) / std::max(1u, stats.levels), stats.levels, stats.rounds);
 }
 
 // A continuous hierarchy, built on the geometry target.

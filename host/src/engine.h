@@ -19,6 +19,7 @@ struct RoundSpec {
     bool refine;                   // after the round, split surviving cells into 4 children
     bool every_free_cell;          // two radii: darts go to every base cell without a sample, not
                                    // only those near active cells (cheaper while U is everywhere)
+    bool operator==(const RoundSpec&) const = default;
 };
 
 struct RoundResult {
@@ -38,13 +39,17 @@ public:
     virtual std::uint64_t start(const Plan& plan, const std::vector<glm::uvec2>& initial) = 0;
     // One round: throw darts into the active cells, resolve them in arrival order, commit the
     // accepted and append them to the samples in arrival order, and keep (or refine) the cells
-    // still active.
-    virtual RoundResult round(const RoundSpec& spec) = 0;
+    // still active. `next` is the round after this one when the schedule knows it already (one
+    // radius: the schedule does not depend on a round's outcome), or null; an engine may count
+    // its darts in this round's last submit.
+    virtual RoundResult round(const RoundSpec& spec, const RoundSpec* next) = 0;
     // All samples so far, in acceptance order (rounds in order, each in arrival order).
     virtual std::vector<glm::uvec2> samples() = 0;
     // The most memory the engine's own arrays held at once: device memory (gpu) or host arrays
     // (cpu, serial). The process's resident memory adds the program and the Vulkan driver.
     virtual std::uint64_t peak_bytes() const = 0;
+    // Submits the host has waited on so far (SamplingStats::round_trips).
+    virtual std::uint64_t round_trips() const { return 0; }
     // Times the phases (host) or kernels (Vulkan) from now on; throws Error if the device cannot.
     virtual void start_profile() = 0;
     // The times so far, in the order the phases first ran; empty unless start_profile was called.

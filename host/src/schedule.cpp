@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
+#include <optional>
 
 #include <fmt/format.h>
 
@@ -96,24 +97,37 @@ std::uint32_t run_to_maximal(Engine& engine, const Plan& plan, std::uint64_t act
     std::uint64_t last_darts = 0;
     // Two radii: the share of a sample's Rc-disk its Rf-disk takes, (Rf / Rc)^2; 1 for one radius.
     const double share = double(plan.domain.radii.inhibition2) / double(plan.domain.radii.coverage2);
-    while (active > 0) {
+    // The spec of round `number`, the r-th of `level`'s rounds.
+    auto spec_at = [&](std::uint32_t level, std::uint32_t r, std::uint32_t number, bool crowded) {
         const LevelSchedule s = schedule_for(level, share);
-        const std::uint32_t side = 1u << (plan.deepest_level - level);
-        for (std::uint32_t r = 0; r < s.rounds && active > 0;) {
-            if (round - first_round >= kMaxRounds)
-                throw Error(fmt::format("internal: not maximal after {} rounds", round - first_round));
-            const bool crowded = share < 1.0 && level > 0 && double(active) > kCrowded * double(last_darts);
-            const bool refine = !crowded && r + 1 == s.rounds && level < plan.deepest_level;
-            // Two radii: while active cells fill half the base grid at level 0, listing the base
-            // cells near them costs more than the few darts it saves.
-            const bool every_free_cell = level == 0 && active >= plan.base_cells / 2;
-            const detail::RoundResult rr = engine.round({round++, side, exp_neg(s.lambda), refine, every_free_cell});
-            stats.darts += rr.darts;
-            last_darts = rr.darts;
-            active = rr.active;
-            if (!crowded) ++r;  // a crowded round does not count towards the level's rounds
-            if (refine) ++level;
-        }
+        const bool refine = !crowded && r + 1 == s.rounds && level < plan.deepest_level;
+        // Two radii: while active cells fill half the base grid at level 0, listing the base
+        // cells near them costs more than the few darts it saves.
+        const bool every_free_cell = share < 1.0 && level == 0 && active >= plan.base_cells / 2;
+        return detail::RoundSpec{number, 1u << (plan.deepest_level - level), exp_neg(s.lambda), refine,
+                                 every_free_cell};
+    };
+    std::uint32_t r = 0;  // rounds of this level so far
+    while (active > 0) {
+        if (round - first_round >= kMaxRounds)
+            throw Error(fmt::format("internal: not maximal after {} rounds", round - first_round));
+        const std::uint32_t rounds = schedule_for(level, share).rounds;
+        const bool crowded = share < 1.0 && level > 0 && double(active) > kCrowded * double(last_darts);
+        const detail::RoundSpec spec = spec_at(level, r, round, crowded);
+        // The level and round that come next; a crowded round does not count towards the level's
+        // rounds, and past the deepest level the rounds go on at it.
+        const std::uint32_t next_level = spec.refine ? level + 1 : level;
+        const std::uint32_t next_r = spec.refine || (!crowded && r + 1 == rounds) ? 0 : (crowded ? r : r + 1);
+        // One radius: no round is crowded, so the next spec does not depend on this round.
+        const std::optional<detail::RoundSpec> next =
+            share < 1.0 ? std::nullopt : std::optional(spec_at(next_level, next_r, round + 1, false));
+        const detail::RoundResult rr = engine.round(spec, next ? &*next : nullptr);
+        ++round;
+        stats.darts += rr.darts;
+        last_darts = rr.darts;
+        active = rr.active;
+        level = next_level;
+        r = next_r;
     }
     return level + 1;
 }
@@ -205,6 +219,7 @@ Sampling detail::sample_plan(const SampleOptions& options, const Plan& plan) {
     }
     result.stats.peak_bytes = engine->peak_bytes();
     result.stats.profile = engine->profile();
+    result.stats.round_trips = engine->round_trips();
     result.device = engine->device_name();
     result.lattice = std::move(samples);
     result.quantum = plan.quantum;

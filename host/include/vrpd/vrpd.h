@@ -133,6 +133,9 @@ struct SamplingStats {
                                   // memory (gpu) or host arrays (cpu, serial); the process's
                                   // resident memory adds the program and the Vulkan driver
     std::vector<PhaseTime> profile;   // with SampleOptions::profile: phases in the order they first ran
+    std::uint64_t round_trips = 0;    // submits the host waited on (Vulkan; 0 on the host backends),
+                                      // setup and read-back included: each costs a real GPU a
+                                      // queue's latency, however little work it carries
 };
 
 // A maximal sampling. Samples lie on an integer lattice of spacing `quantum` (exact predicates on

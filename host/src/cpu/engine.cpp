@@ -56,7 +56,7 @@ public:
         return cells_.size();
     }
 
-    RoundResult round(const RoundSpec& spec) override {
+    RoundResult round(const RoundSpec& spec, const RoundSpec*) override {
         const std::uint64_t total = timed("throw", [&] { return masked_ ? throw_masked(spec) : throw_listed(spec); });
         note_peak();
         timed("resolve", [&] { resolve(); });

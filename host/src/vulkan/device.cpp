@@ -343,6 +343,7 @@ void VulkanContext::submit_and_wait() {
     const VkFence fence = fence_.get();
     check(vk_.vkWaitForFences(device(), 1, &fence, VK_TRUE, UINT64_MAX), "vkWaitForFences");
     check(vk_.vkResetFences(device(), 1, &fence), "vkResetFences");
+    ++submits_;
     if (profiler_) profiler_->read();
     check_validation();
 }

@@ -57,7 +57,9 @@ public:
 
     // Recording into the one command buffer, and submitting it (waits on a fence).
     VkCommandBuffer begin();
+    VkCommandBuffer recording() const { return cmd_; }  // the command buffer begin() returned
     void submit_and_wait();
+    std::uint64_t submits() const { return submits_; }  // submit_and_wait calls so far
     // Makes every shader write before it visible to every shader read and indirect read after it.
     void barrier();
     void dispatch(const Kernel& k, const void* push, std::uint32_t groups);
@@ -102,6 +104,7 @@ private:
     std::unique_ptr<Profiler> profiler_;
     std::uint64_t allocated_ = 0;
     std::uint64_t peak_allocated_ = 0;
+    std::uint64_t submits_ = 0;
 };
 
 }  // namespace vrpd::detail

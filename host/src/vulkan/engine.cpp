@@ -40,6 +40,9 @@ using namespace shared;
 
 namespace {
 constexpr std::uint32_t kResolvePassesPerSubmit = 4;
+// A round writes the next active list at its worst-case size (round) only while that size is at
+// most this fraction of the most device memory held so far, so that the peak does not grow.
+constexpr std::uint64_t kWorstCaseShare = 8;
 }  // namespace
 
 VulkanEngine::VulkanEngine(const Plan& plan, const std::string& selector, const VulkanTarget* target)
@@ -88,6 +91,7 @@ std::uint64_t VulkanEngine::start(const Plan& plan, const std::vector<uvec2>& in
     plan_ = plan;
     masked_ = !two_radii(plan.domain.radii);
     listed_bases_ = 0;
+    counted_.reset();
     const std::uint64_t n = plan_.base_cells;
     grow(ctx_, grid_, n * sizeof(uvec2));
     // The samples' buffer starts at the expected count and grows by a quarter if a round overflows it.
@@ -145,7 +149,7 @@ std::uint64_t VulkanEngine::start(const Plan& plan, const std::vector<uvec2>& in
     return listed;
 }
 
-RoundResult VulkanEngine::round(const RoundSpec& spec) {
+RoundResult VulkanEngine::round(const RoundSpec& spec, const RoundSpec* next) {
     const bool two = two_radii(plan_.domain.radii);
     const bool masked = masked_;
     // One radius: the darts go to the active cells, or in mask mode to the base cells' active
@@ -160,24 +164,33 @@ RoundResult VulkanEngine::round(const RoundSpec& spec) {
     // Cells whose children refinement counts: the list's, or in mask mode none (the masks go
     // to the ranks region, over the base cells).
     const std::uint32_t listed = masked ? 0 : active_;
+    // One radius, list mode: when the next active list is small even at its worst-case size
+    // (every cell keeping all its children), this round's last submit writes it at that size and
+    // counts the next round's darts over it, so that the next round starts with its throw: two
+    // round trips fewer. Larger lists (the first levels) are written at their exact size.
+    const bool counted = counted_ && *counted_ == spec;
+    counted_.reset();
+    const std::uint64_t bound = std::uint64_t(active_) * (spec.refine ? 4u : 1u);
+    const RoundSpec* next_listed = next && !masked && !two ? next : nullptr;
+    const bool worst_case = next_listed && bound * sizeof(uvec2) <= ctx_.peak_allocated_bytes() / kWorstCaseShare;
 
-    // Submit 1: dart counts and their prefix sums.
-    const Scratch counts(n, 0, listed, masked);
-    grow(ctx_, scratch_, counts.end);
-    primitives_.reserve_scan(std::uint64_t(n) + 1);
-    ctx_.begin();
-    CellArgs a = cell_args(targets, counts.in(scratch_, 0), n, spec.round, side, spec.exp_neg_lambda);
-    ctx_.dispatch(masked ? count_masked_ : count_darts_, &a, dispatch_groups(std::uint64_t(n) + 1, WORKGROUP_SIZE));
-    ctx_.barrier();  // counts before the scan
-    primitives_.scan(scratch_.address(), std::uint64_t(n) + 1, COUNTER_DARTS);
-    ctx_.submit_and_wait();
+    // Submit 1, unless counted: dart counts and their prefix sums.
+    if (!counted) {
+        grow(ctx_, scratch_, Scratch(n, 0, listed, masked).end);
+        primitives_.reserve_scan(std::uint64_t(n) + 1);
+        ctx_.begin();
+        record_counts(spec, masked ? count_masked_ : count_darts_, targets, n);
+        ctx_.submit_and_wait();
+        counted_.reset();
+    }
     if (counter(COUNTER_CROWDED)) throw Error("internal: a base cell got more than 65535 darts in one round");
     const std::uint32_t darts = counter(COUNTER_DARTS);
     if (darts >= MAX_ROUND_DARTS) throw Error("a round would throw more than 2^30 darts");
 
     // Submit 2..: throw (rejecting darts covered by earlier samples), resolve in arrival order.
     const Scratch at(n, darts, listed, masked);
-    grow(ctx_, scratch_, at.end, true);  // keeps the prefix sums
+    // Keeps the prefix sums; makes room for the next round's (precount).
+    grow(ctx_, scratch_, worst_case ? std::max(at.end, (bound + 1) * 4) : at.end, true);
     // The darts get a buffer of their own, freed once they are emitted: the next active list
     // is then allocated in their place. When mask mode ends, refine_masked parks half of each
     // base cell's 64-bit mask there too.
@@ -191,7 +204,7 @@ RoundResult VulkanEngine::round(const RoundSpec& spec) {
     ctx_.vk().vkCmdFillBuffer(cmd, counters_.handle(), (COUNTER_WORK0 + 3) * 4, 4, 0);
     ctx_.vk().vkCmdFillBuffer(cmd, counters_.handle(), COUNTER_ACTIVE * 4, 4, 0);  // refine_masked's sum
     // param: exp(-lambda) for throw_masked, which counts its darts again.
-    a = cell_args(targets, at.in(scratch_, dart_list), n, spec.round, side, spec.exp_neg_lambda);
+    CellArgs a = cell_args(targets, at.in(scratch_, dart_list), n, spec.round, side, spec.exp_neg_lambda);
     ctx_.dispatch(masked ? mark_masked_ : mark_ranges_, &a, dispatch_groups(n, WORKGROUP_SIZE));
     ctx_.barrier();  // dart ranges and the empty work list before throw_darts reads and appends
     const Kernel& thrower = !masked ? throw_darts_ : (emitted_ == 0 ? throw_masked_empty_ : throw_masked_);
@@ -239,6 +252,7 @@ RoundResult VulkanEngine::round(const RoundSpec& spec) {
     const std::uint64_t need = (emitted_ + accepted) * sizeof(uvec2);
     if (samples_.size() < need) grow(ctx_, samples_, std::max(need, samples_.size() + samples_.size() / 4), true);
     primitives_.reserve_sort(accepted);
+    if (worst_case) primitives_.reserve_scan(bound + 1);
     ctx_.begin();
     DartArgs d = dart_args(dart_list, darts, std::uint32_t(emitted_));
     d.scan = ranks;
@@ -251,8 +265,8 @@ RoundResult VulkanEngine::round(const RoundSpec& spec) {
     emitted_ += accepted;
     const std::uint32_t fanout = spec.refine ? 4 : 1;
     const std::uint32_t child_side = spec.refine ? spec.side / 2 : spec.side;
-    active_ = masked ? refine_masked(spec, ranks, child_side, fanout, n, targets)
-                     : refine_listed(spec, at.in(scratch_, 0), ranks, child_side, fanout);
+    active_ = masked ? refine_masked(spec, ranks, child_side, fanout, n, targets, next)
+                     : refine_listed(spec, at.in(scratch_, 0), ranks, child_side, fanout, next_listed, worst_case);
     return {darts, active_};
 }
 
@@ -274,27 +288,59 @@ std::vector<uvec2> VulkanEngine::samples() {
 }
 
 // Ends the round's last submit (begun by round, with the emission and the sort recorded) with
-// the count of each active cell's surviving children; then allocates the next active list to
-// its exact size, in the place of the spent darts, and writes it. Returns its length.
+// the count of each active cell's surviving children and writes the next active list: at its
+// worst-case size in the same submit, or at its exact size (in the place of the spent darts) in
+// another. With `next`, that submit also counts the next round's darts over the list (when the
+// scratch buffer holds the counts). Returns the list's length.
 std::uint32_t VulkanEngine::refine_listed(const RoundSpec& spec, const Regions& r, std::uint64_t ranks,
-                                          std::uint32_t child_side, std::uint32_t fanout) {
+                                          std::uint32_t child_side, std::uint32_t fanout, const RoundSpec* next,
+                                          bool worst_case) {
     const std::uint32_t active = active_;
     if (std::uint64_t(active) * fanout >= GRID_TAG) throw Error("more than 2^31 active cells");
     CellArgs a = cell_args(cells_.address(), r, active, spec.round, child_side, fanout);
     ctx_.dispatch(refine_cells_, &a, dispatch_groups(std::uint64_t(active) + 1, WORKGROUP_SIZE));
     ctx_.barrier();  // surviving-children counts and masks before their scan
     primitives_.scan(ranks, std::uint64_t(active) + 1, COUNTER_ACTIVE);
+    Buffer list;
+    std::uint64_t length = std::uint64_t(active) * fanout;
+    if (worst_case) {
+        // The entries past the kept cells stay (GRID_EMPTY, GRID_EMPTY), which count_darts gives
+        // no darts: the counts' prefix sums over the whole list end in the next round's total,
+        // and their first kept + 1 are that round's.
+        list = Buffer(ctx_, length * sizeof(uvec2), false);
+        ctx_.vk().vkCmdFillBuffer(ctx_.recording(), list.handle(), 0, VK_WHOLE_SIZE, GRID_EMPTY);
+        ctx_.barrier();  // the fill and the ranks before the scatter
+    } else {
+        ctx_.submit_and_wait();
+        darts_ = Buffer();
+        length = counter(COUNTER_ACTIVE);
+        list = Buffer(ctx_, length * sizeof(uvec2), false);
+        if (next && scratch_.size() >= (length + 1) * 4) primitives_.reserve_scan(length + 1);
+        ctx_.begin();
+    }
+    a.cells_out = list.address();
+    ctx_.dispatch(scatter_cells_, &a, dispatch_groups(active, WORKGROUP_SIZE));
+    ctx_.barrier();  // the next active list before the next round and the host; the ranks are read
+    if (next && scratch_.size() >= (length + 1) * 4)
+        record_counts(*next, count_darts_, list.address(), std::uint32_t(length));
     ctx_.submit_and_wait();
     darts_ = Buffer();
-    const std::uint32_t kept = counter(COUNTER_ACTIVE);
-    Buffer next(ctx_, std::uint64_t(kept) * sizeof(uvec2), false);
-    a.cells_out = next.address();
-    ctx_.begin();
-    ctx_.dispatch(scatter_cells_, &a, dispatch_groups(active, WORKGROUP_SIZE));
-    ctx_.barrier();  // the next active list before the next round and the host
-    ctx_.submit_and_wait();
-    cells_ = std::move(next);
-    return kept;
+    cells_ = std::move(list);
+    return counter(COUNTER_ACTIVE);
+}
+
+// Records the counting of round `next`'s darts over the `n` targets at `targets` by `counter`
+// (count_darts or count_masked), as round's first submit does: the prefix sums at the start of
+// the scratch buffer (n + 1 words; the caller reserved the scan), the total in COUNTER_DARTS.
+// That round then skips its first submit.
+void VulkanEngine::record_counts(const RoundSpec& next, const Kernel& counter, std::uint64_t targets,
+                                 std::uint32_t n) {
+    CellArgs c = cell_args(targets, Regions{scratch_.address(), 0, 0, 0}, n, next.round, next.side,
+                           next.exp_neg_lambda);
+    ctx_.dispatch(counter, &c, dispatch_groups(std::uint64_t(n) + 1, WORKGROUP_SIZE));
+    ctx_.barrier();  // counts before their scan
+    primitives_.scan(scratch_.address(), std::uint64_t(n) + 1, COUNTER_DARTS);
+    counted_ = next;
 }
 
 // Ends a submit that flags base cells (flags[0, bases] at a.scan): scans the flags, gives

@@ -13,21 +13,26 @@ using namespace shared;
 // words, their counts are ranked, and mask mode ends. Returns the active count.
 // The round's targets are `n` base cells, or the `n` listed at `targets` (masked.glsl).
 std::uint32_t VulkanEngine::refine_masked(const RoundSpec& spec, std::uint64_t ranks, std::uint32_t child_side,
-                                          std::uint32_t fanout, std::uint32_t n, std::uint64_t targets) {
+                                          std::uint32_t fanout, std::uint32_t n, std::uint64_t targets,
+                                          const RoundSpec* next) {
     CellArgs a = cell_args(targets, Regions{ranks, 0, darts_.address(), ranks}, n, spec.round, child_side, fanout);
     const bool leaves = masked_leaves(plan_.domain, child_side, fanout);
+    // Children of the last mask-mode level: from the next round on, the kernels run over the
+    // list of the base cells that hold them (a superset of the active ones while the level's
+    // rounds last: masks only lose bits).
+    const bool last_level = fanout == 4u && (child_side << (MASK_LEVELS - 1u)) == (1u << plan_.domain.cell_bits);
     ctx_.dispatch(refine_masked_, &a, dispatch_groups(std::uint64_t(n) + 1, WORKGROUP_SIZE));
     ctx_.barrier();  // the new masks (and the active sum) before they reach the words
     ctx_.dispatch(apply_masks_, &a, dispatch_groups(n, WORKGROUP_SIZE));
     ctx_.barrier();  // the words (and the counts) before the next round, or the scan
     if (leaves) primitives_.scan(ranks, std::uint64_t(n) + 1, COUNTER_ACTIVE);
+    // The next round runs over the same base cells: its darts are counted here (as in round's
+    // first submit, into the start of the scratch buffer, which holds n + 1 words), so that it
+    // starts with its throw. The new masks there are spent.
+    if (next && !leaves && !last_level) record_counts(*next, count_masked_, targets, n);
     ctx_.submit_and_wait();
     darts_ = Buffer();
     const std::uint32_t kept = counter(COUNTER_ACTIVE);
-    // Children of the last mask-mode level: from the next round on, the kernels run over the
-    // list of the base cells that hold them (a superset of the active ones while the level's
-    // rounds last: masks only lose bits).
-    const bool last_level = fanout == 4u && (child_side << (MASK_LEVELS - 1u)) == (1u << plan_.domain.cell_bits);
     if (!leaves) {
         if (last_level && kept > 0) list_active_bases();
         return kept;
@@ -35,9 +40,14 @@ std::uint32_t VulkanEngine::refine_masked(const RoundSpec& spec, std::uint64_t r
     if (kept >= GRID_TAG) throw Error("more than 2^31 active cells");
     cells_ = Buffer(ctx_, std::uint64_t(kept) * sizeof(uvec2), false);
     a.cells_out = cells_.address();
+    // The next round runs over this list: its darts are counted here too, when the scratch
+    // buffer holds the counts.
+    const bool count = next && scratch_.size() >= (std::uint64_t(kept) + 1) * 4;
+    if (count) primitives_.reserve_scan(std::uint64_t(kept) + 1);
     ctx_.begin();
     ctx_.dispatch(scatter_masked_, &a, dispatch_groups(n, WORKGROUP_SIZE));
     ctx_.barrier();  // the active list and the emptied words before the next round
+    if (count) record_counts(*next, count_darts_, cells_.address(), kept);
     ctx_.submit_and_wait();
     masked_ = false;
     base_list_ = Buffer();

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -24,9 +25,10 @@ public:
     void start_profile() override { ctx_.start_profile(); }
     std::vector<PhaseTime> profile() const override { return ctx_.profile(); }
     std::uint64_t start(const Plan& plan, const std::vector<shared::uvec2>& initial) override;
-    RoundResult round(const RoundSpec& spec) override;
+    RoundResult round(const RoundSpec& spec, const RoundSpec* next) override;
     std::vector<shared::uvec2> samples() override;
     std::uint64_t peak_bytes() const override { return ctx_.peak_allocated_bytes(); }
+    std::uint64_t round_trips() const override { return ctx_.submits(); }
 
 private:
     // The device addresses of the scratch regions that the kernels over cells read.
@@ -67,12 +69,15 @@ private:
     };
 
     // Ends the round's last submit with the surviving children of the listed active cells, and
-    // writes the next active list. Returns its length.
+    // writes the next active list (at its worst-case size, in the same submit); with `next`, counts
+    // that round's darts too. Returns the list's length.
     std::uint32_t refine_listed(const RoundSpec& spec, const Regions& r, std::uint64_t ranks, std::uint32_t child_side,
-                                std::uint32_t fanout);
-    // Mask mode's counterpart (mask_mode.cpp).
+                                std::uint32_t fanout, const RoundSpec* next, bool worst_case);
+    void record_counts(const RoundSpec& next, const Kernel& counter, std::uint64_t targets, std::uint32_t n);
+    // Mask mode's counterpart (mask_mode.cpp); with `next`, it counts the next round's darts
+    // when that round runs over the same base cells.
     std::uint32_t refine_masked(const RoundSpec& spec, std::uint64_t ranks, std::uint32_t child_side,
-                                std::uint32_t fanout, std::uint32_t n, std::uint64_t targets);
+                                std::uint32_t fanout, std::uint32_t n, std::uint64_t targets, const RoundSpec* next);
     void list_active_bases();
     std::uint32_t list_flagged(shared::CellArgs a, const Kernel& lister, std::uint32_t total_slot, Buffer& list,
                                std::uint64_t entry, std::uint64_t shared::CellArgs::*out);
@@ -93,6 +98,9 @@ private:
     Buffer samples_;     // all samples so far, in acceptance order
     Buffer scratch_;     // each round's transient arrays (see Scratch)
     Buffer darts_;       // this round's darts
+    // The round whose darts the last round's final submit counted (prefix sums at the start of
+    // scratch_, total in COUNTER_DARTS), if it did.
+    std::optional<RoundSpec> counted_;
     Primitives primitives_{ctx_, counters_};
     // One radius runs refine_cells_one and resolve_darts_one (CMakeLists.txt); profiles name
     // both variants by their source.
