@@ -205,16 +205,17 @@ TEST_CASE("profiling names the phases that ran, within the run's time, and chang
     }
 }
 
-// A submit the host waits on costs a real GPU a queue's latency however little it carries: past
-// level 0 a round (one per level) counts the next round's darts in its last submit, and small
-// active lists are written at their worst-case size in the same submit as their counts.
-TEST_CASE("the Vulkan engine waits on the device fewer than 4 times a level", "[sampling][gpu]") {
+// A submit the host waits on costs a real GPU a queue's latency however little it carries. Past
+// the first levels a round (one a level) is 2 or 3: throw and resolution passes, then commit,
+// emission, sort, refinement and the next round's dart counts, with small active lists written at
+// their worst-case size. Setup, read-back and the first levels' larger lists add a few.
+TEST_CASE("the Vulkan engine waits on the device about 3 times a level", "[sampling][gpu]") {
     for (double r : {0.01, 0.004}) {
         INFO("r = " << r);
         const Sampling gpu = sample(options(r, 3, Backend::Gpu));
         CHECK(gpu.stats.levels > 10);
         CHECK(gpu.stats.round_trips > gpu.stats.levels);
-        CHECK(gpu.stats.round_trips < 4 * gpu.stats.levels);
+        CHECK(gpu.stats.round_trips <= 3 * gpu.stats.levels + 8);
         CHECK(sample(options(r, 3, Backend::Cpu)).stats.round_trips == 0);
     }
 }

@@ -39,7 +39,9 @@ namespace vrpd::detail {
 using namespace shared;
 
 namespace {
-constexpr std::uint32_t kResolvePassesPerSubmit = 4;
+// Resolution passes recorded in one submit: most rounds end within 8, and a pass with no dart
+// left is three dispatches of no work (indirect, zero groups), far cheaper than a round trip.
+constexpr std::uint32_t kResolvePassesPerSubmit = 8;
 // A round writes the next active list at its worst-case size (round) only while that size is at
 // most this fraction of the most device memory held so far, so that the peak does not grow.
 constexpr std::uint64_t kWorstCaseShare = 8;
@@ -237,36 +239,52 @@ RoundResult VulkanEngine::round(const RoundSpec& spec, const RoundSpec* next) {
     }
 
     // Commit: grid words become samples or empty again; the accepted darts are flagged and ranked.
+    // One radius, when the round's darts are few (an eighth of the peak device memory, at the
+    // sort's 12 bytes each) and the samples' buffer has room for all of them: the commit shares
+    // the last submit, which then sorts all the round's darts' slots, those of darts not accepted
+    // keyed past every dart (2^32 - 1, after any accepted dart by stability), for the accepted
+    // count is not known when it is recorded. Else it takes a submit of its own, whose count sizes
+    // the emission and the sort.
+    const bool one_submit = !two && std::uint64_t(darts) * 12 <= ctx_.peak_allocated_bytes() / kWorstCaseShare &&
+                            samples_.size() >= (emitted_ + darts) * sizeof(uvec2);
     primitives_.reserve_scan(std::uint64_t(std::max(darts, active_)) + 1);
+    if (one_submit) primitives_.reserve_sort(darts);
+    if (one_submit && worst_case) primitives_.reserve_scan(bound + 1);
     ctx_.begin();
     a.param = darts;  // the commit kernels end the flags with a 0 at flags[darts]
     ctx_.dispatch(masked ? commit_masked_ : commit_cells_, &a, dispatch_groups(n, WORKGROUP_SIZE));
     ctx_.barrier();  // accepted flags and grid words before the scan
     primitives_.scan(ranks, std::uint64_t(darts) + 1, COUNTER_ACCEPTED);
-    ctx_.submit_and_wait();
-    if (counter(COUNTER_TOO_COMPLEX)) throw Error(kTooComplex);
-    const std::uint32_t accepted = counter(COUNTER_ACCEPTED);
+    if (!one_submit) {
+        ctx_.submit_and_wait();
+        if (counter(COUNTER_TOO_COMPLEX)) throw Error(kTooComplex);
+        const std::uint64_t need = (emitted_ + counter(COUNTER_ACCEPTED)) * sizeof(uvec2);
+        if (samples_.size() < need) grow(ctx_, samples_, std::max(need, samples_.size() + samples_.size() / 4), true);
+        primitives_.reserve_sort(counter(COUNTER_ACCEPTED));
+        if (worst_case) primitives_.reserve_scan(bound + 1);
+        ctx_.begin();
+    }
 
     // Emit the accepted darts as samples, put them in arrival order, and count the children
     // of each active cell that stay active.
-    const std::uint64_t need = (emitted_ + accepted) * sizeof(uvec2);
-    if (samples_.size() < need) grow(ctx_, samples_, std::max(need, samples_.size() + samples_.size() / 4), true);
-    primitives_.reserve_sort(accepted);
-    if (worst_case) primitives_.reserve_scan(bound + 1);
-    ctx_.begin();
     DartArgs d = dart_args(dart_list, darts, std::uint32_t(emitted_));
     d.scan = ranks;
     d.sample_keys = scratch_.address() + at.keys;
+    if (one_submit && darts > 0) {
+        ctx_.vk().vkCmdFillBuffer(ctx_.recording(), scratch_.handle(), at.keys, std::uint64_t(darts) * 4, ~0u);
+        ctx_.barrier();  // the keys of the slots no dart takes before the emission
+    }
     ctx_.dispatch(emit_samples_, &d, dispatch_groups(darts, WORKGROUP_SIZE));
     ctx_.barrier();  // the round's samples and keys before the sort; the ranks are read
     // The round's samples into arrival order (stable by key), through the spent darts' buffer.
-    if (accepted > 1)
-        primitives_.sort(d.samples + emitted_ * sizeof(uvec2), d.sample_keys, dart_list, accepted, COUNTER_SORT);
-    emitted_ += accepted;
+    const std::uint32_t sorted = one_submit ? darts : counter(COUNTER_ACCEPTED);
+    if (sorted > 1)
+        primitives_.sort(d.samples + emitted_ * sizeof(uvec2), d.sample_keys, dart_list, sorted, COUNTER_SORT);
     const std::uint32_t fanout = spec.refine ? 4 : 1;
     const std::uint32_t child_side = spec.refine ? spec.side / 2 : spec.side;
     active_ = masked ? refine_masked(spec, ranks, child_side, fanout, n, targets, next)
                      : refine_listed(spec, at.in(scratch_, 0), ranks, child_side, fanout, next_listed, worst_case);
+    emitted_ += counter(COUNTER_ACCEPTED);
     return {darts, active_};
 }
 
