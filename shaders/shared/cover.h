@@ -94,11 +94,12 @@ VRPD_FN uint gather_cell_samples(Domain dom, Grid grid, uvec2 base) {
         if (!grid_is_sample(p)) continue;
         if (near + far == MAX_CELL_SAMPLES) return MAX_CELL_SAMPLES + 1u;
         ivec2 o = sample_offset(dom, dx, dy, p);
-        // A sample that covers no point of the base cell covers none of its cells.
-        if (!covers(dom.radii, square_gap(clamp(o.x, 0, side), o.x) + square_gap(clamp(o.y, 0, side), o.y))) continue;
+        // A sample of the 8 adjacent cells lies within a base cell's diagonal, shorter than Rf,
+        // of the base cell's nearest corner. Another that covers no point of the base cell
+        // covers none of its cells.
         if (dx >= -1 && dx <= 1 && dy >= -1 && dy <= 1) {
             cell_sample_at[near++] = o;
-        } else {
+        } else if (covers(dom.radii, square_gap(clamp(o.x, 0, side), o.x) + square_gap(clamp(o.y, 0, side), o.y))) {
             far++;
             cell_sample_at[MAX_CELL_SAMPLES - far] = o;
         }
