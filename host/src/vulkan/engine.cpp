@@ -42,8 +42,9 @@ namespace {
 // Resolution passes recorded in one submit: most rounds end within 8, and a pass with no dart
 // left is three dispatches of no work (indirect, zero groups), far cheaper than a round trip.
 constexpr std::uint32_t kResolvePassesPerSubmit = 8;
-// A round writes the next active list at its worst-case size (round) only while that size is at
-// most this fraction of the most device memory held so far, so that the peak does not grow.
+// A round writes the next active list at its worst-case size, or sorts all its darts' slots
+// (round), only while those bytes are at most 1 / kWorstCaseShare of the most device memory held
+// so far: the early rounds, whose arrays make the peak, keep their exact sizes.
 constexpr std::uint64_t kWorstCaseShare = 8;
 }  // namespace
 
