@@ -117,7 +117,7 @@ std::uint32_t run_to_maximal(Engine& engine, const Plan& plan, std::uint64_t act
         // The level and round that come next; a crowded round does not count towards the level's
         // rounds, and past the deepest level the rounds go on at it.
         const std::uint32_t next_level = spec.refine ? level + 1 : level;
-        const std::uint32_t next_r = spec.refine || (!crowded && r + 1 == rounds) ? 0 : (crowded ? r : r + 1);
+        const std::uint32_t next_r = crowded ? r : (r + 1 == rounds ? 0 : r + 1);
         // One radius: no round is crowded, so the next spec does not depend on this round.
         const std::optional<detail::RoundSpec> next =
             share < 1.0 ? std::nullopt : std::optional(spec_at(next_level, next_r, round + 1, false));

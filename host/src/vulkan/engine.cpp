@@ -249,8 +249,8 @@ RoundResult VulkanEngine::round(const RoundSpec& spec, const RoundSpec* next) {
     const bool one_submit = !two && std::uint64_t(darts) * 12 <= ctx_.peak_allocated_bytes() / kWorstCaseShare &&
                             samples_.size() >= (emitted_ + darts) * sizeof(uvec2);
     primitives_.reserve_scan(std::uint64_t(std::max(darts, active_)) + 1);
+    if (worst_case) primitives_.reserve_scan(bound + 1);  // the next round's counts (refine_listed)
     if (one_submit) primitives_.reserve_sort(darts);
-    if (one_submit && worst_case) primitives_.reserve_scan(bound + 1);
     ctx_.begin();
     a.param = darts;  // the commit kernels end the flags with a 0 at flags[darts]
     ctx_.dispatch(masked ? commit_masked_ : commit_cells_, &a, dispatch_groups(n, WORKGROUP_SIZE));
@@ -262,7 +262,6 @@ RoundResult VulkanEngine::round(const RoundSpec& spec, const RoundSpec* next) {
         const std::uint64_t need = (emitted_ + counter(COUNTER_ACCEPTED)) * sizeof(uvec2);
         if (samples_.size() < need) grow(ctx_, samples_, std::max(need, samples_.size() + samples_.size() / 4), true);
         primitives_.reserve_sort(counter(COUNTER_ACCEPTED));
-        if (worst_case) primitives_.reserve_scan(bound + 1);
         ctx_.begin();
     }
 
@@ -322,6 +321,7 @@ std::uint32_t VulkanEngine::refine_listed(const RoundSpec& spec, const Regions& 
     primitives_.scan(ranks, std::uint64_t(active) + 1, COUNTER_ACTIVE);
     Buffer list;
     std::uint64_t length = std::uint64_t(active) * fanout;
+    bool count = next != nullptr;  // worst case: round made room for the counts and their scan
     if (worst_case) {
         // The entries past the kept cells stay (GRID_EMPTY, GRID_EMPTY), which count_darts gives
         // no darts: the counts' prefix sums over the whole list end in the next round's total,
@@ -334,18 +334,26 @@ std::uint32_t VulkanEngine::refine_listed(const RoundSpec& spec, const Regions& 
         darts_ = Buffer();
         length = counter(COUNTER_ACTIVE);
         list = Buffer(ctx_, length * sizeof(uvec2), false);
-        if (next && scratch_.size() >= (length + 1) * 4) primitives_.reserve_scan(length + 1);
+        count = prepare_counts(next, length);
         ctx_.begin();
     }
     a.cells_out = list.address();
     ctx_.dispatch(scatter_cells_, &a, dispatch_groups(active, WORKGROUP_SIZE));
     ctx_.barrier();  // the next active list before the next round and the host; the ranks are read
-    if (next && scratch_.size() >= (length + 1) * 4)
-        record_counts(*next, count_darts_, list.address(), std::uint32_t(length));
+    if (count) record_counts(*next, count_darts_, list.address(), std::uint32_t(length));
     ctx_.submit_and_wait();
     darts_ = Buffer();
     cells_ = std::move(list);
     return counter(COUNTER_ACTIVE);
+}
+
+// Can the next round's darts be counted over n targets in the submit about to be recorded? Only
+// with `next`, and where the scratch buffer holds their n + 1 counts; then reserves their scan,
+// which must happen before recording begins.
+bool VulkanEngine::prepare_counts(const RoundSpec* next, std::uint64_t n) {
+    if (!next || scratch_.size() < (n + 1) * 4) return false;
+    primitives_.reserve_scan(n + 1);
+    return true;
 }
 
 // Records the counting of round `next`'s darts over the `n` targets at `targets` by `counter`

@@ -40,10 +40,8 @@ std::uint32_t VulkanEngine::refine_masked(const RoundSpec& spec, std::uint64_t r
     if (kept >= GRID_TAG) throw Error("more than 2^31 active cells");
     cells_ = Buffer(ctx_, std::uint64_t(kept) * sizeof(uvec2), false);
     a.cells_out = cells_.address();
-    // The next round runs over this list: its darts are counted here too, when the scratch
-    // buffer holds the counts.
-    const bool count = next && scratch_.size() >= (std::uint64_t(kept) + 1) * 4;
-    if (count) primitives_.reserve_scan(std::uint64_t(kept) + 1);
+    // The next round runs over this list: its darts are counted here too.
+    const bool count = prepare_counts(next, kept);
     ctx_.begin();
     ctx_.dispatch(scatter_masked_, &a, dispatch_groups(n, WORKGROUP_SIZE));
     ctx_.barrier();  // the active list and the emptied words before the next round

@@ -73,6 +73,7 @@ private:
     // that round's darts too. Returns the list's length.
     std::uint32_t refine_listed(const RoundSpec& spec, const Regions& r, std::uint64_t ranks, std::uint32_t child_side,
                                 std::uint32_t fanout, const RoundSpec* next, bool worst_case);
+    bool prepare_counts(const RoundSpec* next, std::uint64_t n);
     void record_counts(const RoundSpec& next, const Kernel& counter, std::uint64_t targets, std::uint32_t n);
     // Mask mode's counterpart (mask_mode.cpp); with `next`, it counts the next round's darts
     // when that round runs over the same base cells.
