@@ -34,7 +34,7 @@ std::uint32_t FieldQuadtree::build(glm::uvec2 c, std::uint32_t bits, std::uint64
                        std::uint32_t(std::min<std::uint64_t>(c.y + side - 1, t_.lattice.extent_y - 1)));
     const std::uint64_t r = t_.min_over(c, b);
     if (2 * (side - 1) * (side - 1) < r * r) {
-        if (corner_.size() >= max_leaves)
+        if (corner_.size() >= std::min<std::uint64_t>(max_leaves, kIndex))
             throw Error(fmt::format("the field needs more than {} base cells, past the memory this machine allows",
                                     max_leaves));
         depth_ = std::max(depth_, t_.tile_bits - bits);
@@ -50,6 +50,18 @@ std::uint32_t FieldQuadtree::build(glm::uvec2 c, std::uint32_t bits, std::uint64
         nodes_[first + k] = child;
     }
     return first;
+}
+
+void FieldQuadtree::set_sample(std::uint32_t leaf, std::uint32_t s) {
+    sample_[leaf] = s;
+    const glm::uvec2 c = corner_[leaf];
+    std::uint32_t* node = &roots_[std::size_t(c.y >> t_.tile_bits) * t_.tiles_x + (c.x >> t_.tile_bits)];
+    for (std::uint32_t bits = t_.tile_bits;; --bits) {
+        *node |= kOccupied;
+        if (*node & kLeaf) return;
+        const std::uint32_t k = ((c.x >> (bits - 1)) & 1) | ((c.y >> (bits - 1)) & 1) << 1;
+        node = &nodes_[(*node & kIndex) + k];
+    }
 }
 
 namespace {
@@ -178,7 +190,7 @@ std::uint64_t FieldSampler::grown_reach(uvec2 a, uvec2 b, std::uint32_t r_hi) co
 }
 
 bool FieldSampler::conflicts(uvec2 p, std::uint32_t r) const {
-    return tree_.near(p, p, reach(p, p, r), [&](std::uint32_t leaf) {
+    return tree_.near_samples(p, p, reach(p, p, r), [&](std::uint32_t leaf) {
         const std::uint32_t s = tree_.sample(leaf);
         return s != FieldQuadtree::kNone && shared::field_conflict(shared::rule_f(rule_, radii_[s], r),
                                                                    shared::distance2(t_.lattice, lattice_[s], p));
@@ -187,7 +199,7 @@ bool FieldSampler::conflicts(uvec2 p, std::uint32_t r) const {
 
 void FieldSampler::gather(uvec2 a, uvec2 b, std::vector<std::uint32_t>& out) const {
     out.clear();
-    tree_.near(a, b, reach(a, b, t_.max_over(a, b)), [&](std::uint32_t leaf) {
+    tree_.near_samples(a, b, reach(a, b, t_.max_over(a, b)), [&](std::uint32_t leaf) {
         if (tree_.sample(leaf) != FieldQuadtree::kNone) out.push_back(tree_.sample(leaf));
         return false;
     });
@@ -195,7 +207,7 @@ void FieldSampler::gather(uvec2 a, uvec2 b, std::vector<std::uint32_t>& out) con
 
 bool FieldSampler::covered(uvec2 a, uvec2 b) const {
     const std::uint32_t lo = t_.min_over(a, b);
-    return tree_.near(a, b, reach(a, b, t_.max_over(a, b)), [&](std::uint32_t leaf) {
+    return tree_.near_samples(a, b, reach(a, b, t_.max_over(a, b)), [&](std::uint32_t leaf) {
         const std::uint32_t s = tree_.sample(leaf);
         return s != FieldQuadtree::kNone && covers(s, lo, a, b);
     });

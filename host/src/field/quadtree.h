@@ -21,7 +21,8 @@ public:
     glm::uvec2 corner(std::uint32_t leaf) const { return corner_[leaf]; }
     std::uint32_t bits(std::uint32_t leaf) const { return bits_[leaf]; }
     std::uint32_t sample(std::uint32_t leaf) const { return sample_[leaf]; }
-    void set_sample(std::uint32_t leaf, std::uint32_t s) { sample_[leaf] = s; }
+    // Gives the leaf its sample and marks the nodes above it as holding one.
+    void set_sample(std::uint32_t leaf, std::uint32_t s);
     std::uint32_t depth() const { return depth_; }
     std::uint64_t bytes() const { return nodes_.capacity() * 4 + corner_.capacity() * 13 + roots_.capacity() * 4; }
 
@@ -29,31 +30,44 @@ public:
     // every leaf holding a point within `reach` of a point of [a, b]; on a torus, of any of its
     // images. Stops at a call that returns true and returns true.
     template <typename Visit>
-    bool near(glm::uvec2 a, glm::uvec2 b, std::uint64_t reach, Visit&& visit) const;
+    bool near(glm::uvec2 a, glm::uvec2 b, std::uint64_t reach, Visit&& visit) const {
+        return search<false>(a, b, reach, visit);
+    }
+    // The same over the leaves that hold a sample only: subtrees without one are not entered.
+    template <typename Visit>
+    bool near_samples(glm::uvec2 a, glm::uvec2 b, std::uint64_t reach, Visit&& visit) const {
+        return search<true>(a, b, reach, visit);
+    }
 
 private:
     std::uint32_t build(glm::uvec2 corner, std::uint32_t bits, std::uint64_t max_leaves);
 
     const FieldTable& t_;
-    std::vector<std::uint32_t> roots_, nodes_;  // a node: kLeaf | leaf, kOutside, or its first child
+    // A node: kOutside, or kLeaf | its leaf or its first child, with kOccupied where a leaf of its
+    // subtree holds a sample.
+    std::vector<std::uint32_t> roots_, nodes_;
     std::vector<glm::uvec2> corner_;
     std::vector<std::uint8_t> bits_;
     std::vector<std::uint32_t> sample_;
     std::uint32_t depth_ = 0;
 
     static constexpr std::uint32_t kLeaf = 0x80000000u;
+    static constexpr std::uint32_t kOccupied = 0x40000000u;
+    static constexpr std::uint32_t kIndex = 0x3FFFFFFFu;
     static constexpr std::uint32_t kOutside = 0xFFFFFFFFu;
     // Query bounds: the lattice square [lo, hi] per axis (unwrapped), or the whole axis.
     struct Query {
         std::int64_t lo[2], hi[2];
         bool all[2];
     };
-    template <typename Visit>
+    template <bool kSamples, typename Visit>
+    bool search(glm::uvec2 a, glm::uvec2 b, std::uint64_t reach, Visit& visit) const;
+    template <bool kSamples, typename Visit>
     bool descend(std::uint32_t node, std::int64_t ox, std::int64_t oy, std::uint32_t bits, const Query& q,
                  Visit& visit) const;
 };
 
-template <typename Visit>
+template <bool kSamples, typename Visit>
 bool FieldQuadtree::descend(std::uint32_t root, std::int64_t root_x, std::int64_t root_y, std::uint32_t root_bits,
                             const Query& q, Visit& visit) const {
     struct Item {
@@ -67,13 +81,13 @@ bool FieldQuadtree::descend(std::uint32_t root, std::int64_t root_x, std::int64_
     const std::int64_t mid_x = (q.lo[0] + q.hi[0]) / 2, mid_y = (q.lo[1] + q.hi[1]) / 2;
     // An item on the stack meets the query; the root is tested here.
     const std::int64_t root_side = std::int64_t(1) << root_bits;
-    if (root == kOutside || (!q.all[0] && (root_x > q.hi[0] || root_x + root_side <= q.lo[0])) ||
+    if (root == kOutside || (kSamples && !(root & kOccupied)) || (!q.all[0] && (root_x > q.hi[0] || root_x + root_side <= q.lo[0])) ||
         (!q.all[1] && (root_y > q.hi[1] || root_y + root_side <= q.lo[1])))
         return false;
     while (top > 0) {
         const Item it = stack[--top];
         if (it.node & kLeaf) {
-            if (visit(it.node & ~kLeaf)) return true;
+            if (visit(it.node & kIndex)) return true;
             continue;
         }
         // The children that meet the query: in x, the left one unless the query starts right of
@@ -87,16 +101,16 @@ bool FieldQuadtree::descend(std::uint32_t root, std::int64_t root_x, std::int64_
         const std::uint32_t first = std::uint32_t(mid_x >= mx) | std::uint32_t(mid_y >= my) << 1;
         for (std::uint32_t k = 4; k-- > 0;) {
             const std::uint32_t c = first ^ k;
-            const std::uint32_t child = nodes_[it.node + c];
-            if (meets[c] && child != kOutside)
+            const std::uint32_t child = nodes_[(it.node & kIndex) + c];
+            if (meets[c] && child != kOutside && (!kSamples || (child & kOccupied)))
                 stack[top++] = {child, it.bits - 1, it.x + (c & 1) * half, it.y + (c >> 1) * half};
         }
     }
     return false;
 }
 
-template <typename Visit>
-bool FieldQuadtree::near(glm::uvec2 a, glm::uvec2 b, std::uint64_t reach, Visit&& visit) const {
+template <bool kSamples, typename Visit>
+bool FieldQuadtree::search(glm::uvec2 a, glm::uvec2 b, std::uint64_t reach, Visit& visit) const {
     const std::int64_t tile = std::int64_t(1) << t_.tile_bits;
     const std::int64_t q[4] = {a.x, a.y, b.x, b.y};
     const bool periodic = t_.lattice.periodic != 0;
@@ -128,7 +142,7 @@ bool FieldQuadtree::near(glm::uvec2 a, glm::uvec2 b, std::uint64_t reach, Visit&
         for (std::int64_t tx = lo[0]; tx <= hi[0]; ++tx) {
             const std::int64_t wx = ((tx % tiles[0]) + tiles[0]) % tiles[0],
                                wy = ((ty % tiles[1]) + tiles[1]) % tiles[1];
-            if (descend(roots_[std::size_t(wy * tiles[0] + wx)], tx * tile, ty * tile, t_.tile_bits, query, visit))
+            if (descend<kSamples>(roots_[std::size_t(wy * tiles[0] + wx)], tx * tile, ty * tile, t_.tile_bits, query, visit))
                 return true;
         }
     return false;
