@@ -4,6 +4,7 @@
 // cells dropped when one sample covers them under the rule, split where darts fell. Design and
 // bounds: docs/design.md, "Sizing fields".
 #include <algorithm>
+#include <bit>
 #include <chrono>
 #include <cmath>
 
@@ -129,6 +130,8 @@ private:
                 std::uint32_t(std::min<std::uint64_t>(c.corner.y + s, t_.lattice.extent_y - 1))};
     }
     int exponent(const Cell& c) const { return 2 * int(c.bits) - (density_ ? 2 * int(c.weight) : 0); }
+    // 2^e, exactly, for |e| < 1023 (std::ldexp's value without its call).
+    static double pow2(int e) { return std::bit_cast<double>(std::uint64_t(1023 + e) << 52); }
     // Splits cells expecting more than kSplitAbove darts at this round's rate; returns the rate.
     double balance();
     void throw_darts(std::uint32_t round);
@@ -214,10 +217,14 @@ bool FieldSampler::covered(uvec2 a, uvec2 b) const {
 }
 
 bool FieldSampler::covers(std::uint32_t s, std::uint32_t lo, uvec2 a, uvec2 b) const {
+    // The farthest corner's squared distance: the larger gap along each axis, squared and added.
     const uvec2 x = lattice_[s];
-    std::uint64_t far = 0;
-    for (uvec2 c : {a, b, uvec2(a.x, b.y), uvec2(b.x, a.y)}) far = std::max(far, shared::distance2(t_.lattice, x, c));
-    return shared::field_conflict(shared::rule_f(rule_, radii_[s], lo), far);
+    const shared::Lattice& l = t_.lattice;
+    const std::uint64_t gx = std::max(shared::axis_gap(x.x, a.x, l.extent_x, l.periodic),
+                                      shared::axis_gap(x.x, b.x, l.extent_x, l.periodic)),
+                        gy = std::max(shared::axis_gap(x.y, a.y, l.extent_y, l.periodic),
+                                      shared::axis_gap(x.y, b.y, l.extent_y, l.periodic));
+    return shared::field_conflict(shared::rule_f(rule_, radii_[s], lo), gx * gx + gy * gy);
 }
 
 bool FieldSampler::covered_by(const std::vector<std::uint32_t>& near, uvec2 a, uvec2 b) const {
@@ -240,12 +247,12 @@ double FieldSampler::balance() {
     std::vector<std::uint32_t> near;
     for (;;) {
         double area = 0;
-        for (const Cell& c : cells_) area += std::ldexp(1.0, exponent(c));
+        for (const Cell& c : cells_) area += pow2(exponent(c));
         const double rate = kLambda * double(cells_.size()) / area;
         bool split = false;
         next_.clear();
         for (const Cell& c : cells_) {
-            if (c.bits == 0 || rate * std::ldexp(1.0, exponent(c)) <= kSplitAbove) {
+            if (c.bits == 0 || rate * pow2(exponent(c)) <= kSplitAbove) {
                 next_.push_back(c);
                 continue;
             }

@@ -81,7 +81,8 @@ bool FieldQuadtree::descend(std::uint32_t root, std::int64_t root_x, std::int64_
     const std::int64_t mid_x = (q.lo[0] + q.hi[0]) / 2, mid_y = (q.lo[1] + q.hi[1]) / 2;
     // An item on the stack meets the query; the root is tested here.
     const std::int64_t root_side = std::int64_t(1) << root_bits;
-    if (root == kOutside || (kSamples && !(root & kOccupied)) || (!q.all[0] && (root_x > q.hi[0] || root_x + root_side <= q.lo[0])) ||
+    if (root == kOutside || (kSamples && !(root & kOccupied)) ||
+        (!q.all[0] && (root_x > q.hi[0] || root_x + root_side <= q.lo[0])) ||
         (!q.all[1] && (root_y > q.hi[1] || root_y + root_side <= q.lo[1])))
         return false;
     while (top > 0) {
