@@ -12,6 +12,7 @@
 #include "../plan.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <functional>
 #include <mutex>
@@ -173,12 +174,6 @@ void build_pyramids(FieldTable& t) {
 
 }  // namespace
 
-std::uint32_t FieldTable::radius(glm::uvec2 p) const {
-    const std::uint32_t mask = (1u << cell_bits) - 1u, i = p.x >> cell_bits, j = p.y >> cell_bits;
-    return shared::field_interpolate(glm::uvec4(node(i, j), node(i + 1, j), node(i, j + 1), node(i + 1, j + 1)),
-                                     glm::uvec2(p.x & mask, p.y & mask), cell_bits);
-}
-
 namespace {
 // The pyramid level and block range holding table cells [i0, i1] x [j0, j1] in at most 2 x 2 blocks.
 template <typename Pick>
@@ -193,17 +188,33 @@ std::uint32_t over_blocks(const FieldTable& t, const std::vector<std::vector<std
         for (std::uint32_t i = i0 >> k; i <= i1 >> k; ++i) v = pick(v, pyr[k][std::size_t(j) * w + i]);
     return v;
 }
+
+
+// r at the four corners of [a, b], which lies in one table cell: the interpolant's extremes over
+// it, since it is linear along each axis.
+std::array<std::uint32_t, 4> corner_radii(const FieldTable& t, glm::uvec2 a, glm::uvec2 b) {
+    const glm::uvec4 v = t.cell_nodes(a.x >> t.cell_bits, a.y >> t.cell_bits);
+    const std::uint32_t mask = (1u << t.cell_bits) - 1u;
+    const glm::uvec2 fa(a.x & mask, a.y & mask), fb(b.x & mask, b.y & mask);
+    return {shared::field_interpolate(v, fa, t.cell_bits), shared::field_interpolate(v, fb, t.cell_bits),
+            shared::field_interpolate(v, {fa.x, fb.y}, t.cell_bits),
+            shared::field_interpolate(v, {fb.x, fa.y}, t.cell_bits)};
+}
 }  // namespace
 
 std::uint32_t FieldTable::min_over(glm::uvec2 a, glm::uvec2 b) const {
-    if ((a.x >> cell_bits) == (b.x >> cell_bits) && (a.y >> cell_bits) == (b.y >> cell_bits))
-        return std::min({radius(a), radius(b), radius({a.x, b.y}), radius({b.x, a.y})});
+    if ((a.x >> cell_bits) == (b.x >> cell_bits) && (a.y >> cell_bits) == (b.y >> cell_bits)) {
+        const auto r = corner_radii(*this, a, b);
+        return std::min({r[0], r[1], r[2], r[3]});
+    }
     return over_blocks(*this, lo, a, b, UINT32_MAX, [](std::uint32_t x, std::uint32_t y) { return std::min(x, y); });
 }
 
 std::uint32_t FieldTable::max_over(glm::uvec2 a, glm::uvec2 b) const {
-    if ((a.x >> cell_bits) == (b.x >> cell_bits) && (a.y >> cell_bits) == (b.y >> cell_bits))
-        return std::max({radius(a), radius(b), radius({a.x, b.y}), radius({b.x, a.y})});
+    if ((a.x >> cell_bits) == (b.x >> cell_bits) && (a.y >> cell_bits) == (b.y >> cell_bits)) {
+        const auto r = corner_radii(*this, a, b);
+        return std::max({r[0], r[1], r[2], r[3]});
+    }
     return over_blocks(*this, hi, a, b, 0u, [](std::uint32_t x, std::uint32_t y) { return std::max(x, y); });
 }
 

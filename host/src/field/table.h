@@ -37,8 +37,17 @@ struct FieldTable {
     double constant = 0;  // the source's value where it is one constant, else 0
 
     std::uint32_t node(std::uint32_t i, std::uint32_t j) const { return nodes[std::size_t(j) * (cells_x + 1) + i]; }
+    // The four nodes of table cell (i, j), in field_interpolate's order.
+    glm::uvec4 cell_nodes(std::uint32_t i, std::uint32_t j) const {
+        const std::uint32_t* v = &nodes[std::size_t(j) * (cells_x + 1) + i];
+        return {v[0], v[1], v[cells_x + 1], v[cells_x + 2]};
+    }
     // r at lattice point p (inside the lattice).
-    std::uint32_t radius(glm::uvec2 p) const;
+    std::uint32_t radius(glm::uvec2 p) const {
+        const std::uint32_t mask = (1u << cell_bits) - 1u;
+        return shared::field_interpolate(cell_nodes(p.x >> cell_bits, p.y >> cell_bits),
+                                         glm::uvec2(p.x & mask, p.y & mask), cell_bits);
+    }
     // The least and greatest r over the lattice points of [x0, x1] x [y0, y1] (inclusive, inside
     // the lattice): exact inside one table cell, else a bound from the pyramid.
     std::uint32_t min_over(glm::uvec2 a, glm::uvec2 b) const;
