@@ -7,6 +7,7 @@
 #include <bit>
 #include <chrono>
 #include <cmath>
+#include <optional>
 
 #include <fmt/format.h>
 
@@ -124,6 +125,13 @@ private:
     // within f(r(s), lo), f's least value over the block?
     bool covers(std::uint32_t s, std::uint32_t lo, uvec2 a, uvec2 b) const;
     Cell make_cell(uvec2 corner, std::uint32_t bits, std::uint32_t leaf) const;
+    // Child k of c (x, then y, low first), unless it lies outside the lattice.
+    std::optional<Cell> child(const Cell& c, std::uint32_t k) const {
+        const std::uint32_t half = 1u << (c.bits - 1);
+        const uvec2 corner(c.corner.x + (k & 1) * half, c.corner.y + (k >> 1) * half);
+        if (corner.x >= t_.lattice.extent_x || corner.y >= t_.lattice.extent_y) return std::nullopt;
+        return make_cell(corner, c.bits - 1, c.leaf);
+    }
     uvec2 far_corner(const Cell& c) const {
         const std::uint64_t s = (std::uint64_t(1) << c.bits) - 1;
         return {std::uint32_t(std::min<std::uint64_t>(c.corner.x + s, t_.lattice.extent_x - 1)),
@@ -140,7 +148,7 @@ private:
     void note_bytes() {
         bytes_ = std::max<std::uint64_t>(bytes_, tree_.bytes() + cells_.capacity() * 16 + next_.capacity() * 16 +
                                                      darts_.capacity() * sizeof(Dart) + lattice_.capacity() * 12 +
-                                                     got_.capacity());
+                                                     got_.capacity() + touched_.capacity() * 4);
     }
 
     const FieldTable& t_;
@@ -258,16 +266,14 @@ double FieldSampler::balance() {
             }
             split = true;
             near.clear();
-            const std::uint32_t half = 1u << (c.bits - 1);
             for (std::uint32_t k = 0; k < 4; ++k) {
-                const uvec2 corner(c.corner.x + (k & 1) * half, c.corner.y + (k >> 1) * half);
-                if (corner.x >= t_.lattice.extent_x || corner.y >= t_.lattice.extent_y) continue;
-                const Cell child = make_cell(corner, c.bits - 1, c.leaf);
+                const auto kid = child(c, k);
+                if (!kid) continue;
                 if (!lattice_.empty()) {
                     if (near.empty()) gather(c.corner, far_corner(c), near);
-                    if (covered_by(near, child.corner, far_corner(child))) continue;
+                    if (covered_by(near, kid->corner, far_corner(*kid))) continue;
                 }
-                next_.push_back(child);
+                next_.push_back(*kid);
             }
         }
         std::swap(cells_, next_);
@@ -354,13 +360,9 @@ void FieldSampler::refine(std::uint32_t round) {
             // Split: the cell and its children are tested against one search's samples.
             gather(c.corner, far_corner(c), near);
             if (covered_by(near, c.corner, far_corner(c))) continue;
-            const std::uint32_t half = 1u << (c.bits - 1);
-            for (std::uint32_t k = 0; k < 4; ++k) {
-                const uvec2 corner(c.corner.x + (k & 1) * half, c.corner.y + (k >> 1) * half);
-                if (corner.x >= t_.lattice.extent_x || corner.y >= t_.lattice.extent_y) continue;
-                const Cell child = make_cell(corner, c.bits - 1, c.leaf);
-                if (!covered_by(near, child.corner, far_corner(child))) out.push_back(child);
-            }
+            for (std::uint32_t k = 0; k < 4; ++k)
+                if (const auto kid = child(c, k); kid && !covered_by(near, kid->corner, far_corner(*kid)))
+                    out.push_back(*kid);
         }
     });
     next_.clear();
