@@ -145,10 +145,25 @@ private:
     void throw_darts(std::uint32_t round);
     void resolve(std::uint32_t round);
     void refine(std::uint32_t round);
-    void note_bytes() {
-        bytes_ = std::max<std::uint64_t>(bytes_, tree_.bytes() + cells_.capacity() * 16 + next_.capacity() * 16 +
+    // Notes the arrays' bytes now, with `extra` held outside them, for the peak.
+    void note_bytes(std::uint64_t extra) {
+        bytes_ = std::max<std::uint64_t>(bytes_, tree_.bytes() + cells_.capacity() * sizeof(Cell) +
                                                      darts_.capacity() * sizeof(Dart) + lattice_.capacity() * 12 +
-                                                     got_.capacity() + touched_.capacity() * 4);
+                                                     got_.capacity() + touched_.capacity() * 4 + extra);
+    }
+    // Moves the workers' parts into `out`, in worker order, freeing each part as it goes; the
+    // parts and `out` together are noted for the peak first.
+    template <typename T>
+    void merge(std::vector<std::vector<T>>& parts, std::vector<T>& out) {
+        std::size_t n = 0;
+        for (const auto& part : parts) n += part.size();
+        std::vector<T>().swap(out);
+        note_bytes(2 * n * sizeof(T));
+        out.reserve(n);
+        for (auto& part : parts) {
+            out.insert(out.end(), part.begin(), part.end());
+            std::vector<T>().swap(part);
+        }
     }
 
     const FieldTable& t_;
@@ -157,7 +172,7 @@ private:
     bool density_;
     ThreadPool pool_;
     std::uint32_t seed_;
-    std::vector<Cell> cells_, next_;
+    std::vector<Cell> cells_;
     std::vector<std::uint8_t> got_;  // the cell took darts this round
     // The round in which a sample that may cover part of the leaf was last accepted: only cells
     // of such leaves (and cells that took darts) can have become covered.
@@ -257,11 +272,15 @@ double FieldSampler::balance() {
         double area = 0;
         for (const Cell& c : cells_) area += pow2(exponent(c));
         const double rate = kLambda * double(cells_.size()) / area;
+        auto splits = [&](const Cell& c) { return c.bits > 0 && rate * pow2(exponent(c)) > kSplitAbove; };
+        std::size_t most = 0;  // each split cell's four children kept
+        for (const Cell& c : cells_) most += splits(c) ? 4 : 1;
         bool split = false;
-        next_.clear();
+        std::vector<Cell> next;
+        next.reserve(most);
         for (const Cell& c : cells_) {
-            if (c.bits == 0 || rate * pow2(exponent(c)) <= kSplitAbove) {
-                next_.push_back(c);
+            if (!splits(c)) {
+                next.push_back(c);
                 continue;
             }
             split = true;
@@ -273,10 +292,11 @@ double FieldSampler::balance() {
                     if (near.empty()) gather(c.corner, far_corner(c), near);
                     if (covered_by(near, kid->corner, far_corner(*kid))) continue;
                 }
-                next_.push_back(*kid);
+                next.push_back(*kid);
             }
         }
-        std::swap(cells_, next_);
+        note_bytes(next.capacity() * sizeof(Cell));
+        std::swap(cells_, next);
         if (!split) return rate;
     }
 }
@@ -313,14 +333,12 @@ void FieldSampler::throw_darts(std::uint32_t round) {
         }
     });
     // Worker w's chunk precedes worker w + 1's (thread_pool.cpp): in worker order is cell order.
-    darts_.clear();
-    for (unsigned w = 0; w < pool_.size(); ++w) {
-        darts_.insert(darts_.end(), parts[w].begin(), parts[w].end());
-        darts_thrown_ += thrown[w];
-    }
+    merge(parts, darts_);
+    for (std::uint64_t n : thrown) darts_thrown_ += n;
 }
 
 void FieldSampler::resolve(std::uint32_t round) {
+    note_bytes(darts_.size() * sizeof(Dart));  // the sort's buffer
     std::stable_sort(darts_.begin(), darts_.end(), [](const Dart& a, const Dart& b) { return a.key < b.key; });
     // Each dart was tested against the earlier rounds' samples when thrown; of this round's, only
     // those that marked its leaf (over their cover reach, which holds every point they conflict
@@ -365,9 +383,9 @@ void FieldSampler::refine(std::uint32_t round) {
                     out.push_back(*kid);
         }
     });
-    next_.clear();
-    for (unsigned w = 0; w < pool_.size(); ++w) next_.insert(next_.end(), parts[w].begin(), parts[w].end());
-    std::swap(cells_, next_);
+    std::vector<Cell> next;
+    merge(parts, next);
+    std::swap(cells_, next);
 }
 
 Sampling FieldSampler::run() {
@@ -387,7 +405,7 @@ Sampling FieldSampler::run() {
         if (round == kMaxRounds) throw Error("internal: the sizing-field sampler did not converge");
         phase("throw", [&] { throw_darts(round); });
         phase("resolve", [&] { resolve(round); });
-        note_bytes();
+        std::vector<Dart>().swap(darts_);
         phase("refine", [&] { refine(round++); });
         for (const Cell& c : cells_) deepest = std::max(deepest, t_.tile_bits - c.bits);
     }
