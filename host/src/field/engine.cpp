@@ -86,10 +86,11 @@ struct Cell {
 };
 
 // A dart still undecided after its throw, in throwing order (cell order, then index in the cell):
-// the tie-break of equal keys, kept by a stable sort.
+// the tie-break of equal keys, kept by a stable sort. It carries its cell's leaf, which resolution
+// reads in arrival order: one random read fewer than through the cell.
 struct Dart {
     uvec2 p;
-    std::uint32_t key, cell;
+    std::uint32_t key, leaf;
 };
 
 class FieldSampler {
@@ -328,7 +329,7 @@ void FieldSampler::throw_darts(std::uint32_t round) {
                     !shared::keep_weighted(shared::hash_mix(shared::hash_mix(stream, 0xD1B54A35u), j), bound, r))
                     continue;
                 if (tree_.sample(c.leaf) != FieldQuadtree::kNone || conflicts(p, r)) continue;
-                out.push_back({p, d.z, std::uint32_t(i)});
+                out.push_back({p, d.z, c.leaf});
             }
         }
     });
@@ -344,7 +345,7 @@ void FieldSampler::resolve(std::uint32_t round) {
     // those that marked its leaf (over their cover reach, which holds every point they conflict
     // with) can conflict with it.
     for (const Dart& d : darts_) {
-        const std::uint32_t leaf = cells_[d.cell].leaf;
+        const std::uint32_t leaf = d.leaf;
         if (tree_.sample(leaf) != FieldQuadtree::kNone) continue;
         const std::uint32_t r = t_.radius(d.p);
         if (touched_[leaf] == round && conflicts(d.p, r)) continue;
