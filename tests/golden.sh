@@ -31,10 +31,10 @@ EOF
 )
 # Sizing fields (paper section 5) run on the host backends only: cpu and serial.
 host_table=$(cat <<'EOF'
-c1742441449cb39c66e2ea1444a1e5ad7fd2cd79da4806faf7a6bf2ef65d76cf | --sizing 0.01+0.05*x --rule smaller --boundary free --seed 1
-16fe5ee9a7236e3fe003e53ac60f19892505662b4a5407f4790118c1cb3d5681 | --sizing 0.02+0.01*sin(2*pi*x)*cos(2*pi*y) --rule prior --seed 2
-57f35f32bfeb0b2cbef0f56a041bbd181a431b523e62122dfd45e98aae3709a2 | --sizing 0.004+0.02*d --rule bigger --weighting density --seed 3
-050f5e9c71328cb7b5e599d5aa869e81b1929201f5ff77ee83064101cf8f8295 | --sizing 0.03+(0.006-0.03)*abs(sin(4*pi*d)) --rule current --extent 2,1 --seed 4
+6445d02f403236d8c740e00cfe0c9409f362899868afa7429620fa1fed852269 | --sizing 0.01+0.05*x --rule smaller --boundary free --seed 1
+ead010cfc33d2c50610d090c6f9adc0c2f2136064fede01955edd2059e8b85fa | --sizing 0.02+0.01*sin(2*pi*x)*cos(2*pi*y) --rule prior --seed 2
+10644e0bd9fc10f0a691f7437eef9bb9349727e154a3edb186d18619d9967258 | --sizing 0.004+0.02*d --rule bigger --weighting density --seed 3
+72ad00f78cd7805039eeae3afbaf76c09bddf165bbb9ad50b0230ea328aec298 | --sizing 0.03+(0.006-0.03)*abs(sin(4*pi*d)) --rule current --extent 2,1 --seed 4
 EOF
 )
 

@@ -72,7 +72,9 @@ using shared::uvec2;
 using Clock = std::chrono::steady_clock;
 
 // Poisson mean of darts per active cell per round, and the most one cell takes before it is split.
-constexpr double kLambda = 1.0;
+// Below one: a leaf holds one sample, and the first round's leaves are several per sample, so at
+// one dart a cell most darts of a round would land in leaves taken earlier in it.
+constexpr double kLambda = 0.3;
 constexpr double kSplitAbove = 4.0;
 constexpr std::uint32_t kMaxRounds = 1000000;  // a bug guard, far above any run
 constexpr int kExpBias = 64;
