@@ -278,7 +278,7 @@ double FieldSampler::balance() {
         auto splits = [&](const Cell& c) { return c.bits > 0 && rate * pow2(exponent(c)) > kSplitAbove; };
         std::size_t most = 0;  // each split cell's four children kept
         for (const Cell& c : cells_) most += splits(c) ? 4 : 1;
-        bool split = false;
+        if (most == cells_.size()) return rate;  // none splits
         std::vector<Cell> next;
         next.reserve(most);
         for (const Cell& c : cells_) {
@@ -286,7 +286,6 @@ double FieldSampler::balance() {
                 next.push_back(c);
                 continue;
             }
-            split = true;
             near.clear();
             for (std::uint32_t k = 0; k < 4; ++k) {
                 const auto kid = child(c, k);
@@ -300,7 +299,6 @@ double FieldSampler::balance() {
         }
         note_bytes(next.capacity() * sizeof(Cell));
         std::swap(cells_, next);
-        if (!split) return rate;
     }
 }
 
@@ -362,32 +360,53 @@ void FieldSampler::resolve(std::uint32_t round) {
 }
 
 void FieldSampler::refine(std::uint32_t round) {
-    std::vector<std::vector<Cell>> parts(pool_.size());
+    // First each cell's fate, written over its got_ entry once read: dropped (0), kept whole, or
+    // split with the mask of its surviving children. Then each chunk writes its cells to the next
+    // list from its offset: every cell is copied once, and no third list is held.
+    constexpr std::uint8_t kKeep = 0x10, kSplit = 0x20;
+    std::vector<std::uint64_t> first(pool_.size() + 1, 0);
     pool_.parallel_for(cells_.size(), [&](std::size_t begin, std::size_t end, unsigned w) {
-        std::vector<Cell>& out = parts[w];
         std::vector<std::uint32_t> near;
+        std::uint64_t count = 0;
         for (std::size_t i = begin; i < end; ++i) {
             const Cell& c = cells_[i];
-            if (!got_[i] && touched_[c.leaf] != round) {
-                out.push_back(c);
-                continue;
-            }
-            if (tree_.sample(c.leaf) != FieldQuadtree::kNone) continue;
-            if (!got_[i] || c.bits == 0) {
+            const bool got = got_[i] != 0;
+            std::uint8_t fate = 0;
+            if (!got && touched_[c.leaf] != round) {
+                fate = kKeep;
+            } else if (tree_.sample(c.leaf) != FieldQuadtree::kNone) {
+                fate = 0;
+            } else if (!got || c.bits == 0) {
                 // Kept whole: one search, ended by the first sample that covers it.
-                if (!covered(c.corner, far_corner(c))) out.push_back(c);
-                continue;
+                if (!covered(c.corner, far_corner(c))) fate = kKeep;
+            } else {
+                // Split: the cell and its children are tested against one search's samples.
+                gather(c.corner, far_corner(c), near);
+                if (!covered_by(near, c.corner, far_corner(c))) {
+                    fate = kSplit;
+                    for (std::uint32_t k = 0; k < 4; ++k)
+                        if (const auto kid = child(c, k); kid && !covered_by(near, kid->corner, far_corner(*kid)))
+                            fate |= std::uint8_t(1u << k);
+                }
             }
-            // Split: the cell and its children are tested against one search's samples.
-            gather(c.corner, far_corner(c), near);
-            if (covered_by(near, c.corner, far_corner(c))) continue;
-            for (std::uint32_t k = 0; k < 4; ++k)
-                if (const auto kid = child(c, k); kid && !covered_by(near, kid->corner, far_corner(*kid)))
-                    out.push_back(*kid);
+            got_[i] = fate;
+            count += fate == kKeep ? 1 : std::uint64_t(std::popcount(fate & 0xFu));
+        }
+        first[w + 1] = count;
+    });
+    for (unsigned w = 0; w < pool_.size(); ++w) first[w + 1] += first[w];
+    std::vector<Cell> next(first.back());
+    note_bytes(next.capacity() * sizeof(Cell));
+    pool_.parallel_for(cells_.size(), [&](std::size_t begin, std::size_t end, unsigned w) {
+        std::size_t at = first[w];
+        for (std::size_t i = begin; i < end; ++i) {
+            const std::uint8_t fate = got_[i];
+            if (fate == kKeep) next[at++] = cells_[i];
+            if (fate & kSplit)
+                for (std::uint32_t k = 0; k < 4; ++k)
+                    if (fate >> k & 1) next[at++] = *child(cells_[i], k);
         }
     });
-    std::vector<Cell> next;
-    merge(parts, next);
     std::swap(cells_, next);
 }
 
