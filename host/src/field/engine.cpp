@@ -56,10 +56,13 @@ std::uint32_t FieldQuadtree::build(glm::uvec2 c, std::uint32_t bits, std::uint64
 
 void FieldQuadtree::set_sample(std::uint32_t leaf, std::uint32_t s) {
     sample_[leaf] = s;
-    const glm::uvec2 c = corner_[leaf];
+    mark(corner_[leaf], kOccupied | kFresh, true);
+}
+
+void FieldQuadtree::mark(glm::uvec2 c, std::uint32_t flag, bool on) {
     std::uint32_t* node = &roots_[std::size_t(c.y >> t_.tile_bits) * t_.tiles_x + (c.x >> t_.tile_bits)];
     for (std::uint32_t bits = t_.tile_bits;; --bits) {
-        *node |= kOccupied;
+        *node = on ? *node | flag : *node & ~flag;
         if (*node & kLeaf) return;
         const std::uint32_t k = ((c.x >> (bits - 1)) & 1) | ((c.y >> (bits - 1)) & 1) << 1;
         node = &nodes_[(*node & kIndex) + k];
@@ -121,9 +124,12 @@ private:
     // The samples that may conflict with some point of [a, b]: every sample that can cover any
     // part of it (the reach of [a, b] holds the reach of each part).
     void gather(uvec2 a, uvec2 b, std::vector<std::uint32_t>& out) const;
-    // Does one of `near` (or of all samples) cover every point of [a, b] under the rule?
+    // Does one of `near` cover every point of [a, b] under the rule?
     bool covered_by(const std::vector<std::uint32_t>& near, uvec2 a, uvec2 b) const;
-    bool covered(uvec2 a, uvec2 b) const;
+    // Does one of this round's samples (fresh in the tree) cover every point of [a, b]? For a
+    // cell of the active list this is whether any sample does: each cell was made, or last kept,
+    // by a test against every sample of its time, so none of the earlier rounds' covers it.
+    bool covered_by_fresh(uvec2 a, uvec2 b) const;
     // Does sample s cover [a, b], given r's least value `lo` over it: is the farthest corner
     // within f(r(s), lo), f's least value over the block?
     bool covers(std::uint32_t s, std::uint32_t lo, uvec2 a, uvec2 b) const;
@@ -234,9 +240,9 @@ void FieldSampler::gather(uvec2 a, uvec2 b, std::vector<std::uint32_t>& out) con
     });
 }
 
-bool FieldSampler::covered(uvec2 a, uvec2 b) const {
+bool FieldSampler::covered_by_fresh(uvec2 a, uvec2 b) const {
     const std::uint32_t lo = t_.min_over(a, b);
-    return tree_.near_samples(a, b, reach(a, b, t_.max_over(a, b)), [&](std::uint32_t leaf) {
+    return tree_.near_fresh(a, b, reach(a, b, t_.max_over(a, b)), [&](std::uint32_t leaf) {
         const std::uint32_t s = tree_.sample(leaf);
         return s != FieldQuadtree::kNone && covers(s, lo, a, b);
     });
@@ -377,8 +383,8 @@ void FieldSampler::refine(std::uint32_t round) {
             } else if (tree_.sample(c.leaf) != FieldQuadtree::kNone) {
                 fate = 0;
             } else if (!got || c.bits == 0) {
-                // Kept whole: one search, ended by the first sample that covers it.
-                if (!covered(c.corner, far_corner(c))) fate = kKeep;
+                // Kept whole: one search of this round's samples, ended by the first that covers it.
+                if (!covered_by_fresh(c.corner, far_corner(c))) fate = kKeep;
             } else {
                 // Split: the cell and its children are tested against one search's samples.
                 gather(c.corner, far_corner(c), near);
@@ -425,10 +431,12 @@ Sampling FieldSampler::run() {
     };
     while (!cells_.empty()) {
         if (round == kMaxRounds) throw Error("internal: the sizing-field sampler did not converge");
+        const std::size_t first = lattice_.size();  // this round's samples are fresh until refined
         phase("throw", [&] { throw_darts(round); });
         phase("resolve", [&] { resolve(round); });
         std::vector<Dart>().swap(darts_);
         phase("refine", [&] { refine(round++); });
+        for (std::size_t s = first; s < lattice_.size(); ++s) tree_.settle(lattice_[s]);
         for (const Cell& c : cells_) deepest = std::max(deepest, t_.tile_bits - c.bits);
     }
     Sampling s;

@@ -21,8 +21,11 @@ public:
     glm::uvec2 corner(std::uint32_t leaf) const { return corner_[leaf]; }
     std::uint32_t bits(std::uint32_t leaf) const { return bits_[leaf]; }
     std::uint32_t sample(std::uint32_t leaf) const { return sample_[leaf]; }
-    // Gives the leaf its sample and marks the nodes above it as holding one.
+    // Gives the leaf its sample and marks the nodes above it as holding one, and a fresh one.
     void set_sample(std::uint32_t leaf, std::uint32_t s);
+    // Clears the fresh marks on the path to the leaf holding point p; called for every fresh
+    // sample, it ends their freshness.
+    void settle(glm::uvec2 p) { mark(p, kFresh, false); }
     std::uint32_t depth() const { return depth_; }
     std::uint64_t bytes() const { return nodes_.capacity() * 4 + corner_.capacity() * 13 + roots_.capacity() * 4; }
 
@@ -31,20 +34,27 @@ public:
     // images. Stops at a call that returns true and returns true.
     template <typename Visit>
     bool near(glm::uvec2 a, glm::uvec2 b, std::uint64_t reach, Visit&& visit) const {
-        return search<false>(a, b, reach, visit);
+        return search<0>(a, b, reach, visit);
     }
     // The same over the leaves that hold a sample only: subtrees without one are not entered.
     template <typename Visit>
     bool near_samples(glm::uvec2 a, glm::uvec2 b, std::uint64_t reach, Visit&& visit) const {
-        return search<true>(a, b, reach, visit);
+        return search<kOccupied>(a, b, reach, visit);
+    }
+    // The same over the leaves whose sample is fresh (set, not yet settled).
+    template <typename Visit>
+    bool near_fresh(glm::uvec2 a, glm::uvec2 b, std::uint64_t reach, Visit&& visit) const {
+        return search<kFresh>(a, b, reach, visit);
     }
 
 private:
     std::uint32_t build(glm::uvec2 corner, std::uint32_t bits, std::uint64_t max_leaves);
+    // Sets or clears `flag` on the nodes from the tile root down to the leaf holding point p.
+    void mark(glm::uvec2 p, std::uint32_t flag, bool on);
 
     const FieldTable& t_;
     // A node: kOutside, or kLeaf | its leaf or its first child, with kOccupied where a leaf of its
-    // subtree holds a sample.
+    // subtree holds a sample and kFresh where one holds a fresh sample.
     std::vector<std::uint32_t> roots_, nodes_;
     std::vector<glm::uvec2> corner_;
     std::vector<std::uint8_t> bits_;
@@ -53,21 +63,23 @@ private:
 
     static constexpr std::uint32_t kLeaf = 0x80000000u;
     static constexpr std::uint32_t kOccupied = 0x40000000u;
-    static constexpr std::uint32_t kIndex = 0x3FFFFFFFu;
+    static constexpr std::uint32_t kFresh = 0x20000000u;
+    static constexpr std::uint32_t kIndex = 0x1FFFFFFFu;
     static constexpr std::uint32_t kOutside = 0xFFFFFFFFu;
     // Query bounds: the lattice square [lo, hi] per axis (unwrapped), or the whole axis.
     struct Query {
         std::int64_t lo[2], hi[2];
         bool all[2];
     };
-    template <bool kSamples, typename Visit>
+    // kNeed: the flag a subtree must carry to be entered (0: every subtree).
+    template <std::uint32_t kNeed, typename Visit>
     bool search(glm::uvec2 a, glm::uvec2 b, std::uint64_t reach, Visit& visit) const;
-    template <bool kSamples, typename Visit>
+    template <std::uint32_t kNeed, typename Visit>
     bool descend(std::uint32_t node, std::int64_t ox, std::int64_t oy, std::uint32_t bits, const Query& q,
                  Visit& visit) const;
 };
 
-template <bool kSamples, typename Visit>
+template <std::uint32_t kNeed, typename Visit>
 bool FieldQuadtree::descend(std::uint32_t root, std::int64_t root_x, std::int64_t root_y, std::uint32_t root_bits,
                             const Query& q, Visit& visit) const {
     struct Item {
@@ -81,7 +93,7 @@ bool FieldQuadtree::descend(std::uint32_t root, std::int64_t root_x, std::int64_
     const std::int64_t mid_x = (q.lo[0] + q.hi[0]) / 2, mid_y = (q.lo[1] + q.hi[1]) / 2;
     // An item on the stack meets the query; the root is tested here.
     const std::int64_t root_side = std::int64_t(1) << root_bits;
-    if (root == kOutside || (kSamples && !(root & kOccupied)) ||
+    if (root == kOutside || (kNeed != 0 && !(root & kNeed)) ||
         (!q.all[0] && (root_x > q.hi[0] || root_x + root_side <= q.lo[0])) ||
         (!q.all[1] && (root_y > q.hi[1] || root_y + root_side <= q.lo[1])))
         return false;
@@ -103,14 +115,14 @@ bool FieldQuadtree::descend(std::uint32_t root, std::int64_t root_x, std::int64_
         for (std::uint32_t k = 4; k-- > 0;) {
             const std::uint32_t c = first ^ k;
             const std::uint32_t child = nodes_[(it.node & kIndex) + c];
-            if (meets[c] && child != kOutside && (!kSamples || (child & kOccupied)))
+            if (meets[c] && child != kOutside && (kNeed == 0 || (child & kNeed)))
                 stack[top++] = {child, it.bits - 1, it.x + (c & 1) * half, it.y + (c >> 1) * half};
         }
     }
     return false;
 }
 
-template <bool kSamples, typename Visit>
+template <std::uint32_t kNeed, typename Visit>
 bool FieldQuadtree::search(glm::uvec2 a, glm::uvec2 b, std::uint64_t reach, Visit& visit) const {
     const std::int64_t tile = std::int64_t(1) << t_.tile_bits;
     const std::int64_t q[4] = {a.x, a.y, b.x, b.y};
@@ -143,7 +155,7 @@ bool FieldQuadtree::search(glm::uvec2 a, glm::uvec2 b, std::uint64_t reach, Visi
         for (std::int64_t tx = lo[0]; tx <= hi[0]; ++tx) {
             const std::int64_t wx = ((tx % tiles[0]) + tiles[0]) % tiles[0],
                                wy = ((ty % tiles[1]) + tiles[1]) % tiles[1];
-            if (descend<kSamples>(roots_[std::size_t(wy * tiles[0] + wx)], tx * tile, ty * tile, t_.tile_bits, query, visit))
+            if (descend<kNeed>(roots_[std::size_t(wy * tiles[0] + wx)], tx * tile, ty * tile, t_.tile_bits, query, visit))
                 return true;
         }
     return false;
