@@ -120,6 +120,8 @@ private:
     // The farthest a point sample x (radius r) may cover under the rule.
     std::uint64_t cover_reach(uvec2 x, std::uint32_t r) const;
     std::uint64_t grown_reach(uvec2 a, uvec2 b, std::uint32_t r_hi) const;
+    // Does a sample (with kFresh, one of this round's) conflict with point p of radius r?
+    template <bool kFresh>
     bool conflicts(uvec2 p, std::uint32_t r) const;
     // The samples that may conflict with some point of [a, b]: every sample that can cover any
     // part of it (the reach of [a, b] holds the reach of each part).
@@ -224,12 +226,13 @@ std::uint64_t FieldSampler::grown_reach(uvec2 a, uvec2 b, std::uint32_t r_hi) co
     return rho;
 }
 
+template <bool kFresh>
 bool FieldSampler::conflicts(uvec2 p, std::uint32_t r) const {
-    return tree_.near_samples(p, p, reach(p, p, r), [&](std::uint32_t leaf) {
+    auto visit = [&](std::uint32_t leaf) {
         const std::uint32_t s = tree_.sample(leaf);
-        return s != FieldQuadtree::kNone && shared::field_conflict(shared::rule_f(rule_, radii_[s], r),
-                                                                   shared::distance2(t_.lattice, lattice_[s], p));
-    });
+        return shared::field_conflict(shared::rule_f(rule_, radii_[s], r), shared::distance2(t_.lattice, lattice_[s], p));
+    };
+    return kFresh ? tree_.near_fresh(p, p, reach(p, p, r), visit) : tree_.near_samples(p, p, reach(p, p, r), visit);
 }
 
 void FieldSampler::gather(uvec2 a, uvec2 b, std::vector<std::uint32_t>& out) const {
@@ -334,7 +337,7 @@ void FieldSampler::throw_darts(std::uint32_t round) {
                 if (density_ &&
                     !shared::keep_weighted(shared::hash_mix(shared::hash_mix(stream, 0xD1B54A35u), j), bound, r))
                     continue;
-                if (tree_.sample(c.leaf) != FieldQuadtree::kNone || conflicts(p, r)) continue;
+                if (tree_.sample(c.leaf) != FieldQuadtree::kNone || conflicts<false>(p, r)) continue;
                 out.push_back({p, d.z, c.leaf});
             }
         }
@@ -354,7 +357,7 @@ void FieldSampler::resolve(std::uint32_t round) {
         const std::uint32_t leaf = d.leaf;
         if (tree_.sample(leaf) != FieldQuadtree::kNone) continue;
         const std::uint32_t r = t_.radius(d.p);
-        if (touched_[leaf] == round && conflicts(d.p, r)) continue;
+        if (touched_[leaf] == round && conflicts<true>(d.p, r)) continue;
         tree_.set_sample(leaf, std::uint32_t(lattice_.size()));
         lattice_.push_back(d.p);
         radii_.push_back(r);
