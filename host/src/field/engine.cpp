@@ -36,9 +36,11 @@ std::uint32_t FieldQuadtree::build(glm::uvec2 c, std::uint32_t bits, std::uint64
                        std::uint32_t(std::min<std::uint64_t>(c.y + side - 1, t_.lattice.extent_y - 1)));
     const std::uint64_t r = t_.min_over(c, b);
     if (2 * (side - 1) * (side - 1) < r * r) {
-        if (corner_.size() >= std::min<std::uint64_t>(max_leaves, kIndex))
-            throw Error(fmt::format("the field needs more than {} base cells, past the memory this machine allows",
-                                    max_leaves));
+        // Leaf indices fit the node word's index bits.
+        if (const std::uint64_t most = std::min<std::uint64_t>(max_leaves, kIndex); corner_.size() >= most)
+            throw Error(fmt::format("the field needs more than {} base cells, past {}", most,
+                                    most == max_leaves ? "the memory this machine allows"
+                                                       : "the quadtree's 29-bit leaf index"));
         depth_ = std::max(depth_, t_.tile_bits - bits);
         corner_.push_back(c);
         bits_.push_back(std::uint8_t(bits));
@@ -230,7 +232,8 @@ template <bool kFresh>
 bool FieldSampler::conflicts(uvec2 p, std::uint32_t r) const {
     auto visit = [&](std::uint32_t leaf) {
         const std::uint32_t s = tree_.sample(leaf);
-        return shared::field_conflict(shared::rule_f(rule_, radii_[s], r), shared::distance2(t_.lattice, lattice_[s], p));
+        return shared::field_conflict(shared::rule_f(rule_, radii_[s], r),
+                                      shared::distance2(t_.lattice, lattice_[s], p));
     };
     return kFresh ? tree_.near_fresh(p, p, reach(p, p, r), visit) : tree_.near_samples(p, p, reach(p, p, r), visit);
 }
@@ -238,17 +241,15 @@ bool FieldSampler::conflicts(uvec2 p, std::uint32_t r) const {
 void FieldSampler::gather(uvec2 a, uvec2 b, std::vector<std::uint32_t>& out) const {
     out.clear();
     tree_.near_samples(a, b, reach(a, b, t_.max_over(a, b)), [&](std::uint32_t leaf) {
-        if (tree_.sample(leaf) != FieldQuadtree::kNone) out.push_back(tree_.sample(leaf));
+        out.push_back(tree_.sample(leaf));
         return false;
     });
 }
 
 bool FieldSampler::covered_by_fresh(uvec2 a, uvec2 b) const {
     const std::uint32_t lo = t_.min_over(a, b);
-    return tree_.near_fresh(a, b, reach(a, b, t_.max_over(a, b)), [&](std::uint32_t leaf) {
-        const std::uint32_t s = tree_.sample(leaf);
-        return s != FieldQuadtree::kNone && covers(s, lo, a, b);
-    });
+    return tree_.near_fresh(a, b, reach(a, b, t_.max_over(a, b)),
+                            [&](std::uint32_t leaf) { return covers(tree_.sample(leaf), lo, a, b); });
 }
 
 bool FieldSampler::covers(std::uint32_t s, std::uint32_t lo, uvec2 a, uvec2 b) const {
@@ -350,9 +351,9 @@ void FieldSampler::throw_darts(std::uint32_t round) {
 void FieldSampler::resolve(std::uint32_t round) {
     note_bytes(darts_.size() * sizeof(Dart));  // the sort's buffer
     std::stable_sort(darts_.begin(), darts_.end(), [](const Dart& a, const Dart& b) { return a.key < b.key; });
-    // Each dart was tested against the earlier rounds' samples when thrown; of this round's, only
-    // those that marked its leaf (over their cover reach, which holds every point they conflict
-    // with) can conflict with it.
+    // Each dart was tested against the earlier rounds' samples when thrown; of this round's (the
+    // fresh ones), only those that marked its leaf (over their cover reach, which holds every
+    // point they conflict with) can conflict with it.
     for (const Dart& d : darts_) {
         const std::uint32_t leaf = d.leaf;
         if (tree_.sample(leaf) != FieldQuadtree::kNone) continue;

@@ -155,8 +155,8 @@ bool FieldQuadtree::search(glm::uvec2 a, glm::uvec2 b, std::uint64_t reach, Visi
         for (std::int64_t tx = lo[0]; tx <= hi[0]; ++tx) {
             const std::int64_t wx = ((tx % tiles[0]) + tiles[0]) % tiles[0],
                                wy = ((ty % tiles[1]) + tiles[1]) % tiles[1];
-            if (descend<kNeed>(roots_[std::size_t(wy * tiles[0] + wx)], tx * tile, ty * tile, t_.tile_bits, query, visit))
-                return true;
+            const std::uint32_t root = roots_[std::size_t(wy * tiles[0] + wx)];
+            if (descend<kNeed>(root, tx * tile, ty * tile, t_.tile_bits, query, visit)) return true;
         }
     return false;
 }
