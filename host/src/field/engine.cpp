@@ -12,68 +12,14 @@
 #include <fmt/format.h>
 
 #include "field.h"
-#include "quadtree.h"
-#include "../cpu/thread_pool.h"
-#include "../phase_times.h"
+#include "sampler.h"
 #include "../plan.h"
-#include "shared/darts.h"
 
 namespace vrpd::detail {
 
-FieldQuadtree::FieldQuadtree(const FieldTable& t, std::uint64_t max_leaves) : t_(t) {
-    roots_.resize(std::size_t(t.tiles_x) * t.tiles_y);
-    for (std::uint32_t j = 0; j < t.tiles_y; ++j)
-        for (std::uint32_t i = 0; i < t.tiles_x; ++i)
-            roots_[std::size_t(j) * t.tiles_x + i] =
-                build({i << t.tile_bits, j << t.tile_bits}, t.tile_bits, max_leaves);
-    sample_.assign(corner_.size(), kNone);
-}
-
-std::uint32_t FieldQuadtree::build(glm::uvec2 c, std::uint32_t bits, std::uint64_t max_leaves) {
-    if (c.x >= t_.lattice.extent_x || c.y >= t_.lattice.extent_y) return kOutside;
-    const std::uint64_t side = std::uint64_t(1) << bits;
-    const glm::uvec2 b(std::uint32_t(std::min<std::uint64_t>(c.x + side - 1, t_.lattice.extent_x - 1)),
-                       std::uint32_t(std::min<std::uint64_t>(c.y + side - 1, t_.lattice.extent_y - 1)));
-    const std::uint64_t r = t_.min_over(c, b);
-    if (2 * (side - 1) * (side - 1) < r * r) {
-        // Leaf indices fit the node word's index bits.
-        if (const std::uint64_t most = std::min<std::uint64_t>(max_leaves, kIndex); corner_.size() >= most)
-            throw Error(fmt::format("the field needs more than {} base cells, past {}", most,
-                                    most == max_leaves ? "the memory this machine allows"
-                                                       : "the quadtree's 29-bit leaf index"));
-        depth_ = std::max(depth_, t_.tile_bits - bits);
-        corner_.push_back(c);
-        bits_.push_back(std::uint8_t(bits));
-        return kLeaf | std::uint32_t(corner_.size() - 1);
-    }
-    const std::uint32_t first = std::uint32_t(nodes_.size());
-    nodes_.resize(nodes_.size() + 4);
-    const std::uint32_t half = 1u << (bits - 1);
-    for (std::uint32_t k = 0; k < 4; ++k) {
-        const std::uint32_t child = build({c.x + (k & 1) * half, c.y + (k >> 1) * half}, bits - 1, max_leaves);
-        nodes_[first + k] = child;
-    }
-    return first;
-}
-
-void FieldQuadtree::set_sample(std::uint32_t leaf, std::uint32_t s) {
-    sample_[leaf] = s;
-    mark(corner_[leaf], kOccupied | kFresh, true);
-}
-
-void FieldQuadtree::mark(glm::uvec2 c, std::uint32_t flag, bool on) {
-    std::uint32_t* node = &roots_[std::size_t(c.y >> t_.tile_bits) * t_.tiles_x + (c.x >> t_.tile_bits)];
-    for (std::uint32_t bits = t_.tile_bits;; --bits) {
-        *node = on ? *node | flag : *node & ~flag;
-        if (*node & kLeaf) return;
-        const std::uint32_t k = ((c.x >> (bits - 1)) & 1) | ((c.y >> (bits - 1)) & 1) << 1;
-        node = &nodes_[(*node & kIndex) + k];
-    }
-}
+namespace field {
 
 namespace {
-
-using shared::uvec2;
 using Clock = std::chrono::steady_clock;
 
 // Poisson mean of darts per active cell per round, and the most one cell takes before it is split.
@@ -82,122 +28,11 @@ using Clock = std::chrono::steady_clock;
 constexpr double kLambda = 0.3;
 constexpr double kSplitAbove = 4.0;
 constexpr std::uint32_t kMaxRounds = 1000000;  // a bug guard, far above any run
-constexpr int kExpBias = 64;
-constexpr std::uint32_t kNever = UINT32_MAX;  // exp_neg's index: weighted area exponent + 64
+constexpr int kExpBias = 64;  // exp_neg_'s index: the weighted area's exponent + 64
+constexpr std::uint32_t kNever = UINT32_MAX;  // touched_: in no round yet
 
-struct Cell {
-    uvec2 corner;
-    std::uint32_t leaf;
-    std::uint8_t bits;
-    std::uint8_t weight;  // Eq. 12: darts at the rate of radius r_lo 2^weight (<= r over the cell)
-};
+}  // namespace
 
-// A dart still undecided after its throw, in throwing order (cell order, then index in the cell):
-// the tie-break of equal keys, kept by a stable sort. It carries its cell's leaf, which resolution
-// reads in arrival order: one random read fewer than through the cell.
-struct Dart {
-    uvec2 p;
-    std::uint32_t key, leaf;
-};
-
-class FieldSampler {
-public:
-    FieldSampler(const FieldTable& t, const SampleOptions& o, std::uint64_t max_leaves)
-        : t_(t),
-          tree_(t, max_leaves),
-          rule_(t.rule),
-          density_(o.sizing->weighting == Weighting::Density),
-          pool_(o.backend == Backend::Serial ? 1
-                : o.threads == 0             ? std::thread::hardware_concurrency()
-                                             : o.threads),
-          seed_(o.seed),
-          profile_(o.profile) {}
-
-    Sampling run();
-
-private:
-    // The farthest an earlier sample conflicting with some point of [a, b] can be, given the
-    // largest r over [a, b] (docs/design.md derives each rule's bound).
-    std::uint64_t reach(uvec2 a, uvec2 b, std::uint32_t r_hi) const;
-    // The farthest a point sample x (radius r) may cover under the rule.
-    std::uint64_t cover_reach(uvec2 x, std::uint32_t r) const;
-    std::uint64_t grown_reach(uvec2 a, uvec2 b, std::uint32_t r_hi) const;
-    // Does a sample (with kFresh, one of this round's) conflict with point p of radius r?
-    template <bool kFresh>
-    bool conflicts(uvec2 p, std::uint32_t r) const;
-    // The samples that may conflict with some point of [a, b]: every sample that can cover any
-    // part of it (the reach of [a, b] holds the reach of each part).
-    void gather(uvec2 a, uvec2 b, std::vector<std::uint32_t>& out) const;
-    // Does one of `near` cover every point of [a, b] under the rule?
-    bool covered_by(const std::vector<std::uint32_t>& near, uvec2 a, uvec2 b) const;
-    // Does one of this round's samples (fresh in the tree) cover every point of [a, b]? For a
-    // cell of the active list this is whether any sample does: each cell was made, or last kept,
-    // by a test against every sample of its time, so none of the earlier rounds' covers it.
-    bool covered_by_fresh(uvec2 a, uvec2 b) const;
-    // Does sample s cover [a, b], given r's least value `lo` over it: is the farthest corner
-    // within f(r(s), lo), f's least value over the block?
-    bool covers(std::uint32_t s, std::uint32_t lo, uvec2 a, uvec2 b) const;
-    Cell make_cell(uvec2 corner, std::uint32_t bits, std::uint32_t leaf) const;
-    // Child k of c (x, then y, low first), unless it lies outside the lattice.
-    std::optional<Cell> child(const Cell& c, std::uint32_t k) const {
-        const std::uint32_t half = 1u << (c.bits - 1);
-        const uvec2 corner(c.corner.x + (k & 1) * half, c.corner.y + (k >> 1) * half);
-        if (corner.x >= t_.lattice.extent_x || corner.y >= t_.lattice.extent_y) return std::nullopt;
-        return make_cell(corner, c.bits - 1, c.leaf);
-    }
-    uvec2 far_corner(const Cell& c) const {
-        const std::uint64_t s = (std::uint64_t(1) << c.bits) - 1;
-        return {std::uint32_t(std::min<std::uint64_t>(c.corner.x + s, t_.lattice.extent_x - 1)),
-                std::uint32_t(std::min<std::uint64_t>(c.corner.y + s, t_.lattice.extent_y - 1))};
-    }
-    int exponent(const Cell& c) const { return 2 * int(c.bits) - (density_ ? 2 * int(c.weight) : 0); }
-    // 2^e, exactly, for |e| < 1023 (std::ldexp's value without its call).
-    static double pow2(int e) { return std::bit_cast<double>(std::uint64_t(1023 + e) << 52); }
-    // Splits cells expecting more than kSplitAbove darts at this round's rate; returns the rate.
-    double balance();
-    void throw_darts(std::uint32_t round);
-    void resolve(std::uint32_t round);
-    void refine(std::uint32_t round);
-    // Notes the arrays' bytes now, with `extra` held outside them, for the peak.
-    void note_bytes(std::uint64_t extra) {
-        bytes_ = std::max<std::uint64_t>(bytes_, tree_.bytes() + cells_.capacity() * sizeof(Cell) +
-                                                     darts_.capacity() * sizeof(Dart) + lattice_.capacity() * 12 +
-                                                     got_.capacity() + touched_.capacity() * 4 + extra);
-    }
-    // Moves the workers' parts into `out`, in worker order, freeing each part as it goes; the
-    // parts and `out` together are noted for the peak first.
-    template <typename T>
-    void merge(std::vector<std::vector<T>>& parts, std::vector<T>& out) {
-        std::size_t n = 0;
-        for (const auto& part : parts) n += part.size();
-        std::vector<T>().swap(out);
-        note_bytes(2 * n * sizeof(T));
-        out.reserve(n);
-        for (auto& part : parts) {
-            out.insert(out.end(), part.begin(), part.end());
-            std::vector<T>().swap(part);
-        }
-    }
-
-    const FieldTable& t_;
-    FieldQuadtree tree_;
-    std::uint32_t rule_;
-    bool density_;
-    ThreadPool pool_;
-    std::uint32_t seed_;
-    std::vector<Cell> cells_;
-    std::vector<std::uint8_t> got_;  // the cell took darts this round
-    // The round in which a sample that may cover part of the leaf was last accepted: only cells
-    // of such leaves (and cells that took darts) can have become covered.
-    std::vector<std::uint32_t> touched_;
-    std::vector<Dart> darts_;
-    std::vector<uvec2> lattice_;
-    std::vector<std::uint32_t> radii_;
-    std::uint32_t exp_neg_[128] = {};
-    std::uint64_t darts_thrown_ = 0, bytes_ = 0;
-    bool profile_;
-    PhaseTimes phases_;
-};
 
 std::uint64_t FieldSampler::reach(uvec2 a, uvec2 b, std::uint32_t r_hi) const {
     // current, smaller: f <= r(y) <= r_hi.
@@ -237,6 +72,7 @@ bool FieldSampler::conflicts(uvec2 p, std::uint32_t r) const {
     };
     return kFresh ? tree_.near_fresh(p, p, reach(p, p, r), visit) : tree_.near_samples(p, p, reach(p, p, r), visit);
 }
+template bool FieldSampler::conflicts<true>(uvec2, std::uint32_t) const;
 
 void FieldSampler::gather(uvec2 a, uvec2 b, std::vector<std::uint32_t>& out) const {
     out.clear();
@@ -348,27 +184,6 @@ void FieldSampler::throw_darts(std::uint32_t round) {
     for (std::uint64_t n : thrown) darts_thrown_ += n;
 }
 
-void FieldSampler::resolve(std::uint32_t round) {
-    note_bytes(darts_.size() * sizeof(Dart));  // the sort's buffer
-    std::stable_sort(darts_.begin(), darts_.end(), [](const Dart& a, const Dart& b) { return a.key < b.key; });
-    // Each dart was tested against the earlier rounds' samples when thrown; of this round's (the
-    // fresh ones), only those that marked its leaf (over their cover reach, which holds every
-    // point they conflict with) can conflict with it.
-    for (const Dart& d : darts_) {
-        const std::uint32_t leaf = d.leaf;
-        if (tree_.sample(leaf) != FieldQuadtree::kNone) continue;
-        const std::uint32_t r = t_.radius(d.p);
-        if (touched_[leaf] == round && conflicts<true>(d.p, r)) continue;
-        tree_.set_sample(leaf, std::uint32_t(lattice_.size()));
-        lattice_.push_back(d.p);
-        radii_.push_back(r);
-        tree_.near(d.p, d.p, cover_reach(d.p, r), [&](std::uint32_t l) {
-            touched_[l] = round;
-            return false;
-        });
-    }
-}
-
 void FieldSampler::refine(std::uint32_t round) {
     // First each cell's fate, written over its got_ entry once read: dropped (0), kept whole, or
     // split with the mask of its surviving children. Then each chunk writes its cells to the next
@@ -459,14 +274,15 @@ Sampling FieldSampler::run() {
     return s;
 }
 
-}  // namespace
+}  // namespace field
 
 Sampling sample_field(const SampleOptions& o, const FieldTable& t) {
     // tabulate() refused a field whose expected samples exceed memory; the leaves stay within a
     // 64th of it besides.
     const MemoryLimit limit = host_memory_limit();
+    using Clock = std::chrono::steady_clock;
     const auto start = Clock::now();
-    FieldSampler sampler(t, o, std::uint64_t(double(limit.bytes) / 64));
+    field::FieldSampler sampler(t, o, std::uint64_t(double(limit.bytes) / 64));
     const double leaves = std::chrono::duration<double>(Clock::now() - start).count();
     Sampling s = sampler.run();
     s.stats.seconds = std::chrono::duration<double>(Clock::now() - start).count();

@@ -23,8 +23,11 @@ public:
     std::uint32_t sample(std::uint32_t leaf) const { return sample_[leaf]; }
     // Gives the leaf its sample and marks the nodes above it as holding one, and a fresh one.
     void set_sample(std::uint32_t leaf, std::uint32_t s);
+    // Marks the leaf holding point p, and the nodes above it, fresh: it holds a dart (during
+    // resolution) or a sample (set_sample) of this round.
+    void mark_fresh(glm::uvec2 p) { mark(p, kFresh, true); }
     // Clears the fresh marks on the path to the leaf holding point p; called for every fresh
-    // sample, it ends their freshness.
+    // leaf, it ends their freshness.
     void settle(glm::uvec2 p) { mark(p, kFresh, false); }
     std::uint32_t depth() const { return depth_; }
     std::uint64_t bytes() const { return nodes_.capacity() * 4 + corner_.capacity() * 13 + roots_.capacity() * 4; }
@@ -41,7 +44,7 @@ public:
     bool near_samples(glm::uvec2 a, glm::uvec2 b, std::uint64_t reach, Visit&& visit) const {
         return search<kOccupied>(a, b, reach, visit);
     }
-    // The same over the leaves whose sample is fresh (set, not yet settled).
+    // The same over the fresh leaves (marked, not yet settled).
     template <typename Visit>
     bool near_fresh(glm::uvec2 a, glm::uvec2 b, std::uint64_t reach, Visit&& visit) const {
         return search<kFresh>(a, b, reach, visit);
@@ -54,7 +57,7 @@ private:
 
     const FieldTable& t_;
     // A node: kOutside, or kLeaf | its leaf or its first child, with kOccupied where a leaf of its
-    // subtree holds a sample and kFresh where one holds a fresh sample.
+    // subtree holds a sample and kFresh where one is fresh (mark_fresh, set_sample).
     std::vector<std::uint32_t> roots_, nodes_;
     std::vector<glm::uvec2> corner_;
     std::vector<std::uint8_t> bits_;

@@ -1,0 +1,141 @@
+// Resolution of a round's darts under the field's rule (paper section 1, Eq. 4): a dart is
+// accepted iff no accepted dart of the round arriving before it (by key, then throwing order)
+// conflicts with it; each was tested against the earlier rounds' samples when thrown. The
+// accepted darts become samples in arrival order.
+#include <algorithm>
+#include <atomic>
+#include <memory>
+
+#include "sampler.h"
+
+namespace vrpd::detail::field {
+
+namespace {
+
+std::uint8_t load_state(std::uint8_t* state, std::uint32_t j) {
+    return std::atomic_ref<std::uint8_t>(state[j]).load(std::memory_order_relaxed);
+}
+
+}  // namespace
+
+void FieldSampler::resolve(std::uint32_t round) {
+    // Under prior and bigger an earlier dart in conflict may lie past the later one's r (f may be
+    // the earlier's radius): a search per dart over that reach costs more than the arrival-order
+    // search of the round's samples, so those rules resolve in arrival order on every backend.
+    if (serial_ || rule_ == shared::RULE_PRIOR || rule_ == shared::RULE_BIGGER)
+        resolve_in_arrival_order(round);
+    else
+        resolve_in_parallel(round);
+}
+
+void FieldSampler::accept(const Dart& d, std::uint32_t r) {
+    tree_.set_sample(d.leaf, std::uint32_t(lattice_.size()));
+    lattice_.push_back(d.p);
+    radii_.push_back(r);
+}
+
+void FieldSampler::touch(uvec2 p, std::uint32_t r, std::uint32_t round) {
+    tree_.near(p, p, cover_reach(p, r), [&](std::uint32_t leaf) {
+        std::atomic_ref<std::uint32_t>(touched_[leaf]).store(round, std::memory_order_relaxed);
+        return false;
+    });
+}
+
+void FieldSampler::resolve_in_arrival_order(std::uint32_t round) {
+    note_bytes(darts_.size() * sizeof(Dart));  // the sort's buffer
+    std::stable_sort(darts_.begin(), darts_.end(), [](const Dart& a, const Dart& b) { return a.key < b.key; });
+    // Of this round's samples (the fresh ones), only those that stamped a dart's leaf (over their
+    // cover reach, which holds every point they conflict with) can conflict with it.
+    for (const Dart& d : darts_) {
+        if (tree_.sample(d.leaf) != FieldQuadtree::kNone) continue;
+        const std::uint32_t r = t_.radius(d.p);
+        if (touched_[d.leaf] == round && conflicts<true>(d.p, r)) continue;
+        accept(d, r);
+        touch(d.p, r, round);
+    }
+}
+
+std::uint32_t FieldSampler::decide(std::uint32_t j, const std::uint32_t* first, std::uint8_t* state,
+                                   std::uint32_t& wait) const {
+    const Dart& d = darts_[j];
+    const std::uint32_t r = t_.radius(d.p);
+    wait = FieldQuadtree::kNone;
+    // current, smaller: an earlier dart in conflict lies within r (f <= r(later)).
+    const bool rejected = tree_.near_fresh(d.p, d.p, r, [&](std::uint32_t leaf) {
+        for (std::uint32_t k = first[leaf]; k < darts_.size() && darts_[k].leaf == leaf; ++k) {
+            const Dart& o = darts_[k];
+            if (!shared::arrives_before(o.key, k, d.key, j)) continue;
+            const std::uint8_t s = load_state(state, k);
+            if (s == shared::DART_REJECTED) continue;
+            // Two points of one leaf conflict under every rule: its diagonal is shorter than r
+            // anywhere in it.
+            if (leaf != d.leaf && !shared::field_conflict(shared::rule_f(rule_, t_.radius(o.p), r),
+                                                          shared::distance2(t_.lattice, o.p, d.p)))
+                continue;
+            if (s == shared::DART_ACCEPTED) return true;
+            wait = k;
+        }
+        return false;
+    });
+    if (rejected) return shared::DART_REJECTED;
+    return wait == FieldQuadtree::kNone ? shared::DART_ACCEPTED : shared::DART_UNDECIDED;
+}
+
+void FieldSampler::resolve_in_parallel(std::uint32_t round) {
+    const std::size_t n = darts_.size();
+    // Darts come in cell order, and a leaf's cells are consecutive in the list (a split cell's
+    // children take its place), so a leaf's darts are too. Each leaf with darts records its first
+    // and is marked fresh (it holds no sample: its darts would have been rejected when thrown),
+    // so that a search meets only the leaves with darts.
+    auto first = std::make_unique_for_overwrite<std::uint32_t[]>(tree_.leaves());
+    std::vector<std::uint8_t> state(n, std::uint8_t(shared::DART_UNDECIDED));
+    note_bytes(tree_.leaves() * 4 + n);
+    for (std::size_t j = 0; j < n; ++j) {
+        if (j > 0 && darts_[j].leaf == darts_[j - 1].leaf) continue;
+        if (j > 0 && darts_[j].leaf < darts_[j - 1].leaf) throw Error("internal: a leaf's darts are not consecutive");
+        first[darts_[j].leaf] = std::uint32_t(j);
+        tree_.mark_fresh(darts_[j].p);
+    }
+    // Each thread decides the darts of its part (spatial order), one at a time: a dart left
+    // undecided waits for an earlier one, decided first (depth first; each wait is for an earlier
+    // arrival, so the chains end). Threads may decide the same dart near their parts' border:
+    // both reach the same final state.
+    pool_.parallel_for(n, [&](std::size_t begin, std::size_t end, unsigned) {
+        std::vector<std::uint32_t> stack;
+        for (std::size_t j = begin; j < end; ++j) {
+            stack.push_back(std::uint32_t(j));
+            while (!stack.empty()) {
+                const std::uint32_t t = stack.back();
+                if (load_state(state.data(), t) != shared::DART_UNDECIDED) {
+                    stack.pop_back();
+                    continue;
+                }
+                std::uint32_t wait = 0;
+                const std::uint32_t s = decide(t, first.get(), state.data(), wait);
+                if (s == shared::DART_UNDECIDED) {
+                    stack.push_back(wait);
+                    continue;
+                }
+                std::atomic_ref<std::uint8_t>(state[t]).store(std::uint8_t(s), std::memory_order_relaxed);
+                stack.pop_back();
+            }
+        }
+    });
+    // The darts' marks end before the samples' begin.
+    for (std::size_t j = 0; j < n; ++j)
+        if (j == 0 || darts_[j].leaf != darts_[j - 1].leaf) tree_.settle(darts_[j].p);
+    first.reset();
+    std::vector<std::uint32_t> accepted;
+    for (std::uint32_t j = 0; j < n; ++j)
+        if (state[j] == shared::DART_ACCEPTED) accepted.push_back(j);
+    std::sort(accepted.begin(), accepted.end(), [&](std::uint32_t a, std::uint32_t b) {
+        return shared::arrives_before(darts_[a].key, a, darts_[b].key, b);
+    });
+    const std::size_t base = lattice_.size();
+    for (std::uint32_t j : accepted) accept(darts_[j], t_.radius(darts_[j].p));
+    pool_.parallel_for(accepted.size(), [&](std::size_t begin, std::size_t end, unsigned) {
+        for (std::size_t i = base + begin; i < base + end; ++i) touch(lattice_[i], radii_[i], round);
+    });
+}
+
+}  // namespace vrpd::detail::field

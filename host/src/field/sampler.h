@@ -1,0 +1,150 @@
+// The sizing-field sampler's state and steps (field/engine.cpp; resolution in field/resolve.cpp).
+#pragma once
+
+#include <bit>
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "quadtree.h"
+#include "../cpu/thread_pool.h"
+#include "../phase_times.h"
+#include "shared/darts.h"
+#include "vrpd/vrpd.h"
+
+namespace vrpd::detail::field {
+
+using shared::uvec2;
+
+struct Cell {
+    uvec2 corner;
+    std::uint32_t leaf;
+    std::uint8_t bits;
+    std::uint8_t weight;  // Eq. 12: darts at the rate of radius r_lo 2^weight (<= r over the cell)
+};
+
+// A dart still undecided after its throw, in throwing order (cell order, then index in the cell):
+// the tie-break of equal keys. It carries its cell's leaf: the textbook resolution reads it in
+// arrival order (one random read fewer than through the cell), the parallel one finds a leaf's
+// darts through it.
+struct Dart {
+    uvec2 p;
+    std::uint32_t key, leaf;
+};
+
+class FieldSampler {
+public:
+    FieldSampler(const FieldTable& t, const SampleOptions& o, std::uint64_t max_leaves)
+        : t_(t),
+          tree_(t, max_leaves),
+          rule_(t.rule),
+          density_(o.sizing->weighting == Weighting::Density),
+          pool_(o.backend == Backend::Serial ? 1
+                : o.threads == 0             ? std::thread::hardware_concurrency()
+                                             : o.threads),
+          seed_(o.seed),
+          serial_(o.backend == Backend::Serial),
+          profile_(o.profile) {}
+
+    Sampling run();
+
+private:
+    // The farthest an earlier sample conflicting with some point of [a, b] can be, given the
+    // largest r over [a, b] (docs/design.md derives each rule's bound).
+    std::uint64_t reach(uvec2 a, uvec2 b, std::uint32_t r_hi) const;
+    // The farthest a point sample x (radius r) may cover under the rule.
+    std::uint64_t cover_reach(uvec2 x, std::uint32_t r) const;
+    std::uint64_t grown_reach(uvec2 a, uvec2 b, std::uint32_t r_hi) const;
+    // Does a sample (with kFresh, one of this round's) conflict with point p of radius r?
+    template <bool kFresh>
+    bool conflicts(uvec2 p, std::uint32_t r) const;
+    // The samples that may conflict with some point of [a, b]: every sample that can cover any
+    // part of it (the reach of [a, b] holds the reach of each part).
+    void gather(uvec2 a, uvec2 b, std::vector<std::uint32_t>& out) const;
+    // Does one of `near` cover every point of [a, b] under the rule?
+    bool covered_by(const std::vector<std::uint32_t>& near, uvec2 a, uvec2 b) const;
+    // Does one of this round's samples (fresh in the tree) cover every point of [a, b]? For a
+    // cell of the active list this is whether any sample does: each cell was made, or last kept,
+    // by a test against every sample of its time, so none of the earlier rounds' covers it.
+    bool covered_by_fresh(uvec2 a, uvec2 b) const;
+    // Does sample s cover [a, b], given r's least value `lo` over it: is the farthest corner
+    // within f(r(s), lo), f's least value over the block?
+    bool covers(std::uint32_t s, std::uint32_t lo, uvec2 a, uvec2 b) const;
+    Cell make_cell(uvec2 corner, std::uint32_t bits, std::uint32_t leaf) const;
+    // Child k of c (x, then y, low first), unless it lies outside the lattice.
+    std::optional<Cell> child(const Cell& c, std::uint32_t k) const {
+        const std::uint32_t half = 1u << (c.bits - 1);
+        const uvec2 corner(c.corner.x + (k & 1) * half, c.corner.y + (k >> 1) * half);
+        if (corner.x >= t_.lattice.extent_x || corner.y >= t_.lattice.extent_y) return std::nullopt;
+        return make_cell(corner, c.bits - 1, c.leaf);
+    }
+    uvec2 far_corner(const Cell& c) const {
+        const std::uint64_t s = (std::uint64_t(1) << c.bits) - 1;
+        return {std::uint32_t(std::min<std::uint64_t>(c.corner.x + s, t_.lattice.extent_x - 1)),
+                std::uint32_t(std::min<std::uint64_t>(c.corner.y + s, t_.lattice.extent_y - 1))};
+    }
+    int exponent(const Cell& c) const { return 2 * int(c.bits) - (density_ ? 2 * int(c.weight) : 0); }
+    // 2^e, exactly, for |e| < 1023 (std::ldexp's value without its call).
+    static double pow2(int e) { return std::bit_cast<double>(std::uint64_t(1023 + e) << 52); }
+    // Splits cells expecting more than kSplitAbove darts at this round's rate; returns the rate.
+    double balance();
+    void throw_darts(std::uint32_t round);
+    // Decides the round's darts (field/resolve.cpp): as the textbook does, one dart at a time in
+    // arrival order, or (cpu backend; current and smaller) in parallel, with the same outcome.
+    void resolve(std::uint32_t round);
+    void resolve_in_arrival_order(std::uint32_t round);
+    void resolve_in_parallel(std::uint32_t round);
+    // Dart j's state given the states decided so far (darts.h's DART_*), under current or
+    // smaller: rejected if an earlier dart in conflict is accepted, accepted if every earlier one
+    // in conflict is rejected, else undecided, with `wait` set to an undecided earlier dart in
+    // conflict. `first` holds the first dart of each leaf marked fresh.
+    std::uint32_t decide(std::uint32_t j, const std::uint32_t* first, std::uint8_t* state,
+                         std::uint32_t& wait) const;
+    // Adds dart d (radius r) as the next sample.
+    void accept(const Dart& d, std::uint32_t r);
+    // Stamps `round` on the leaves that sample p (radius r) may cover; safe from several threads.
+    void touch(uvec2 p, std::uint32_t r, std::uint32_t round);
+    void refine(std::uint32_t round);
+    // Notes the arrays' bytes now, with `extra` held outside them, for the peak.
+    void note_bytes(std::uint64_t extra) {
+        bytes_ = std::max<std::uint64_t>(bytes_, tree_.bytes() + cells_.capacity() * sizeof(Cell) +
+                                                     darts_.capacity() * sizeof(Dart) + lattice_.capacity() * 12 +
+                                                     got_.capacity() + touched_.capacity() * 4 + extra);
+    }
+    // Moves the workers' parts into `out`, in worker order, freeing each part as it goes; the
+    // parts and `out` together are noted for the peak first.
+    template <typename T>
+    void merge(std::vector<std::vector<T>>& parts, std::vector<T>& out) {
+        std::size_t n = 0;
+        for (const auto& part : parts) n += part.size();
+        std::vector<T>().swap(out);
+        note_bytes(2 * n * sizeof(T));
+        out.reserve(n);
+        for (auto& part : parts) {
+            out.insert(out.end(), part.begin(), part.end());
+            std::vector<T>().swap(part);
+        }
+    }
+
+    const FieldTable& t_;
+    FieldQuadtree tree_;
+    std::uint32_t rule_;
+    bool density_;
+    ThreadPool pool_;
+    std::uint32_t seed_;
+    bool serial_;
+    std::vector<Cell> cells_;
+    std::vector<std::uint8_t> got_;  // the cell took darts this round
+    // The round in which a sample that may cover part of the leaf was last accepted: only cells
+    // of such leaves (and cells that took darts) can have become covered.
+    std::vector<std::uint32_t> touched_;
+    std::vector<Dart> darts_;
+    std::vector<uvec2> lattice_;
+    std::vector<std::uint32_t> radii_;
+    std::uint32_t exp_neg_[128] = {};
+    std::uint64_t darts_thrown_ = 0, bytes_ = 0;
+    bool profile_;
+    PhaseTimes phases_;
+};
+
+}  // namespace vrpd::detail::field
