@@ -29,7 +29,6 @@ constexpr double kLambda = 0.3;
 constexpr double kSplitAbove = 4.0;
 constexpr std::uint32_t kMaxRounds = 1000000;  // a bug guard, far above any run
 constexpr int kExpBias = 64;  // exp_neg_'s index: the weighted area's exponent + 64
-constexpr std::uint32_t kNever = UINT32_MAX;  // touched_: in no round yet
 
 }  // namespace
 
@@ -63,16 +62,21 @@ std::uint64_t FieldSampler::grown_reach(uvec2 a, uvec2 b, std::uint32_t r_hi) co
     return rho;
 }
 
-template <bool kFresh>
-bool FieldSampler::conflicts(uvec2 p, std::uint32_t r) const {
-    auto visit = [&](std::uint32_t leaf) {
-        const std::uint32_t s = tree_.sample(leaf);
-        return shared::field_conflict(shared::rule_f(rule_, radii_[s], r),
-                                      shared::distance2(t_.lattice, lattice_[s], p));
-    };
-    return kFresh ? tree_.near_fresh(p, p, reach(p, p, r), visit) : tree_.near_samples(p, p, reach(p, p, r), visit);
+bool FieldSampler::conflicts_with(std::uint32_t s, uvec2 p, std::uint32_t r) const {
+    return shared::field_conflict(shared::rule_f(rule_, radii_[s], r), shared::distance2(t_.lattice, lattice_[s], p));
 }
-template bool FieldSampler::conflicts<true>(uvec2, std::uint32_t) const;
+
+bool FieldSampler::conflicts(uvec2 p, std::uint32_t r) const {
+    return tree_.near_samples(p, p, reach(p, p, r),
+                              [&](std::uint32_t leaf) { return conflicts_with(tree_.sample(leaf), p, r); });
+}
+
+bool FieldSampler::conflicts_fresh(uvec2 p, std::uint32_t r, std::uint32_t leaf) const {
+    if (!stamped(leaf)) return false;
+    if (const std::uint32_t s = stamp(leaf); s != FieldQuadtree::kNone) return conflicts_with(s, p, r);
+    return tree_.near_fresh(p, p, reach(p, p, r),
+                            [&](std::uint32_t l) { return conflicts_with(tree_.sample(l), p, r); });
+}
 
 void FieldSampler::gather(uvec2 a, uvec2 b, std::vector<std::uint32_t>& out) const {
     out.clear();
@@ -82,8 +86,10 @@ void FieldSampler::gather(uvec2 a, uvec2 b, std::vector<std::uint32_t>& out) con
     });
 }
 
-bool FieldSampler::covered_by_fresh(uvec2 a, uvec2 b) const {
+bool FieldSampler::covered_by_fresh(uvec2 a, uvec2 b, std::uint32_t leaf) const {
+    if (!stamped(leaf)) return false;
     const std::uint32_t lo = t_.min_over(a, b);
+    if (const std::uint32_t s = stamp(leaf); s != FieldQuadtree::kNone) return covers(s, lo, a, b);
     return tree_.near_fresh(a, b, reach(a, b, t_.max_over(a, b)),
                             [&](std::uint32_t leaf) { return covers(tree_.sample(leaf), lo, a, b); });
 }
@@ -174,7 +180,7 @@ void FieldSampler::throw_darts(std::uint32_t round) {
                 if (density_ &&
                     !shared::keep_weighted(shared::hash_mix(shared::hash_mix(stream, 0xD1B54A35u), j), bound, r))
                     continue;
-                if (tree_.sample(c.leaf) != FieldQuadtree::kNone || conflicts<false>(p, r)) continue;
+                if (tree_.sample(c.leaf) != FieldQuadtree::kNone || conflicts(p, r)) continue;
                 out.push_back({p, d.z, c.leaf});
             }
         }
@@ -184,7 +190,7 @@ void FieldSampler::throw_darts(std::uint32_t round) {
     for (std::uint64_t n : thrown) darts_thrown_ += n;
 }
 
-void FieldSampler::refine(std::uint32_t round) {
+void FieldSampler::refine() {
     // First each cell's fate, written over its got_ entry once read: dropped (0), kept whole, or
     // split with the mask of its surviving children. Then each chunk writes its cells to the next
     // list from its offset: every cell is copied once, and no third list is held.
@@ -197,13 +203,13 @@ void FieldSampler::refine(std::uint32_t round) {
             const Cell& c = cells_[i];
             const bool got = got_[i] != 0;
             std::uint8_t fate = 0;
-            if (!got && touched_[c.leaf] != round) {
+            if (!got && !stamped(c.leaf)) {
                 fate = kKeep;
             } else if (tree_.sample(c.leaf) != FieldQuadtree::kNone) {
                 fate = 0;
             } else if (!got || c.bits == 0) {
-                // Kept whole: one search of this round's samples, ended by the first that covers it.
-                if (!covered_by_fresh(c.corner, far_corner(c))) fate = kKeep;
+                // Kept whole unless one of this round's samples covers it.
+                if (!covered_by_fresh(c.corner, far_corner(c), c.leaf)) fate = kKeep;
             } else {
                 // Split: the cell and its children are tested against one search's samples.
                 gather(c.corner, far_corner(c), near);
@@ -237,7 +243,7 @@ void FieldSampler::refine(std::uint32_t round) {
 
 Sampling FieldSampler::run() {
     cells_.reserve(tree_.leaves());
-    touched_.assign(tree_.leaves(), kNever);
+    touched_.assign(tree_.leaves(), kUnstamped);
     for (std::uint32_t leaf = 0; leaf < tree_.leaves(); ++leaf)
         cells_.push_back(make_cell(tree_.corner(leaf), tree_.bits(leaf), leaf));
     std::uint32_t round = 0;
@@ -250,12 +256,14 @@ Sampling FieldSampler::run() {
     };
     while (!cells_.empty()) {
         if (round == kMaxRounds) throw Error("internal: the sizing-field sampler did not converge");
-        const std::size_t first = lattice_.size();  // this round's samples are fresh until refined
+        round_ = round;
+        round_first_ = std::uint32_t(lattice_.size());  // this round's samples are fresh until refined
         phase("throw", [&] { throw_darts(round); });
-        phase("resolve", [&] { resolve(round); });
+        phase("resolve", [&] { resolve(); });
         std::vector<Dart>().swap(darts_);
-        phase("refine", [&] { refine(round++); });
-        for (std::size_t s = first; s < lattice_.size(); ++s) tree_.settle(lattice_[s]);
+        phase("refine", [&] { refine(); });
+        ++round;
+        for (std::size_t s = round_first_; s < lattice_.size(); ++s) tree_.settle(lattice_[s]);
         for (const Cell& c : cells_) deepest = std::max(deepest, t_.tile_bits - c.bits);
     }
     Sampling s;

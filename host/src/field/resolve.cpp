@@ -18,14 +18,14 @@ std::uint8_t load_state(std::uint8_t* state, std::uint32_t j) {
 
 }  // namespace
 
-void FieldSampler::resolve(std::uint32_t round) {
+void FieldSampler::resolve() {
     // Under prior and bigger an earlier dart in conflict may lie past the later one's r (f may be
     // the earlier's radius): a search per dart over that reach costs more than the arrival-order
     // search of the round's samples, so those rules resolve in arrival order on every backend.
     if (serial_ || rule_ == shared::RULE_PRIOR || rule_ == shared::RULE_BIGGER)
-        resolve_in_arrival_order(round);
+        resolve_in_arrival_order();
     else
-        resolve_in_parallel(round);
+        resolve_in_parallel();
 }
 
 void FieldSampler::accept(const Dart& d, std::uint32_t r) {
@@ -34,24 +34,29 @@ void FieldSampler::accept(const Dart& d, std::uint32_t r) {
     radii_.push_back(r);
 }
 
-void FieldSampler::touch(uvec2 p, std::uint32_t r, std::uint32_t round) {
-    tree_.near(p, p, cover_reach(p, r), [&](std::uint32_t leaf) {
-        std::atomic_ref<std::uint32_t>(touched_[leaf]).store(round, std::memory_order_relaxed);
+void FieldSampler::touch(std::uint32_t s) {
+    const uvec2 p = lattice_[s];
+    const std::uint32_t many = kStampedMany | round_;
+    tree_.near(p, p, cover_reach(p, radii_[s]), [&](std::uint32_t leaf) {
+        std::atomic_ref<std::uint32_t> word(touched_[leaf]);
+        std::uint32_t old = word.load(std::memory_order_relaxed);
+        // A leaf may be met twice by one search (two images of it on a torus).
+        while (old != s && old != many &&
+               !word.compare_exchange_weak(old, this_round(old) ? many : s, std::memory_order_relaxed)) {
+        }
         return false;
     });
 }
 
-void FieldSampler::resolve_in_arrival_order(std::uint32_t round) {
+void FieldSampler::resolve_in_arrival_order() {
     note_bytes(darts_.size() * sizeof(Dart));  // the sort's buffer
     std::stable_sort(darts_.begin(), darts_.end(), [](const Dart& a, const Dart& b) { return a.key < b.key; });
-    // Of this round's samples (the fresh ones), only those that stamped a dart's leaf (over their
-    // cover reach, which holds every point they conflict with) can conflict with it.
     for (const Dart& d : darts_) {
         if (tree_.sample(d.leaf) != FieldQuadtree::kNone) continue;
         const std::uint32_t r = t_.radius(d.p);
-        if (touched_[d.leaf] == round && conflicts<true>(d.p, r)) continue;
+        if (conflicts_fresh(d.p, r, d.leaf)) continue;
         accept(d, r);
-        touch(d.p, r, round);
+        touch(std::uint32_t(lattice_.size() - 1));
     }
 }
 
@@ -81,7 +86,7 @@ std::uint32_t FieldSampler::decide(std::uint32_t j, const std::uint32_t* first, 
     return wait == FieldQuadtree::kNone ? shared::DART_ACCEPTED : shared::DART_UNDECIDED;
 }
 
-void FieldSampler::resolve_in_parallel(std::uint32_t round) {
+void FieldSampler::resolve_in_parallel() {
     const std::size_t n = darts_.size();
     // Darts come in cell order, and a leaf's cells are consecutive in the list (a split cell's
     // children take its place), so a leaf's darts are too. Each leaf with darts records its first
@@ -134,7 +139,7 @@ void FieldSampler::resolve_in_parallel(std::uint32_t round) {
     const std::size_t base = lattice_.size();
     for (std::uint32_t j : accepted) accept(darts_[j], t_.radius(darts_[j].p));
     pool_.parallel_for(accepted.size(), [&](std::size_t begin, std::size_t end, unsigned) {
-        for (std::size_t i = base + begin; i < base + end; ++i) touch(lattice_[i], radii_[i], round);
+        for (std::size_t i = base + begin; i < base + end; ++i) touch(std::uint32_t(i));
     });
 }
 

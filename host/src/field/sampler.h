@@ -55,18 +55,22 @@ private:
     // The farthest a point sample x (radius r) may cover under the rule.
     std::uint64_t cover_reach(uvec2 x, std::uint32_t r) const;
     std::uint64_t grown_reach(uvec2 a, uvec2 b, std::uint32_t r_hi) const;
-    // Does a sample (with kFresh, one of this round's) conflict with point p of radius r?
-    template <bool kFresh>
+    // Does sample s conflict with a later point p of radius r?
+    bool conflicts_with(std::uint32_t s, uvec2 p, std::uint32_t r) const;
+    // Does a sample conflict with point p of radius r?
     bool conflicts(uvec2 p, std::uint32_t r) const;
+    // Does one of this round's samples conflict with point p (radius r) of leaf `leaf`?
+    bool conflicts_fresh(uvec2 p, std::uint32_t r, std::uint32_t leaf) const;
     // The samples that may conflict with some point of [a, b]: every sample that can cover any
     // part of it (the reach of [a, b] holds the reach of each part).
     void gather(uvec2 a, uvec2 b, std::vector<std::uint32_t>& out) const;
     // Does one of `near` cover every point of [a, b] under the rule?
     bool covered_by(const std::vector<std::uint32_t>& near, uvec2 a, uvec2 b) const;
-    // Does one of this round's samples (fresh in the tree) cover every point of [a, b]? For a
-    // cell of the active list this is whether any sample does: each cell was made, or last kept,
-    // by a test against every sample of its time, so none of the earlier rounds' covers it.
-    bool covered_by_fresh(uvec2 a, uvec2 b) const;
+    // Does one of this round's samples (fresh in the tree) cover every point of [a, b], a block
+    // of leaf `leaf`? For a cell of the active list this is whether any sample does: each cell
+    // was made, or last kept, by a test against every sample of its time, so none of the earlier
+    // rounds' covers it.
+    bool covered_by_fresh(uvec2 a, uvec2 b, std::uint32_t leaf) const;
     // Does sample s cover [a, b], given r's least value `lo` over it: is the farthest corner
     // within f(r(s), lo), f's least value over the block?
     bool covers(std::uint32_t s, std::uint32_t lo, uvec2 a, uvec2 b) const;
@@ -91,9 +95,9 @@ private:
     void throw_darts(std::uint32_t round);
     // Decides the round's darts (field/resolve.cpp): as the textbook does, one dart at a time in
     // arrival order, or (cpu backend; current and smaller) in parallel, with the same outcome.
-    void resolve(std::uint32_t round);
-    void resolve_in_arrival_order(std::uint32_t round);
-    void resolve_in_parallel(std::uint32_t round);
+    void resolve();
+    void resolve_in_arrival_order();
+    void resolve_in_parallel();
     // Dart j's state given the states decided so far (darts.h's DART_*), under current or
     // smaller: rejected if an earlier dart in conflict is accepted, accepted if every earlier one
     // in conflict is rejected, else undecided, with `wait` set to an undecided earlier dart in
@@ -102,9 +106,21 @@ private:
                          std::uint32_t& wait) const;
     // Adds dart d (radius r) as the next sample.
     void accept(const Dart& d, std::uint32_t r);
-    // Stamps `round` on the leaves that sample p (radius r) may cover; safe from several threads.
-    void touch(uvec2 p, std::uint32_t r, std::uint32_t round);
-    void refine(std::uint32_t round);
+    // Stamps sample s (one of this round's) on the leaves it may cover: those meeting the square
+    // of its cover reach. Safe from several threads.
+    void touch(std::uint32_t s);
+    // Is a stamp of touched_ one of this round's?
+    bool this_round(std::uint32_t stamp) const {
+        return stamp & kStampedMany ? (stamp & ~kStampedMany) == round_ : stamp >= round_first_;
+    }
+    // Is the leaf stamped this round: may one of this round's samples cover part of it?
+    bool stamped(std::uint32_t leaf) const { return this_round(touched_[leaf]); }
+    // The one sample of this round that may cover part of the leaf; kNone if none or several may.
+    std::uint32_t stamp(std::uint32_t leaf) const {
+        const std::uint32_t v = touched_[leaf];
+        return (v & kStampedMany) || v < round_first_ ? FieldQuadtree::kNone : v;
+    }
+    void refine();
     // Notes the arrays' bytes now, with `extra` held outside them, for the peak.
     void note_bytes(std::uint64_t extra) {
         bytes_ = std::max<std::uint64_t>(bytes_, tree_.bytes() + cells_.capacity() * sizeof(Cell) +
@@ -135,9 +151,15 @@ private:
     bool serial_;
     std::vector<Cell> cells_;
     std::vector<std::uint8_t> got_;  // the cell took darts this round
-    // The round in which a sample that may cover part of the leaf was last accepted: only cells
-    // of such leaves (and cells that took darts) can have become covered.
+    // Per leaf, the samples that may cover part of it (touch): the one sample of this round, or
+    // kStampedMany | round when several of this round may; older stamps are stale. Only cells of
+    // a stamped leaf (and cells that took darts) can have become covered, and with one stamp
+    // only that sample can cover or conflict with a point of the leaf. Sample indices stay below
+    // 2^29 (one per leaf, kIndex), so they never carry kStampedMany.
+    static constexpr std::uint32_t kStampedMany = 0x80000000u;
+    static constexpr std::uint32_t kUnstamped = 0xFFFFFFFFu;  // many in a round that never comes
     std::vector<std::uint32_t> touched_;
+    std::uint32_t round_ = 0, round_first_ = 0;  // the round, and its first sample
     std::vector<Dart> darts_;
     std::vector<uvec2> lattice_;
     std::vector<std::uint32_t> radii_;
