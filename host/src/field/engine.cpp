@@ -210,15 +210,14 @@ void FieldSampler::refine() {
             } else if (!got || c.bits == 0) {
                 // Kept whole unless one of this round's samples covers it.
                 if (!covered_by_fresh(c.corner, far_corner(c), c.leaf)) fate = kKeep;
-            } else {
-                // Split: the cell and its children are tested against one search's samples.
+            } else if (!covered_by_fresh(c.corner, far_corner(c), c.leaf)) {
+                // Split: the children are tested against every sample that may cover part of the
+                // cell, found by one search (an earlier round's sample may cover a child).
                 gather(c.corner, far_corner(c), near);
-                if (!covered_by(near, c.corner, far_corner(c))) {
-                    fate = kSplit;
-                    for (std::uint32_t k = 0; k < 4; ++k)
-                        if (const auto kid = child(c, k); kid && !covered_by(near, kid->corner, far_corner(*kid)))
-                            fate |= std::uint8_t(1u << k);
-                }
+                fate = kSplit;
+                for (std::uint32_t k = 0; k < 4; ++k)
+                    if (const auto kid = child(c, k); kid && !covered_by(near, kid->corner, far_corner(*kid)))
+                        fate |= std::uint8_t(1u << k);
             }
             got_[i] = fate;
             count += fate == kKeep ? 1 : std::uint64_t(std::popcount(fate & 0xFu));
