@@ -14,6 +14,10 @@ FieldQuadtree::FieldQuadtree(const FieldTable& t, std::uint64_t max_leaves) : t_
         for (std::uint32_t i = 0; i < t.tiles_x; ++i)
             roots_[std::size_t(j) * t.tiles_x + i] =
                 build({i << t.tile_bits, j << t.tile_bits}, t.tile_bits, max_leaves);
+    // The arrays grew by doubling; they keep their size for the whole run.
+    nodes_.shrink_to_fit();
+    corner_.shrink_to_fit();
+    bits_.shrink_to_fit();
     sample_.assign(corner_.size(), kNone);
 }
 
