@@ -9,11 +9,12 @@
 #include <random>
 
 #include "cli_support.h"
+#include "cpu/thread_pool.h"
+#include "field/quadtree.h"
 #include "field/table.h"
 #include "vrpd/io.h"
 #include "vrpd/sizing.h"
 #include "support.h"
-#include "vrpd/sizing.h"
 
 using namespace vrpd;
 
@@ -179,6 +180,35 @@ TEST_CASE("sizing fields: cpu on 1 or 3 threads and serial give the same samples
             CHECK(one.lattice == serial.lattice);
             CHECK(one.local_radius == serial.local_radius);
         }
+}
+
+TEST_CASE("the leaf quadtree built on 3 threads is the one built on one, and refuses leaves past its limit",
+          "[field]") {
+    const SizingField field(*field_options("0.002 + 0.05*x*y", SizingRule::Smaller, Boundary::Free, 1).sizing,
+                            {1, 1, Boundary::Free});
+    detail::ThreadPool one(1), three(3);
+    const detail::FieldQuadtree a(field.table(), std::uint64_t(1) << 24, one);
+    const detail::FieldQuadtree b(field.table(), std::uint64_t(1) << 24, three);
+    REQUIRE(a.leaves() > 1000);
+    REQUIRE(a.leaves() == b.leaves());
+    CHECK(a.depth() == b.depth());
+    std::size_t differ = 0;
+    for (std::uint32_t i = 0; i < a.leaves(); ++i) differ += a.corner(i) != b.corner(i) || a.bits(i) != b.bits(i);
+    CHECK(differ == 0);
+    // The nodes: searches around random points meet the same leaves in the same order.
+    std::mt19937 rng(5);
+    const std::uint32_t extent = field.table().lattice.extent_x;
+    const std::uint64_t reach = std::uint64_t(0.01 / field.quantum());
+    for (int q = 0; q < 50; ++q) {
+        const glm::uvec2 p(rng() % extent, rng() % field.table().lattice.extent_y);
+        std::vector<std::uint32_t> met_a, met_b;
+        a.near(p, p, reach, [&](std::uint32_t leaf) { return met_a.push_back(leaf), false; });
+        b.near(p, p, reach, [&](std::uint32_t leaf) { return met_b.push_back(leaf), false; });
+        REQUIRE(!met_a.empty());
+        CHECK(met_a == met_b);
+    }
+    CHECK_THROWS_WITH(detail::FieldQuadtree(field.table(), 100, three),
+                      Catch::Contains("more than 100 base cells, past the memory this machine allows"));
 }
 
 TEST_CASE("a constant field under every rule is the uniform sampling at that radius, point for point", "[field]") {

@@ -1,5 +1,6 @@
 // The quadtree of a sizing field's base cells (quadtree.h): its leaves and the marks on its nodes.
 #include <algorithm>
+#include <atomic>
 
 #include <fmt/format.h>
 
@@ -8,20 +9,50 @@
 
 namespace vrpd::detail {
 
-FieldQuadtree::FieldQuadtree(const FieldTable& t, std::uint64_t max_leaves) : t_(t) {
-    roots_.resize(std::size_t(t.tiles_x) * t.tiles_y);
-    for (std::uint32_t j = 0; j < t.tiles_y; ++j)
-        for (std::uint32_t i = 0; i < t.tiles_x; ++i)
-            roots_[std::size_t(j) * t.tiles_x + i] =
-                build({i << t.tile_bits, j << t.tile_bits}, t.tile_bits, max_leaves);
-    // The arrays grew by doubling; they keep their size for the whole run.
-    nodes_.shrink_to_fit();
-    corner_.shrink_to_fit();
-    bits_.shrink_to_fit();
+FieldQuadtree::FieldQuadtree(const FieldTable& t, std::uint64_t max_leaves, ThreadPool& pool) : t_(t) {
+    // Each worker builds its run of tiles into arrays of its own, indexed from 0; appended in
+    // worker order, then offset, they are the arrays one thread would build tile by tile.
+    struct Part {
+        std::size_t first_tile = 0, end_tile = 0;
+        Arrays arrays;
+    };
+    const std::size_t tiles = std::size_t(t.tiles_x) * t.tiles_y;
+    roots_.resize(tiles);
+    const Limits limits{std::min<std::uint64_t>(max_leaves, kIndex), max_leaves};
+    std::atomic<std::uint64_t> leaves = 0;
+    std::vector<Part> parts(pool.size());
+    pool.parallel_for(tiles, [&](std::size_t begin, std::size_t end, unsigned w) {
+        Part part{begin, end, {}};
+        for (std::size_t k = begin; k < end; ++k)
+            roots_[k] = build(part.arrays, {std::uint32_t(k % t.tiles_x) << t.tile_bits,
+                                            std::uint32_t(k / t.tiles_x) << t.tile_bits},
+                              t.tile_bits, limits, leaves);
+        parts[w] = std::move(part);
+    });
+    std::size_t nodes = 0, leaf_count = 0;
+    for (const Part& part : parts) nodes += part.arrays.nodes.size(), leaf_count += part.arrays.corner.size();
+    if (nodes > kIndex) throw Error("the field needs more quadtree nodes than the quadtree's 29-bit node index holds");
+    nodes_.reserve(nodes);
+    corner_.reserve(leaf_count);
+    bits_.reserve(leaf_count);
+    build_bytes_ = 2 * (nodes * 4 + leaf_count * (sizeof(glm::uvec2) + 1));  // the parts and their copy
+    for (Part& part : parts) {
+        const std::uint32_t node_base = std::uint32_t(nodes_.size()), leaf_base = std::uint32_t(corner_.size());
+        auto offset = [&](std::uint32_t word) {
+            return word == kOutside ? word : word & kLeaf ? word + leaf_base : word + node_base;
+        };
+        for (std::uint32_t word : part.arrays.nodes) nodes_.push_back(offset(word));
+        for (std::size_t k = part.first_tile; k < part.end_tile; ++k) roots_[k] = offset(roots_[k]);
+        corner_.insert(corner_.end(), part.arrays.corner.begin(), part.arrays.corner.end());
+        bits_.insert(bits_.end(), part.arrays.bits.begin(), part.arrays.bits.end());
+        depth_ = std::max(depth_, part.arrays.depth);
+        part.arrays = {};
+    }
     sample_.assign(corner_.size(), kNone);
 }
 
-std::uint32_t FieldQuadtree::build(glm::uvec2 c, std::uint32_t bits, std::uint64_t max_leaves) {
+std::uint32_t FieldQuadtree::build(Arrays& out, glm::uvec2 c, std::uint32_t bits, const Limits& limits,
+                                   std::atomic<std::uint64_t>& leaves) const {
     if (c.x >= t_.lattice.extent_x || c.y >= t_.lattice.extent_y) return kOutside;
     const std::uint64_t side = std::uint64_t(1) << bits;
     const glm::uvec2 b(std::uint32_t(std::min<std::uint64_t>(c.x + side - 1, t_.lattice.extent_x - 1)),
@@ -29,21 +60,21 @@ std::uint32_t FieldQuadtree::build(glm::uvec2 c, std::uint32_t bits, std::uint64
     const std::uint64_t r = t_.min_over(c, b);
     if (2 * (side - 1) * (side - 1) < r * r) {
         // Leaf indices fit the node word's index bits.
-        if (const std::uint64_t most = std::min<std::uint64_t>(max_leaves, kIndex); corner_.size() >= most)
-            throw Error(fmt::format("the field needs more than {} base cells, past {}", most,
-                                    most == max_leaves ? "the memory this machine allows"
-                                                       : "the quadtree's 29-bit leaf index"));
-        depth_ = std::max(depth_, t_.tile_bits - bits);
-        corner_.push_back(c);
-        bits_.push_back(std::uint8_t(bits));
-        return kLeaf | std::uint32_t(corner_.size() - 1);
+        if (leaves.fetch_add(1, std::memory_order_relaxed) >= limits.leaves)
+            throw Error(fmt::format("the field needs more than {} base cells, past {}", limits.leaves,
+                                    limits.leaves == limits.memory ? "the memory this machine allows"
+                                                                   : "the quadtree's 29-bit leaf index"));
+        out.depth = std::max(out.depth, t_.tile_bits - bits);
+        out.corner.push_back(c);
+        out.bits.push_back(std::uint8_t(bits));
+        return kLeaf | std::uint32_t(out.corner.size() - 1);
     }
-    const std::uint32_t first = std::uint32_t(nodes_.size());
-    nodes_.resize(nodes_.size() + 4);
+    const std::uint32_t first = std::uint32_t(out.nodes.size());
+    out.nodes.resize(out.nodes.size() + 4);
     const std::uint32_t half = 1u << (bits - 1);
     for (std::uint32_t k = 0; k < 4; ++k) {
-        const std::uint32_t child = build({c.x + (k & 1) * half, c.y + (k >> 1) * half}, bits - 1, max_leaves);
-        nodes_[first + k] = child;
+        const std::uint32_t child = build(out, {c.x + (k & 1) * half, c.y + (k >> 1) * half}, bits - 1, limits, leaves);
+        out.nodes[first + k] = child;
     }
     return first;
 }

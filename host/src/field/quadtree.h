@@ -3,10 +3,12 @@
 // which covers it under every rule), and the neighbour search over them.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <vector>
 
 #include "table.h"
+#include "../cpu/thread_pool.h"
 
 namespace vrpd::detail {
 
@@ -14,8 +16,9 @@ class FieldQuadtree {
 public:
     static constexpr std::uint32_t kNone = UINT32_MAX;
 
-    // Throws Error if the leaves would pass `max_leaves`.
-    FieldQuadtree(const FieldTable& table, std::uint64_t max_leaves);
+    // Builds the tiles' trees on the pool's threads. Throws Error if the leaves would pass
+    // `max_leaves` or the node words' index.
+    FieldQuadtree(const FieldTable& table, std::uint64_t max_leaves, ThreadPool& pool);
 
     std::size_t leaves() const { return corner_.size(); }
     glm::uvec2 corner(std::uint32_t leaf) const { return corner_[leaf]; }
@@ -30,6 +33,8 @@ public:
     // leaf, it ends their freshness.
     void settle(glm::uvec2 p) { mark(p, kFresh, false); }
     std::uint32_t depth() const { return depth_; }
+    // The most the build held at once (the workers' arrays and the tree they are copied into).
+    std::uint64_t build_bytes() const { return build_bytes_; }
     std::uint64_t bytes() const { return nodes_.capacity() * 4 + corner_.capacity() * 13 + roots_.capacity() * 4; }
 
     // Calls visit(leaf) for each leaf that meets the square `reach` around [a, b] (inclusive), so
@@ -51,7 +56,20 @@ public:
     }
 
 private:
-    std::uint32_t build(glm::uvec2 corner, std::uint32_t bits, std::uint64_t max_leaves);
+    // A run of tiles' nodes and leaves, indexed from 0.
+    struct Arrays {
+        std::vector<std::uint32_t> nodes;
+        std::vector<glm::uvec2> corner;
+        std::vector<std::uint8_t> bits;
+        std::uint32_t depth = 0;
+    };
+    struct Limits {
+        std::uint64_t leaves, memory;  // the leaves allowed, and those the memory allows
+    };
+    // Builds the subtree of the block at `corner` (side 2^bits) into `out`; returns its node word.
+    // `leaves` counts every worker's leaves.
+    std::uint32_t build(Arrays& out, glm::uvec2 corner, std::uint32_t bits, const Limits& limits,
+                        std::atomic<std::uint64_t>& leaves) const;
     // Sets or clears `flag` on the nodes from the tile root down to the leaf holding point p.
     void mark(glm::uvec2 p, std::uint32_t flag, bool on);
 
@@ -63,6 +81,7 @@ private:
     std::vector<std::uint8_t> bits_;
     std::vector<std::uint32_t> sample_;
     std::uint32_t depth_ = 0;
+    std::uint64_t build_bytes_ = 0;
 
     static constexpr std::uint32_t kLeaf = 0x80000000u;
     static constexpr std::uint32_t kOccupied = 0x40000000u;

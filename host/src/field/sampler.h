@@ -36,15 +36,17 @@ class FieldSampler {
 public:
     FieldSampler(const FieldTable& t, const SampleOptions& o, std::uint64_t max_leaves)
         : t_(t),
-          tree_(t, max_leaves),
-          rule_(t.rule),
-          density_(o.sizing->weighting == Weighting::Density),
           pool_(o.backend == Backend::Serial ? 1
                 : o.threads == 0             ? std::thread::hardware_concurrency()
                                              : o.threads),
+          tree_(t, max_leaves, pool_),
+          rule_(t.rule),
+          density_(o.sizing->weighting == Weighting::Density),
           seed_(o.seed),
           serial_(o.backend == Backend::Serial),
-          profile_(o.profile) {}
+          profile_(o.profile) {
+        bytes_ = tree_.build_bytes();
+    }
 
     Sampling run();
 
@@ -143,10 +145,10 @@ private:
     }
 
     const FieldTable& t_;
+    ThreadPool pool_;
     FieldQuadtree tree_;
     std::uint32_t rule_;
     bool density_;
-    ThreadPool pool_;
     std::uint32_t seed_;
     bool serial_;
     std::vector<Cell> cells_;
