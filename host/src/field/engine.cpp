@@ -163,12 +163,14 @@ void FieldSampler::throw_darts(std::uint32_t round) {
     std::vector<std::vector<Dart>> parts(pool_.size());
     std::vector<std::uint64_t> thrown(pool_.size(), 0);
     pool_.parallel_for(cells_.size(), [&](std::size_t begin, std::size_t end, unsigned w) {
-        std::vector<Dart>& out = parts[w];
+        // Kept in the worker until its chunk is done: neighbouring workers' slots share cache lines.
+        std::vector<Dart> out;
+        std::uint64_t count = 0;
         for (std::size_t i = begin; i < end; ++i) {
             const Cell& c = cells_[i];
             const std::uint32_t stream = shared::cell_stream(key, c.corner);
             const std::uint32_t n = shared::dart_count(stream, exp_neg_[exponent(c) + kExpBias]);
-            thrown[w] += n;
+            count += n;
             got_[i] = n > 0;
             const std::uint32_t bound =
                 std::uint32_t(std::min<std::uint64_t>(std::uint64_t(t_.r_lo) << c.weight, UINT32_MAX));
@@ -184,6 +186,8 @@ void FieldSampler::throw_darts(std::uint32_t round) {
                 out.push_back({p, d.z, c.leaf});
             }
         }
+        parts[w] = std::move(out);
+        thrown[w] = count;
     });
     // Worker w's chunk precedes worker w + 1's (thread_pool.cpp): in worker order is cell order.
     merge(parts, darts_);
