@@ -209,12 +209,12 @@ void FieldSampler::refine() {
             std::uint8_t fate = 0;
             if (!got && !stamped(c.leaf)) {
                 fate = kKeep;
-            } else if (tree_.sample(c.leaf) != FieldQuadtree::kNone) {
+            } else if (tree_.sample(c.leaf) != FieldQuadtree::kNone ||
+                       covered_by_fresh(c.corner, far_corner(c), c.leaf)) {
                 fate = 0;
             } else if (!got || c.bits == 0) {
-                // Kept whole unless one of this round's samples covers it.
-                if (!covered_by_fresh(c.corner, far_corner(c), c.leaf)) fate = kKeep;
-            } else if (!covered_by_fresh(c.corner, far_corner(c), c.leaf)) {
+                fate = kKeep;
+            } else {
                 // Split: the children are tested against every sample that may cover part of the
                 // cell, found by one search (an earlier round's sample may cover a child).
                 gather(c.corner, far_corner(c), near);
