@@ -4,6 +4,7 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <cstring>
 #include <fstream>
 #include <numbers>
 
@@ -46,6 +47,28 @@ TEST_CASE("sizing expressions evaluate as written", "[sizing]") {
                 INFO(c.text << " at (" << x << ", " << y << ")");
                 CHECK(r(x, y, box) == Approx(c.expected(x, y)).epsilon(1e-14));
             }
+    }
+}
+
+TEST_CASE("sizing expressions evaluated over many points at once give each point's value", "[sizing]") {
+    const Box box{2, 1, Boundary::Periodic};
+    // 150 points: batches of 64 and a partial one; a NaN and an infinity pass through as they are.
+    std::vector<double> x(150), y(150), out(150, -1);
+    for (std::size_t i = 0; i < x.size(); ++i) {
+        x[i] = 2.0 * double(i) / 149;
+        y[i] = std::fmod(0.37 * double(i), 1.0);
+    }
+    for (const char* text :
+         {"0.015 + (0.00015-0.015)*abs(sin(8*pi*d))", "clamp(x, 0.5, 1.5) + min(y, 0.25) * max(w, h)",
+          "sqrt(exp(log(x + 1))) * cos(y) + -2^x", "log(x - 1) / (y - 0.37)", "0.02"}) {
+        INFO(text);
+        const SizingExpression r(text);
+        r(x.data(), y.data(), out.data(), x.size(), box);
+        for (std::size_t i = 0; i < x.size(); ++i) {
+            const double one = r(x[i], y[i], box);
+            INFO("point " << i << ": " << one << " against " << out[i]);
+            CHECK(std::memcmp(&one, &out[i], sizeof one) == 0);
+        }
     }
 }
 

@@ -2,6 +2,7 @@
 // language, and the conflict rules of Table 1.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -29,6 +30,9 @@ public:
     // expression with a caret under the place, on the lines after the first.
     explicit SizingExpression(std::string text);
     double operator()(double x, double y, const Box& box) const;
+    // out[i] = r(x[i], y[i]) for i < n, bit for bit the values above: each step of the program
+    // runs over a batch of points, so its dispatch is paid once per batch, not once per point.
+    void operator()(const double* x, const double* y, double* out, std::size_t n, const Box& box) const;
     const std::string& text() const { return text_; }
 
     // In this order: the values, then the binary operators, then the rest (the stack depth relies on it).
@@ -41,6 +45,9 @@ public:
     };
 
 private:
+    void run(const double* x, const double* y, double* out, std::size_t m, std::size_t stride, double* stack,
+             const Box& box) const;
+
     std::string text_;
     std::vector<Step> program_;
     std::size_t depth_ = 0;  // the stack the program needs

@@ -73,14 +73,17 @@ FieldSource field_source(const Sizing& s, const Box& box) {
         throw Error("a sizing field is an expression or an image, one of them");
     if (!s.expression.empty()) {
         auto expr = std::make_shared<SizingExpression>(s.expression);
-        return [expr, box](double x, double y) { return (*expr)(x, y, box); };
+        return
+            [expr, box](const double* x, const double* y, double* out, std::size_t n) { (*expr)(x, y, out, n, box); };
     }
     if (!(std::isfinite(s.r_min) && std::isfinite(s.r_max) && s.r_min > 0 && s.r_min <= s.r_max))
         throw Error(
             fmt::format("an image's radii need 0 < r_min <= r_max, finite (got r_min {}, r_max {})", s.r_min, s.r_max));
     auto img = std::make_shared<GreyImage>(load_grey(s.image));
     const double lo = s.r_min, span = s.r_max - s.r_min;
-    return [img, box, lo, span](double x, double y) { return lo + span * img->at(x / box.width, y / box.height); };
+    return [img, box, lo, span](const double* x, const double* y, double* out, std::size_t n) {
+        for (std::size_t i = 0; i < n; ++i) out[i] = lo + span * img->at(x[i] / box.width, y[i] / box.height);
+    };
 }
 
 }  // namespace vrpd::detail

@@ -31,8 +31,8 @@ constexpr std::uint64_t kMinTableNodes = std::uint64_t(1) << 16;
 constexpr std::uint32_t kMinLatticeRadius = 4096;
 constexpr std::uint32_t kSurvey = 256;
 
-double checked(const FieldSource& f, double x, double y) {
-    const double v = f(x, y);
+// v = r(x, y), a point of the box; throws unless v is a radius.
+double check(double v, double x, double y) {
     if (!(std::isfinite(v) && v > 0))
         throw Error(
             fmt::format("sizing field: r({:.6g}, {:.6g}) = {}; it must be a finite number > 0 everywhere in "
@@ -41,11 +41,20 @@ double checked(const FieldSource& f, double x, double y) {
     return v;
 }
 
-// The double-valued table at a resolution, with its largest relative error against the source.
+double checked(const FieldSource& f, double x, double y) {
+    double v;
+    f(&x, &y, &v, 1);
+    return check(v, x, y);
+}
+
+// The double-valued table at a resolution: its nodes, the source at the points halfway between
+// them (which are the next resolution's nodes), and its largest relative error against the
+// source at those of them inside the box.
 struct Draft {
     std::uint32_t cells_x = 0, cells_y = 0;
     double h = 0;
     std::vector<double> values;
+    std::vector<double> fine;  // (2 cells_x + 1) x (2 cells_y + 1), at spacing h / 2
     double error = 0;
 };
 
@@ -70,22 +79,49 @@ void for_rows(std::size_t n, const std::function<void(std::size_t)>& row) {
     if (failed != SIZE_MAX) throw Error(message);
 }
 
-Draft draft(const FieldSource& f, const Box& box, std::uint32_t cells_x, std::uint32_t cells_y, double h) {
-    Draft d{cells_x, cells_y, h, {}, 0};
+// Fills entries first, first + step, ... of row j of the nodes of n_x x n_y cells of side h. On a
+// torus the last row and column are the first: the field wraps. Inside the box a node is the
+// source there, checked; past a free box's edge, the source there if it is a radius, else its
+// value at the edge.
+void fill_nodes(const FieldSource& f, const Box& box, bool periodic, std::uint32_t n_x, std::uint32_t n_y, double h,
+                std::size_t j, std::uint32_t first, std::uint32_t step, double* row) {
+    const std::size_t sj = periodic && j == n_y ? 0 : j;
+    const double y = double(sj) * h;
+    std::vector<double> xs, ys, vs;
+    for (std::uint32_t i = first; i <= n_x; i += step) xs.push_back((periodic && i == n_x ? 0 : i) * h);
+    ys.assign(xs.size(), y);
+    vs.resize(xs.size());
+    f(xs.data(), ys.data(), vs.data(), xs.size());
+    for (std::size_t k = 0; k < xs.size(); ++k) {
+        const double x = xs[k], v = vs[k];
+        row[first + k * step] = x <= box.width && y <= box.height ? check(v, x, y)
+                                : std::isfinite(v) && v > 0
+                                    ? v
+                                    : checked(f, std::min(x, box.width), std::min(y, box.height));
+    }
+}
+
+// The draft of n_x x n_y cells of side h, from its nodes if the last draft's `fine` holds them.
+Draft draft(const FieldSource& f, const Box& box, std::uint32_t cells_x, std::uint32_t cells_y, double h,
+            std::vector<double> nodes) {
+    Draft d{cells_x, cells_y, h, std::move(nodes), {}, 0};
     const bool periodic = box.boundary == Boundary::Periodic;
     const std::size_t row = std::size_t(cells_x) + 1;
-    d.values.resize(row * (std::size_t(cells_y) + 1));
-    for_rows(std::size_t(cells_y) + 1, [&](std::size_t j) {
-        for (std::uint32_t i = 0; i <= cells_x; ++i) {
-            // On a torus the last row and column are the first: the field wraps.
-            // Past a free box's edge, the source there if it is a radius, else its value at the edge.
-            const std::uint32_t si = periodic && i == cells_x ? 0 : i;
-            const std::size_t sj = periodic && j == cells_y ? 0 : j;
-            const double x = si * h, y = double(sj) * h, beyond = f(x, y);
-            d.values[j * row + i] = (x <= box.width && y <= box.height) || !(std::isfinite(beyond) && beyond > 0)
-                                        ? checked(f, std::min(x, box.width), std::min(y, box.height))
-                                        : beyond;
-        }
+    if (d.values.empty()) {
+        d.values.resize(row * (std::size_t(cells_y) + 1));
+        for_rows(std::size_t(cells_y) + 1, [&](std::size_t j) {
+            fill_nodes(f, box, periodic, cells_x, cells_y, h, j, 0, 1, &d.values[j * row]);
+        });
+    }
+    // The halfway points: the nodes' rows with every other entry new, and the rows between them.
+    const std::size_t fine_row = 2 * row - 1;
+    d.fine.resize(fine_row * (2 * std::size_t(cells_y) + 1));
+    for_rows(2 * std::size_t(cells_y) + 1, [&](std::size_t j) {
+        double* out = &d.fine[j * fine_row];
+        const bool even = j % 2 == 0;
+        if (even)
+            for (std::size_t i = 0; i < row; ++i) out[2 * i] = d.values[j / 2 * row + i];
+        fill_nodes(f, box, periodic, 2 * cells_x, 2 * cells_y, h / 2, j, even ? 1 : 0, even ? 2 : 1, out);
     });
     auto interp = [&](std::size_t i, std::size_t j, double tx, double ty) {
         const double* v = &d.values[j * row + i];
@@ -96,11 +132,15 @@ Draft draft(const FieldSource& f, const Box& box, std::uint32_t cells_x, std::ui
         if (double(j) * h >= box.height) return;
         for (std::uint32_t i = 0; i < cells_x && i * h < box.width; ++i)
             for (auto [tx, ty] : {std::pair{0.5, 0.5}, {0.5, 0.0}, {0.0, 0.5}}) {
-                // Points past a free box's edge are judged at the edge, inside the cell.
-                const double x = std::min((i + tx) * h, box.width), y = std::min((double(j) + ty) * h, box.height);
+                // Points past a free box's edge are judged at the edge, inside the cell; the
+                // others are halfway points.
+                const double fx = (i + tx) * h, fy = (double(j) + ty) * h;
+                const double x = std::min(fx, box.width), y = std::min(fy, box.height);
+                const double v = fx <= box.width && fy <= box.height
+                                     ? d.fine[(2 * j + std::size_t(2 * ty)) * fine_row + 2 * i + std::size_t(2 * tx)]
+                                     : checked(f, x, y);
                 tx = x / h - i;
                 ty = y / h - double(j);
-                const double v = checked(f, x, y);
                 error[j] = std::max(error[j], std::abs(interp(i, j, tx, ty) - v) / v);
             }
     });
@@ -261,19 +301,30 @@ FieldTable tabulate(const Sizing& s, const Box& box) {
     const FieldSource f = field_source(s, box);
     const bool periodic = box.boundary == Boundary::Periodic;
     double lo = INFINITY, hi = 0;
-    for (std::uint32_t j = 0; j <= kSurvey; ++j)
+    std::vector<double> xs(kSurvey + 1), ys(kSurvey + 1), vs(kSurvey + 1);
+    for (std::uint32_t j = 0; j <= kSurvey; ++j) {
         for (std::uint32_t i = 0; i <= kSurvey; ++i) {
-            const double v = checked(f, box.width * i / kSurvey * (1 - 1e-12), box.height * j / kSurvey * (1 - 1e-12));
+            xs[i] = box.width * i / kSurvey * (1 - 1e-12);
+            ys[i] = box.height * j / kSurvey * (1 - 1e-12);
+        }
+        f(xs.data(), ys.data(), vs.data(), kSurvey + 1);
+        for (std::uint32_t i = 0; i <= kSurvey; ++i) {
+            const double v = check(vs[i], xs[i], ys[i]);
             lo = std::min(lo, v);
             hi = std::max(hi, v);
         }
+    }
     // The samples to expect, 0.70 per r^2 of area (as for one radius), refused past memory.
     double expected = 0;
-    for (std::uint32_t j = 0; j < kSurvey; ++j)
+    for (std::uint32_t j = 0; j < kSurvey; ++j) {
         for (std::uint32_t i = 0; i < kSurvey; ++i) {
-            const double v = f(box.width * (i + 0.5) / kSurvey, box.height * (j + 0.5) / kSurvey);
-            expected += 0.70 * box.width * box.height / (kSurvey * kSurvey) / (v * v);
+            xs[i] = box.width * (i + 0.5) / kSurvey;
+            ys[i] = box.height * (j + 0.5) / kSurvey;
         }
+        f(xs.data(), ys.data(), vs.data(), kSurvey);
+        for (std::uint32_t i = 0; i < kSurvey; ++i)
+            expected += 0.70 * box.width * box.height / (kSurvey * kSurvey) / (vs[i] * vs[i]);
+    }
     const MemoryLimit limit = host_memory_limit();
     if (!(expected * kFieldBytesPerSample <= double(limit.bytes)))
         throw Error(fmt::format("the field needs about {:.3g} samples and {:.0f} MiB, more than the {} ({:.0f} MiB)",
@@ -312,8 +363,9 @@ FieldTable tabulate(const Sizing& s, const Box& box) {
                         "the table's {} nodes hold",
                         lo, hi, kMaxTableNodes));
     Draft d;
+    std::vector<double> nodes;
     for (;;) {
-        d = draft(f, box, std::uint32_t(tx << a), std::uint32_t(ty << a), tile / double(1u << a));
+        d = draft(f, box, std::uint32_t(tx << a), std::uint32_t(ty << a), tile / double(1u << a), std::move(nodes));
         const double quantum = d.h / double(1u << shared::MAX_FIELD_CELL_BITS);
         const double least = *std::min_element(d.values.begin(), d.values.end());
         const bool fine = d.error <= kTargetError && least / quantum >= kMinLatticeRadius;
@@ -323,8 +375,10 @@ FieldTable tabulate(const Sizing& s, const Box& box) {
         const double next_nodes = double(tx << (a + 1)) * double(ty << (a + 1));
         const bool affordable = next_nodes <= std::max(kNodesPerSample * samples, double(kMinTableNodes));
         if (fine || !fits(a + 1) || (least / quantum >= kMinLatticeRadius && !affordable)) break;
+        nodes = std::move(d.fine);
         ++a;
     }
+    std::vector<double>().swap(d.fine);
     if (lo == hi && std::all_of(d.values.begin(), d.values.end(), [&](double v) { return v == lo; })) t.constant = lo;
     if (s.lipschitz >= 0) limit_lipschitz(d, s.lipschitz, periodic);
 
@@ -367,13 +421,17 @@ FieldTable tabulate(const Sizing& s, const Box& box) {
             t.box_hi = std::max(t.box_hi, r);
         }
     // The interpolant's gradient is largest at a table cell's corner (|grad|^2 is convex on the cell).
-    const double c = double(1u << t.cell_bits);
+    // |gx| + |gy|, exact, bounds hypot's value: a corner whose sum is no more than the largest
+    // length so far cannot raise it.
+    double steepest = 0;
     for (std::uint32_t j = 0; j < t.cells_y; ++j)
         for (std::uint32_t i = 0; i < t.cells_x; ++i) {
             const double v00 = t.node(i, j), v10 = t.node(i + 1, j), v01 = t.node(i, j + 1), v11 = t.node(i + 1, j + 1);
             for (double gx : {v10 - v00, v11 - v01})
-                for (double gy : {v01 - v00, v11 - v10}) t.lipschitz = std::max(t.lipschitz, std::hypot(gx, gy) / c);
+                for (double gy : {v01 - v00, v11 - v10})
+                    if (std::abs(gx) + std::abs(gy) > steepest) steepest = std::max(steepest, std::hypot(gx, gy));
         }
+    t.lipschitz = steepest / double(1u << t.cell_bits);
     t.rule = std::uint32_t(s.rule);
     build_pyramids(t);
     return t;

@@ -2,6 +2,7 @@
 // radii in lattice units (shared/field.h), and min/max pyramids that bound r over any block.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <vector>
@@ -12,8 +13,8 @@
 
 namespace vrpd::detail {
 
-// A sizing field's source as a function of a point of the box; throws nothing.
-using FieldSource = std::function<double(double, double)>;
+// A sizing field's source over points of the box: out[i] = r(x[i], y[i]) for i < n; throws nothing.
+using FieldSource = std::function<void(const double* x, const double* y, double* out, std::size_t n)>;
 
 // The source a Sizing names: its expression, or its image (loaded, checked greyscale), over the box.
 FieldSource field_source(const Sizing& sizing, const Box& box);

@@ -197,38 +197,76 @@ SizingExpression::SizingExpression(std::string text) : text_(std::move(text)), p
     if (depth_ > kMaxStack) throw Error("sizing expression: too deeply nested to evaluate");
 }
 
-double SizingExpression::operator()(double x, double y, const Box& box) const {
-    double stack[kMaxStack];
-    std::size_t n = 0;
+// Runs the program over m <= stride points: stack entry k of point i is stack[k * stride + i].
+// Each step runs over all the points before the next, so its dispatch is paid once per batch;
+// every point's arithmetic is the scalar evaluation's, in the same order.
+void SizingExpression::run(const double* x, const double* y, double* out, std::size_t m, std::size_t stride,
+                           double* stack, const Box& box) const {
+    std::size_t n = 0;  // entries on the stack
+    auto row = [&](std::size_t k) { return stack + k * stride; };
+    auto binary = [&](auto op) {
+        --n;
+        double* a = row(n - 1);
+        const double* b = row(n);
+        for (std::size_t i = 0; i < m; ++i) a[i] = op(a[i], b[i]);
+    };
+    auto unary = [&](auto op) {
+        double* a = row(n - 1);
+        for (std::size_t i = 0; i < m; ++i) a[i] = op(a[i]);
+    };
+    auto push = [&](auto value) {
+        double* a = row(n++);
+        for (std::size_t i = 0; i < m; ++i) a[i] = value(i);
+    };
     for (const Step& s : program_) {
         switch (s.op) {
-        case Op::Number: stack[n++] = s.value; break;
-        case Op::X: stack[n++] = x; break;
-        case Op::Y: stack[n++] = y; break;
-        case Op::D: stack[n++] = std::hypot(x - box.width / 2, y - box.height / 2); break;
-        case Op::W: stack[n++] = box.width; break;
-        case Op::H: stack[n++] = box.height; break;
-        case Op::Add: --n; stack[n - 1] += stack[n]; break;
-        case Op::Sub: --n; stack[n - 1] -= stack[n]; break;
-        case Op::Mul: --n; stack[n - 1] *= stack[n]; break;
-        case Op::Div: --n; stack[n - 1] /= stack[n]; break;
-        case Op::Pow: --n; stack[n - 1] = std::pow(stack[n - 1], stack[n]); break;
-        case Op::Min: --n; stack[n - 1] = std::min(stack[n - 1], stack[n]); break;
-        case Op::Max: --n; stack[n - 1] = std::max(stack[n - 1], stack[n]); break;
-        case Op::Neg: stack[n - 1] = -stack[n - 1]; break;
-        case Op::Abs: stack[n - 1] = std::abs(stack[n - 1]); break;
-        case Op::Sqrt: stack[n - 1] = std::sqrt(stack[n - 1]); break;
-        case Op::Sin: stack[n - 1] = std::sin(stack[n - 1]); break;
-        case Op::Cos: stack[n - 1] = std::cos(stack[n - 1]); break;
-        case Op::Exp: stack[n - 1] = std::exp(stack[n - 1]); break;
-        case Op::Log: stack[n - 1] = std::log(stack[n - 1]); break;
-        case Op::Clamp:
+        case Op::Number: push([&](std::size_t) { return s.value; }); break;
+        case Op::X: push([&](std::size_t i) { return x[i]; }); break;
+        case Op::Y: push([&](std::size_t i) { return y[i]; }); break;
+        case Op::D:
+            push([&](std::size_t i) { return std::hypot(x[i] - box.width / 2, y[i] - box.height / 2); });
+            break;
+        case Op::W: push([&](std::size_t) { return box.width; }); break;
+        case Op::H: push([&](std::size_t) { return box.height; }); break;
+        case Op::Add: binary([](double a, double b) { return a + b; }); break;
+        case Op::Sub: binary([](double a, double b) { return a - b; }); break;
+        case Op::Mul: binary([](double a, double b) { return a * b; }); break;
+        case Op::Div: binary([](double a, double b) { return a / b; }); break;
+        case Op::Pow: binary([](double a, double b) { return std::pow(a, b); }); break;
+        case Op::Min: binary([](double a, double b) { return std::min(a, b); }); break;
+        case Op::Max: binary([](double a, double b) { return std::max(a, b); }); break;
+        case Op::Neg: unary([](double a) { return -a; }); break;
+        case Op::Abs: unary([](double a) { return std::abs(a); }); break;
+        case Op::Sqrt: unary([](double a) { return std::sqrt(a); }); break;
+        case Op::Sin: unary([](double a) { return std::sin(a); }); break;
+        case Op::Cos: unary([](double a) { return std::cos(a); }); break;
+        case Op::Exp: unary([](double a) { return std::exp(a); }); break;
+        case Op::Log: unary([](double a) { return std::log(a); }); break;
+        case Op::Clamp: {
             n -= 2;
-            stack[n - 1] = std::min(std::max(stack[n - 1], stack[n]), stack[n + 1]);
+            double* a = row(n - 1);
+            const double *lo = row(n), *hi = row(n + 1);
+            for (std::size_t i = 0; i < m; ++i) a[i] = std::min(std::max(a[i], lo[i]), hi[i]);
             break;
         }
+        }
     }
-    return stack[0];
+    std::copy(stack, stack + m, out);
+}
+
+double SizingExpression::operator()(double x, double y, const Box& box) const {
+    double stack[kMaxStack];
+    double out;
+    run(&x, &y, &out, 1, 1, stack, box);
+    return out;
+}
+
+void SizingExpression::operator()(const double* x, const double* y, double* out, std::size_t n,
+                                  const Box& box) const {
+    constexpr std::size_t kBatch = 64;
+    std::vector<double> stack(depth_ * kBatch);
+    for (std::size_t first = 0; first < n; first += kBatch)
+        run(x + first, y + first, out + first, std::min(kBatch, n - first), kBatch, stack.data(), box);
 }
 
 SizingRule parse_sizing_rule(const std::string& name) {
