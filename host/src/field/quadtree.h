@@ -3,6 +3,7 @@
 // which covers it under every rule), and the neighbour search over them.
 #pragma once
 
+#include <algorithm>
 #include <atomic>
 #include <cstdint>
 #include <vector>
@@ -104,40 +105,48 @@ private:
 template <std::uint32_t kNeed, typename Visit>
 bool FieldQuadtree::descend(std::uint32_t root, std::int64_t root_x, std::int64_t root_y, std::uint32_t root_bits,
                             const Query& q, Visit& visit) const {
-    struct Item {
-        std::uint32_t node, bits;
-        std::int64_t x, y;
-    };
-    // Each level pushes at most 3 siblings beside the child it goes on with.
-    Item stack[4 * 32];
-    int top = 0;
-    stack[top++] = {root, root_bits, root_x, root_y};
-    const std::int64_t mid_x = (q.lo[0] + q.hi[0]) / 2, mid_y = (q.lo[1] + q.hi[1]) / 2;
-    // An item on the stack meets the query; the root is tested here.
     const std::int64_t root_side = std::int64_t(1) << root_bits;
     if (root == kOutside || (kNeed != 0 && !(root & kNeed)) ||
         (!q.all[0] && (root_x > q.hi[0] || root_x + root_side <= q.lo[0])) ||
         (!q.all[1] && (root_y > q.hi[1] || root_y + root_side <= q.lo[1])))
         return false;
+    // Below the root, coordinates are offsets from its corner, and the query is clipped to it
+    // (the whole root where it spans the axis): what meets a node is unchanged, and so is which
+    // child holds the query's middle, clipped as well.
+    const std::int64_t last = root_side - 1;
+    auto clip = [&](std::int64_t v, std::int64_t origin) {
+        return std::uint32_t(std::clamp<std::int64_t>(v - origin, 0, last));
+    };
+    const std::uint32_t lo_x = q.all[0] ? 0 : clip(q.lo[0], root_x), hi_x = q.all[0] ? last : clip(q.hi[0], root_x);
+    const std::uint32_t lo_y = q.all[1] ? 0 : clip(q.lo[1], root_y), hi_y = q.all[1] ? last : clip(q.hi[1], root_y);
+    const std::uint32_t mid_x = clip((q.lo[0] + q.hi[0]) / 2, root_x), mid_y = clip((q.lo[1] + q.hi[1]) / 2, root_y);
+    struct Item {
+        std::uint32_t node, bits, x, y;
+    };
+    // Each level pushes at most 3 siblings beside the child it goes on with.
+    Item stack[4 * 32];
+    int top = 0;
+    stack[top++] = {root, root_bits, 0, 0};
     while (top > 0) {
         const Item it = stack[--top];
         if (it.node & kLeaf) {
             if (visit(it.node & kIndex)) return true;
             continue;
         }
-        // The children that meet the query: in x, the left one unless the query starts right of
-        // the middle, the right one unless it ends left of it; the same in y.
-        const std::int64_t half = std::int64_t(1) << (it.bits - 1), mx = it.x + half, my = it.y + half;
-        const bool left = q.all[0] || q.lo[0] < mx, right = q.all[0] || q.hi[0] >= mx;
-        const bool low = q.all[1] || q.lo[1] < my, high = q.all[1] || q.hi[1] >= my;
-        const bool meets[4] = {left && low, right && low, left && high, right && high};
+        // The children that meet the query, as bit c for child c: in x, the left ones (bits 0
+        // and 2) unless the query starts right of the middle, the right ones (1 and 3) unless it
+        // ends left of it; the same in y with the low (0, 1) and high (2, 3) ones.
+        const std::uint32_t half = 1u << (it.bits - 1), mx = it.x + half, my = it.y + half;
+        const std::uint32_t in_x = (lo_x < mx ? 0x5u : 0u) | (hi_x >= mx ? 0xAu : 0u);
+        const std::uint32_t in_y = (lo_y < my ? 0x3u : 0u) | (hi_y >= my ? 0xCu : 0u);
+        const std::uint32_t meets = in_x & in_y;
+        const std::uint32_t* children = &nodes_[it.node & kIndex];
         // The child holding the query's middle is searched first, then its row neighbour,
         // column neighbour and diagonal: a search for any one hit ends early.
         const std::uint32_t first = std::uint32_t(mid_x >= mx) | std::uint32_t(mid_y >= my) << 1;
         for (std::uint32_t k = 4; k-- > 0;) {
-            const std::uint32_t c = first ^ k;
-            const std::uint32_t child = nodes_[(it.node & kIndex) + c];
-            if (meets[c] && child != kOutside && (kNeed == 0 || (child & kNeed)))
+            const std::uint32_t c = first ^ k, child = children[c];
+            if ((meets >> c & 1u) && child != kOutside && (kNeed == 0 || (child & kNeed)))
                 stack[top++] = {child, it.bits - 1, it.x + (c & 1) * half, it.y + (c >> 1) * half};
         }
     }
@@ -159,11 +168,11 @@ bool FieldQuadtree::search(glm::uvec2 a, glm::uvec2 b, std::uint64_t reach, Visi
         if (all[k]) {
             lo[k] = 0, hi[k] = tiles[k] - 1;
         } else if (periodic) {
-            lo[k] = from >= 0 ? from / tile : -((-from + tile - 1) / tile);
-            hi[k] = to / tile;
+            lo[k] = from >> t_.tile_bits;  // rounds down, negative values too
+            hi[k] = to >> t_.tile_bits;
         } else {
-            lo[k] = std::max<std::int64_t>(0, from) / tile;
-            hi[k] = std::min(tiles[k] - 1, std::max<std::int64_t>(0, to) / tile);
+            lo[k] = std::max<std::int64_t>(0, from) >> t_.tile_bits;
+            hi[k] = std::min(tiles[k] - 1, std::max<std::int64_t>(0, to) >> t_.tile_bits);
             if (to < 0) return false;
         }
     }
@@ -175,8 +184,9 @@ bool FieldQuadtree::search(glm::uvec2 a, glm::uvec2 b, std::uint64_t reach, Visi
     }
     for (std::int64_t ty = lo[1]; ty <= hi[1]; ++ty)
         for (std::int64_t tx = lo[0]; tx <= hi[0]; ++tx) {
-            const std::int64_t wx = ((tx % tiles[0]) + tiles[0]) % tiles[0],
-                               wy = ((ty % tiles[1]) + tiles[1]) % tiles[1];
+            // A query narrower than the torus meets its tiles' images one period either side at most.
+            const std::int64_t wx = tx < 0 ? tx + tiles[0] : tx >= tiles[0] ? tx - tiles[0] : tx,
+                               wy = ty < 0 ? ty + tiles[1] : ty >= tiles[1] ? ty - tiles[1] : ty;
             const std::uint32_t root = roots_[std::size_t(wy * tiles[0] + wx)];
             if (descend<kNeed>(root, tx * tile, ty * tile, t_.tile_bits, query, visit)) return true;
         }
