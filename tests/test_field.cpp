@@ -295,6 +295,42 @@ TEST_CASE("Lipschitz limiting: the largest L-Lipschitz field below the source", 
     CHECK(r.uncovered == 0);
 }
 
+TEST_CASE("Lipschitz limiting: each node the least cone value over every node, on a torus the nearest image",
+          "[field]") {
+    // Random nodes and a deep pit, against the definition evaluated over every pair of nodes.
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> value(0.01, 0.05);
+    for (bool periodic : {false, true})
+        for (double L : {0.02, 0.3, 2.0}) {
+            const std::uint32_t cx = 37, cy = 22;
+            const std::size_t nx = cx + 1, ny = cy + 1;
+            const double h = 1.0 / cx;
+            std::vector<double> v(nx * ny);
+            for (double& x : v) x = value(rng);
+            v[5 * nx + 30] = 0.001;
+            if (periodic)  // the last row and column repeat the first
+                for (std::size_t j = 0; j < ny; ++j)
+                    for (std::size_t i = 0; i < nx; ++i) v[j * nx + i] = v[(j % cy) * nx + i % cx];
+            std::vector<double> limited = v;
+            vrpd::detail::limit_lipschitz(limited, cx, cy, h, L, periodic);
+            const std::size_t w = periodic ? cx : nx, hgt = periodic ? cy : ny;
+            auto gap = [&](std::size_t a, std::size_t b, std::size_t n) {
+                const std::size_t d = a > b ? a - b : b - a;
+                return double(periodic ? std::min(d, n - d) : d);
+            };
+            for (std::size_t j = 0; j < ny; ++j)
+                for (std::size_t i = 0; i < nx; ++i) {
+                    double best = v[j * nx + i];
+                    for (std::size_t b = 0; b < hgt; ++b)
+                        for (std::size_t a = 0; a < w; ++a)
+                            best = std::min(best,
+                                            v[b * nx + a] + L * h * std::hypot(gap(i % w, a, w), gap(j % hgt, b, hgt)));
+                    INFO("periodic " << periodic << ", L " << L << ", node " << i << ", " << j);
+                    REQUIRE(limited[j * nx + i] == Approx(best).epsilon(1e-12));
+                }
+        }
+}
+
 TEST_CASE("bad sizing input is refused with its reason", "[field]") {
     auto refused = [](SampleOptions o) {
         try {
@@ -358,6 +394,15 @@ TEST_CASE("sample --sizing from the command line: x,y,r rows, and bad input refu
     const test::Run steep = cli("sample --sizing \"0.01 + 0.8*x\" --rule bigger --boundary free -o " + out);
     CHECK(steep.code == 0);
     CHECK(steep.err.find("warning: the field's L 0.8") != std::string::npos);
+    // The remedy it names holds: a diagonal slope, whose bilinear cells are steeper than their
+    // nodes, within the bound once limited as the warning says.
+    const std::string diagonal = "sample --sizing \"0.002 + 0.8*x*y\" --rule bigger --boundary free -o " + out;
+    const test::Run warned = cli(diagonal);
+    CHECK(warned.err.find("(--lipschitz 0.353 enforces it)") != std::string::npos);
+    CHECK(cli(diagonal + " --lipschitz 0.5").err.find("warning: the field's L") != std::string::npos);
+    const test::Run limited = cli(diagonal + " --lipschitz 0.353");
+    CHECK(limited.code == 0);
+    CHECK(limited.err.find("warning: the field's L") == std::string::npos);
     const std::string never = (dir / "never.csv").string();
     for (const std::string& bad :
          {std::string("--sizing \"0.01 +* x\" --rule prior"), std::string("--sizing \"0.01 - x\" --rule prior"),

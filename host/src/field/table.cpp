@@ -148,41 +148,6 @@ Draft draft(const FieldSource& f, const Box& box, std::uint32_t cells_x, std::ui
     return d;
 }
 
-// The largest L-Lipschitz function at or below the nodes: each node's least v_j + L |x_i - x_j|,
-// searched ring by ring until no farther node can lower it.
-void limit_lipschitz(Draft& d, double L, bool periodic) {
-    const std::int64_t nx = std::int64_t(d.cells_x) + 1, ny = std::int64_t(d.cells_y) + 1;
-    const std::int64_t wx = periodic ? nx - 1 : nx, wy = periodic ? ny - 1 : ny;  // distinct nodes per axis
-    const double least = *std::min_element(d.values.begin(), d.values.end());
-    std::vector<double> out(d.values.size());
-    auto at = [&](std::int64_t i, std::int64_t j, double& v) {
-        if (periodic) {
-            i = ((i % wx) + wx) % wx;
-            j = ((j % wy) + wy) % wy;
-        } else if (i < 0 || j < 0 || i >= nx || j >= ny) {
-            return false;
-        }
-        v = d.values[std::size_t(j * nx + i)];
-        return true;
-    };
-    const std::int64_t max_ring = std::max(nx, ny);
-    for_rows(std::size_t(ny), [&](std::size_t row) {
-        const std::int64_t j = std::int64_t(row);
-        for (std::int64_t i = 0; i < nx; ++i) {
-            double best = d.values[std::size_t(j * nx + i)];
-            for (std::int64_t k = 1; k <= max_ring && least + L * double(k) * d.h < best; ++k)
-                for (std::int64_t dj = -k; dj <= k; ++dj)
-                    for (std::int64_t di = -k; di <= k; di += (dj == -k || dj == k) ? 1 : 2 * k) {
-                        double v;
-                        if (at(i + di, j + dj, v))
-                            best = std::min(best, v + L * d.h * std::hypot(double(di), double(dj)));
-                    }
-            out[std::size_t(j * nx + i)] = best;
-        }
-    });
-    d.values = std::move(out);
-}
-
 void build_pyramids(FieldTable& t) {
     std::uint32_t w = t.cells_x, h = t.cells_y;
     std::vector<std::uint32_t> lo(std::size_t(w) * h), hi(lo.size());
@@ -380,7 +345,7 @@ FieldTable tabulate(const Sizing& s, const Box& box) {
     }
     std::vector<double>().swap(d.fine);
     if (lo == hi && std::all_of(d.values.begin(), d.values.end(), [&](double v) { return v == lo; })) t.constant = lo;
-    if (s.lipschitz >= 0) limit_lipschitz(d, s.lipschitz, periodic);
+    if (s.lipschitz >= 0) limit_lipschitz(d.values, d.cells_x, d.cells_y, d.h, s.lipschitz, periodic);
 
     t.cell_bits = shared::MAX_FIELD_CELL_BITS;
     t.quantum = d.h / double(1u << t.cell_bits);
@@ -435,6 +400,86 @@ FieldTable tabulate(const Sizing& s, const Box& box) {
     t.rule = std::uint32_t(s.rule);
     build_pyramids(t);
     return t;
+}
+
+void limit_lipschitz(std::vector<double>& values, std::uint32_t cells_x, std::uint32_t cells_y, double h, double L,
+                     bool periodic) {
+    // The distinct nodes (on a torus the last row and column repeat the first), and min pyramids
+    // over blocks of 2^k x 2^k of them.
+    const std::size_t nx = std::size_t(cells_x) + 1, ny = std::size_t(cells_y) + 1;
+    const std::size_t w = periodic ? nx - 1 : nx, hgt = periodic ? ny - 1 : ny;
+    std::vector<std::vector<double>> mins(1, std::vector<double>(w * hgt));
+    std::vector<std::size_t> widths(1, w), heights(1, hgt);
+    for (std::size_t j = 0; j < hgt; ++j)
+        for (std::size_t i = 0; i < w; ++i) mins[0][j * w + i] = values[j * nx + i];
+    while (widths.back() > 1 || heights.back() > 1) {
+        const std::size_t pw = widths.back(), ph = heights.back(), cw = (pw + 1) / 2, ch = (ph + 1) / 2;
+        std::vector<double> next(cw * ch, INFINITY);
+        const std::vector<double>& prev = mins.back();
+        for (std::size_t j = 0; j < ph; ++j)
+            for (std::size_t i = 0; i < pw; ++i)
+                next[j / 2 * cw + i / 2] = std::min(next[j / 2 * cw + i / 2], prev[j * pw + i]);
+        mins.push_back(std::move(next));
+        widths.push_back(cw);
+        heights.push_back(ch);
+    }
+    // The nodes' gap to [lo, hi] along an axis of n distinct nodes: on a torus, the shorter way.
+    auto gap = [&](std::size_t c, std::size_t lo, std::size_t hi, std::size_t n) -> double {
+        if (c >= lo && c <= hi) return 0;
+        const std::size_t before = c < lo ? lo - c : lo + n - c, after = c > hi ? c - hi : c + n - hi;
+        if (!periodic) return double(c < lo ? before : after);
+        return double(std::min(before, after));
+    };
+    const double slope = L * h;
+    std::vector<double> out(w * hgt);
+    for_rows(hgt, [&](std::size_t j) {
+        struct Block {
+            std::size_t level, bx, by;
+            double bound;  // its least node raised by L times its distance
+        };
+        auto block = [&](std::size_t i, std::size_t level, std::size_t bx, std::size_t by) {
+            const std::size_t lo_x = bx << level, lo_y = by << level;
+            const std::size_t hi_x = std::min(w, (bx + 1) << level) - 1, hi_y = std::min(hgt, (by + 1) << level) - 1;
+            // Inner blocks' bounds only order and prune the search, with a margin far wider than
+            // sqrt's rounding; a node's is its value, as the cone's formula gives it.
+            const double gx = gap(i, lo_x, hi_x, w), gy = gap(j, lo_y, hi_y, hgt);
+            return Block{level, bx, by,
+                         mins[level][by * widths[level] + bx] +
+                             slope * (level == 0 ? std::hypot(gx, gy) : std::sqrt(gx * gx + gy * gy))};
+        };
+        std::vector<Block> stack;
+        for (std::size_t i = 0; i < w; ++i) {
+            // Branch and bound, nearest bound first: a block whose bound is not below the best
+            // so far holds no better node. Blocks within 1e-12 of it are not entered either:
+            // along a cone's rays every node ties with the best, and the nodes' values are
+            // rounded to lattice units far coarser than that.
+            double best = mins[0][j * w + i];
+            if (mins.size() > 1) stack.push_back(block(i, mins.size() - 1, 0, 0));  // else one node
+            while (!stack.empty()) {
+                const Block b = stack.back();
+                stack.pop_back();
+                if (b.bound >= best * (1 - 1e-12)) continue;
+                Block kids[4];
+                int n = 0;
+                for (std::size_t c = 0; c < 4; ++c) {
+                    const std::size_t cx = 2 * b.bx + (c & 1), cy = 2 * b.by + (c >> 1);
+                    if (cx < widths[b.level - 1] && cy < heights[b.level - 1])
+                        kids[n++] = block(i, b.level - 1, cx, cy);
+                }
+                if (b.level == 1) {  // the kids are nodes
+                    for (int k = 0; k < n; ++k) best = std::min(best, kids[k].bound);
+                    continue;
+                }
+                for (int k = 1; k < n; ++k)  // largest bound first, so the smallest is popped first
+                    for (int m = k; m > 0 && kids[m - 1].bound < kids[m].bound; --m) std::swap(kids[m - 1], kids[m]);
+                for (int k = 0; k < n; ++k)
+                    if (kids[k].bound < best * (1 - 1e-12)) stack.push_back(kids[k]);
+            }
+            out[j * w + i] = best;
+        }
+    });
+    for (std::size_t j = 0; j < ny; ++j)
+        for (std::size_t i = 0; i < nx; ++i) values[j * nx + i] = out[(j % hgt) * w + i % w];
 }
 
 }  // namespace vrpd::detail
