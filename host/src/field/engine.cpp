@@ -245,10 +245,11 @@ void FieldSampler::refine() {
 }
 
 Sampling FieldSampler::run() {
-    cells_.reserve(tree_.leaves());
+    cells_.resize(tree_.leaves());
     touched_.assign(tree_.leaves(), kUnstamped);
-    for (std::uint32_t leaf = 0; leaf < tree_.leaves(); ++leaf)
-        cells_.push_back(make_cell(tree_.corner(leaf), tree_.bits(leaf), leaf));
+    tree_.each_leaf([&](std::uint32_t leaf, uvec2 corner, std::uint32_t bits) {
+        cells_[leaf] = make_cell(corner, bits, leaf);
+    });
     std::uint32_t round = 0;
     std::uint32_t deepest = 0;
     // Runs one phase, timed when the run is profiled.

@@ -8,10 +8,11 @@
 
 namespace vrpd::detail {
 
-// Bytes per expected sample, at the peak: the sample (12), its share of the leaves and tree
-// (about 3 leaves of 17 bytes), the active cells (two lists of 16-byte cells, a few per sample)
-// and the darts.
-inline constexpr double kFieldBytesPerSample = 200;
+// Bytes per expected sample, at the peak: the first round's balance, with about 5.5 leaves a
+// sample, each with its tree share (18 bytes), its stamp (4) and its cell twice (16 each), and
+// the samples. Measured on large runs: 330-370 bytes a sample on the rectified sine, 465 at
+// Figure 16's scale (docs/performance.md), the table included.
+inline constexpr double kFieldBytesPerSample = 480;
 
 // Samples a maximal sampling of o.box under the field's rule, on the host's threads (o.threads;
 // one for Backend::Serial; the points do not depend on the count). tabulate() has already

@@ -30,25 +30,23 @@ FieldQuadtree::FieldQuadtree(const FieldTable& t, std::uint64_t max_leaves, Thre
         parts[w] = std::move(part);
     });
     std::size_t nodes = 0, leaf_count = 0;
-    for (const Part& part : parts) nodes += part.arrays.nodes.size(), leaf_count += part.arrays.corner.size();
+    for (const Part& part : parts) nodes += part.arrays.nodes.size(), leaf_count += part.arrays.leaves;
     if (nodes > kIndex) throw Error("the field needs more quadtree nodes than the quadtree's 29-bit node index holds");
     nodes_.reserve(nodes);
-    corner_.reserve(leaf_count);
-    bits_.reserve(leaf_count);
-    build_bytes_ = 2 * (nodes * 4 + leaf_count * (sizeof(glm::uvec2) + 1));  // the parts and their copy
+    build_bytes_ = 2 * nodes * 4;  // the parts and their copy
+    std::uint32_t leaves_so_far = 0;
     for (Part& part : parts) {
-        const std::uint32_t node_base = std::uint32_t(nodes_.size()), leaf_base = std::uint32_t(corner_.size());
+        const std::uint32_t node_base = std::uint32_t(nodes_.size()), leaf_base = leaves_so_far;
         auto offset = [&](std::uint32_t word) {
             return word == kOutside ? word : word & kLeaf ? word + leaf_base : word + node_base;
         };
         for (std::uint32_t word : part.arrays.nodes) nodes_.push_back(offset(word));
         for (std::size_t k = part.first_tile; k < part.end_tile; ++k) roots_[k] = offset(roots_[k]);
-        corner_.insert(corner_.end(), part.arrays.corner.begin(), part.arrays.corner.end());
-        bits_.insert(bits_.end(), part.arrays.bits.begin(), part.arrays.bits.end());
+        leaves_so_far += part.arrays.leaves;
         depth_ = std::max(depth_, part.arrays.depth);
         part.arrays = {};
     }
-    sample_.assign(corner_.size(), kNone);
+    sample_.assign(leaf_count, kNone);
 }
 
 std::uint32_t FieldQuadtree::build(Arrays& out, glm::uvec2 c, std::uint32_t bits, const Limits& limits,
@@ -65,9 +63,7 @@ std::uint32_t FieldQuadtree::build(Arrays& out, glm::uvec2 c, std::uint32_t bits
                                     limits.leaves == limits.memory ? "the memory this machine allows"
                                                                    : "the quadtree's 29-bit leaf index"));
         out.depth = std::max(out.depth, t_.tile_bits - bits);
-        out.corner.push_back(c);
-        out.bits.push_back(std::uint8_t(bits));
-        return kLeaf | std::uint32_t(out.corner.size() - 1);
+        return kLeaf | out.leaves++;
     }
     const std::uint32_t first = std::uint32_t(out.nodes.size());
     out.nodes.resize(out.nodes.size() + 4);
@@ -79,9 +75,9 @@ std::uint32_t FieldQuadtree::build(Arrays& out, glm::uvec2 c, std::uint32_t bits
     return first;
 }
 
-void FieldQuadtree::set_sample(std::uint32_t leaf, std::uint32_t s) {
+void FieldQuadtree::set_sample(std::uint32_t leaf, glm::uvec2 p, std::uint32_t s) {
     sample_[leaf] = s;
-    mark(corner_[leaf], kOccupied | kFresh, true);
+    mark(p, kOccupied | kFresh, true);
 }
 
 void FieldQuadtree::mark(glm::uvec2 c, std::uint32_t flag, bool on) {

@@ -21,12 +21,16 @@ public:
     // `max_leaves` or the node words' index.
     FieldQuadtree(const FieldTable& table, std::uint64_t max_leaves, ThreadPool& pool);
 
-    std::size_t leaves() const { return corner_.size(); }
-    glm::uvec2 corner(std::uint32_t leaf) const { return corner_[leaf]; }
-    std::uint32_t bits(std::uint32_t leaf) const { return bits_[leaf]; }
+    std::size_t leaves() const { return sample_.size(); }
+    // Calls visit(leaf, corner, bits) for every leaf, in index order (tiles in order, each depth
+    // first with children in order: the order the build numbers them in). A leaf's corner and
+    // side are found by descent, not stored.
+    template <typename Visit>
+    void each_leaf(Visit&& visit) const;
     std::uint32_t sample(std::uint32_t leaf) const { return sample_[leaf]; }
-    // Gives the leaf its sample and marks the nodes above it as holding one, and a fresh one.
-    void set_sample(std::uint32_t leaf, std::uint32_t s);
+    // Gives the leaf holding point p its sample s, and marks the nodes above it as holding one,
+    // and a fresh one.
+    void set_sample(std::uint32_t leaf, glm::uvec2 p, std::uint32_t s);
     // Marks the leaf holding point p, and the nodes above it, fresh: it holds a dart (during
     // resolution) or a sample (set_sample) of this round.
     void mark_fresh(glm::uvec2 p) { mark(p, kFresh, true); }
@@ -36,7 +40,7 @@ public:
     std::uint32_t depth() const { return depth_; }
     // The most the build held at once (the workers' arrays and the tree they are copied into).
     std::uint64_t build_bytes() const { return build_bytes_; }
-    std::uint64_t bytes() const { return nodes_.capacity() * 4 + corner_.capacity() * 13 + roots_.capacity() * 4; }
+    std::uint64_t bytes() const { return nodes_.capacity() * 4 + sample_.capacity() * 4 + roots_.capacity() * 4; }
 
     // Calls visit(leaf) for each leaf that meets the square `reach` around [a, b] (inclusive), so
     // every leaf holding a point within `reach` of a point of [a, b]; on a torus, of any of its
@@ -60,8 +64,7 @@ private:
     // A run of tiles' nodes and leaves, indexed from 0.
     struct Arrays {
         std::vector<std::uint32_t> nodes;
-        std::vector<glm::uvec2> corner;
-        std::vector<std::uint8_t> bits;
+        std::uint32_t leaves = 0;
         std::uint32_t depth = 0;
     };
     struct Limits {
@@ -78,8 +81,6 @@ private:
     // A node: kOutside, or kLeaf | its leaf or its first child, with kOccupied where a leaf of its
     // subtree holds a sample and kFresh where one is fresh (mark_fresh, set_sample).
     std::vector<std::uint32_t> roots_, nodes_;
-    std::vector<glm::uvec2> corner_;
-    std::vector<std::uint8_t> bits_;
     std::vector<std::uint32_t> sample_;
     std::uint32_t depth_ = 0;
     std::uint64_t build_bytes_ = 0;
@@ -101,6 +102,33 @@ private:
     bool descend(std::uint32_t node, std::int64_t ox, std::int64_t oy, std::uint32_t bits, const Query& q,
                  Visit& visit) const;
 };
+
+template <typename Visit>
+void FieldQuadtree::each_leaf(Visit&& visit) const {
+    struct Item {
+        std::uint32_t node, bits;
+        glm::uvec2 corner;
+    };
+    std::vector<Item> stack;
+    for (std::size_t k = 0; k < roots_.size(); ++k) {
+        stack.push_back({roots_[k],
+                         t_.tile_bits,
+                         {std::uint32_t(k % t_.tiles_x) << t_.tile_bits, std::uint32_t(k / t_.tiles_x) << t_.tile_bits}});
+        while (!stack.empty()) {
+            const Item it = stack.back();
+            stack.pop_back();
+            if (it.node == kOutside) continue;
+            if (it.node & kLeaf) {
+                visit(it.node & kIndex, it.corner, it.bits);
+                continue;
+            }
+            const std::uint32_t half = 1u << (it.bits - 1);
+            for (std::uint32_t c = 4; c-- > 0;)  // child 0 on top
+                stack.push_back({nodes_[(it.node & kIndex) + c], it.bits - 1,
+                                 {it.corner.x + (c & 1) * half, it.corner.y + (c >> 1) * half}});
+        }
+    }
+}
 
 template <std::uint32_t kNeed, typename Visit>
 bool FieldQuadtree::descend(std::uint32_t root, std::int64_t root_x, std::int64_t root_y, std::uint32_t root_bits,

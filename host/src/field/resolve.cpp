@@ -29,7 +29,7 @@ void FieldSampler::resolve() {
 }
 
 void FieldSampler::accept(const Dart& d, std::uint32_t r) {
-    tree_.set_sample(d.leaf, std::uint32_t(lattice_.size()));
+    tree_.set_sample(d.leaf, d.p, std::uint32_t(lattice_.size()));
     lattice_.push_back(d.p);
     radii_.push_back(r);
 }
