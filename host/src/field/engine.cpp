@@ -112,8 +112,8 @@ bool FieldSampler::covered_by(const std::vector<std::uint32_t>& near, uvec2 a, u
     return false;
 }
 
-Cell FieldSampler::make_cell(uvec2 corner, std::uint32_t bits, std::uint32_t leaf) const {
-    Cell c{corner, leaf, std::uint8_t(bits), 0};
+Cell FieldSampler::make_cell(uvec2 corner, std::uint32_t bits) const {
+    Cell c{corner, std::uint8_t(bits), 0};
     if (density_) {
         const std::uint32_t lo = t_.min_over(corner, far_corner(c));
         while (c.weight < 31 && (std::uint64_t(t_.r_lo) << (c.weight + 1)) <= lo) ++c.weight;
@@ -172,6 +172,8 @@ void FieldSampler::throw_darts(std::uint32_t round) {
             const std::uint32_t n = shared::dart_count(stream, exp_neg_[exponent(c) + kExpBias]);
             count += n;
             got_[i] = n > 0;
+            if (n == 0) continue;
+            const std::uint32_t leaf = tree_.leaf_of(c.corner);
             const std::uint32_t bound =
                 std::uint32_t(std::min<std::uint64_t>(std::uint64_t(t_.r_lo) << c.weight, UINT32_MAX));
             for (std::uint32_t j = 0; j < n; ++j) {
@@ -182,8 +184,8 @@ void FieldSampler::throw_darts(std::uint32_t round) {
                 if (density_ &&
                     !shared::keep_weighted(shared::hash_mix(shared::hash_mix(stream, 0xD1B54A35u), j), bound, r))
                     continue;
-                if (tree_.sample(c.leaf) != FieldQuadtree::kNone || conflicts(p, r)) continue;
-                out.push_back({p, d.z, c.leaf});
+                if (tree_.sample(leaf) != FieldQuadtree::kNone || conflicts(p, r)) continue;
+                out.push_back({p, d.z, leaf});
             }
         }
         parts[w] = std::move(out);
@@ -203,14 +205,16 @@ void FieldSampler::refine() {
     pool_.parallel_for(cells_.size(), [&](std::size_t begin, std::size_t end, unsigned w) {
         std::vector<std::uint32_t> near;
         std::uint64_t count = 0;
+        FieldQuadtree::Leaf at{};  // the last cell's leaf: a leaf's cells are consecutive
         for (std::size_t i = begin; i < end; ++i) {
             const Cell& c = cells_[i];
+            if (i == begin || !at.holds(c.corner)) at = tree_.leaf_at(c.corner);
+            const std::uint32_t leaf = at.index;
             const bool got = got_[i] != 0;
             std::uint8_t fate = 0;
-            if (!got && !stamped(c.leaf)) {
+            if (!got && !stamped(leaf)) {
                 fate = kKeep;
-            } else if (tree_.sample(c.leaf) != FieldQuadtree::kNone ||
-                       covered_by_fresh(c.corner, far_corner(c), c.leaf)) {
+            } else if (tree_.sample(leaf) != FieldQuadtree::kNone || covered_by_fresh(c.corner, far_corner(c), leaf)) {
                 fate = 0;
             } else if (!got || c.bits == 0) {
                 fate = kKeep;
@@ -247,9 +251,8 @@ void FieldSampler::refine() {
 Sampling FieldSampler::run() {
     cells_.resize(tree_.leaves());
     touched_.assign(tree_.leaves(), kUnstamped);
-    tree_.each_leaf([&](std::uint32_t leaf, uvec2 corner, std::uint32_t bits) {
-        cells_[leaf] = make_cell(corner, bits, leaf);
-    });
+    tree_.each_leaf(
+        [&](std::uint32_t leaf, uvec2 corner, std::uint32_t bits) { cells_[leaf] = make_cell(corner, bits); });
     std::uint32_t round = 0;
     std::uint32_t deepest = 0;
     // Runs one phase, timed when the run is profiled.

@@ -80,6 +80,18 @@ void FieldQuadtree::set_sample(std::uint32_t leaf, glm::uvec2 p, std::uint32_t s
     mark(p, kOccupied | kFresh, true);
 }
 
+FieldQuadtree::Leaf FieldQuadtree::leaf_at(glm::uvec2 p) const {
+    std::uint32_t node = roots_[std::size_t(p.y >> t_.tile_bits) * t_.tiles_x + (p.x >> t_.tile_bits)];
+    std::uint32_t bits = t_.tile_bits;
+    while (!(node & kLeaf)) {
+        const std::uint32_t k = ((p.x >> (bits - 1)) & 1) | ((p.y >> (bits - 1)) & 1) << 1;
+        node = nodes_[(node & kIndex) + k];
+        --bits;
+    }
+    const std::uint32_t mask = ~((std::uint32_t(1) << bits) - 1);  // bits < 32: a leaf is within a tile
+    return {node & kIndex, bits, {p.x & mask, p.y & mask}};
+}
+
 void FieldQuadtree::mark(glm::uvec2 c, std::uint32_t flag, bool on) {
     std::uint32_t* node = &roots_[std::size_t(c.y >> t_.tile_bits) * t_.tiles_x + (c.x >> t_.tile_bits)];
     for (std::uint32_t bits = t_.tile_bits;; --bits) {

@@ -27,6 +27,17 @@ public:
     // side are found by descent, not stored.
     template <typename Visit>
     void each_leaf(Visit&& visit) const;
+    // A leaf: its index, corner and side 2^bits.
+    struct Leaf {
+        std::uint32_t index, bits;
+        glm::uvec2 corner;
+        bool holds(glm::uvec2 p) const {
+            return (p.x >> bits) == (corner.x >> bits) && (p.y >> bits) == (corner.y >> bits);
+        }
+    };
+    // The leaf holding lattice point p, found by descent from its tile's root.
+    Leaf leaf_at(glm::uvec2 p) const;
+    std::uint32_t leaf_of(glm::uvec2 p) const { return leaf_at(p).index; }
     std::uint32_t sample(std::uint32_t leaf) const { return sample_[leaf]; }
     // Gives the leaf holding point p its sample s, and marks the nodes above it as holding one,
     // and a fresh one.
@@ -111,9 +122,8 @@ void FieldQuadtree::each_leaf(Visit&& visit) const {
     };
     std::vector<Item> stack;
     for (std::size_t k = 0; k < roots_.size(); ++k) {
-        stack.push_back({roots_[k],
-                         t_.tile_bits,
-                         {std::uint32_t(k % t_.tiles_x) << t_.tile_bits, std::uint32_t(k / t_.tiles_x) << t_.tile_bits}});
+        const glm::uvec2 tile(std::uint32_t(k % t_.tiles_x), std::uint32_t(k / t_.tiles_x));
+        stack.push_back({roots_[k], t_.tile_bits, {tile.x << t_.tile_bits, tile.y << t_.tile_bits}});
         while (!stack.empty()) {
             const Item it = stack.back();
             stack.pop_back();

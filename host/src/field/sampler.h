@@ -16,9 +16,9 @@ namespace vrpd::detail::field {
 
 using shared::uvec2;
 
+// An active cell: a block of one leaf (found from its corner, FieldQuadtree::leaf_of), 12 bytes.
 struct Cell {
     uvec2 corner;
-    std::uint32_t leaf;
     std::uint8_t bits;
     std::uint8_t weight;  // Eq. 12: darts at the rate of radius r_lo 2^weight (<= r over the cell)
 };
@@ -76,13 +76,13 @@ private:
     // Does sample s cover [a, b], given r's least value `lo` over it: is the farthest corner
     // within f(r(s), lo), f's least value over the block?
     bool covers(std::uint32_t s, std::uint32_t lo, uvec2 a, uvec2 b) const;
-    Cell make_cell(uvec2 corner, std::uint32_t bits, std::uint32_t leaf) const;
+    Cell make_cell(uvec2 corner, std::uint32_t bits) const;
     // Child k of c (x, then y, low first), unless it lies outside the lattice.
     std::optional<Cell> child(const Cell& c, std::uint32_t k) const {
         const std::uint32_t half = 1u << (c.bits - 1);
         const uvec2 corner(c.corner.x + (k & 1) * half, c.corner.y + (k >> 1) * half);
         if (corner.x >= t_.lattice.extent_x || corner.y >= t_.lattice.extent_y) return std::nullopt;
-        return make_cell(corner, c.bits - 1, c.leaf);
+        return make_cell(corner, c.bits - 1);
     }
     uvec2 far_corner(const Cell& c) const {
         const std::uint64_t s = (std::uint64_t(1) << c.bits) - 1;
