@@ -9,10 +9,10 @@
 namespace vrpd::detail {
 
 // Bytes per expected sample, at the peak: the first round's balance, with about 5.5 leaves a
-// sample, each with its tree share (18 bytes), its stamp (4) and its cell twice (16 each), and
-// the samples. Measured on large runs: 330-370 bytes a sample on the rectified sine, 465 at
-// Figure 16's scale (docs/performance.md), the table included.
-inline constexpr double kFieldBytesPerSample = 480;
+// sample, each with its tree share (9 bytes), its stamp (4) and its cell twice (12 each), the
+// samples, and the table. Measured on large runs: 236-330 bytes a sample on the rectified sine
+// (Figure 16's scale the most), 360 on a 500x ramp (docs/performance.md).
+inline constexpr double kFieldBytesPerSample = 400;
 
 // Samples a maximal sampling of o.box under the field's rule, on the host's threads (o.threads;
 // one for Backend::Serial; the points do not depend on the count). tabulate() has already
