@@ -284,7 +284,7 @@ Sampling FieldSampler::run() {
     s.stats.levels = deepest;
     s.stats.rounds = round;
     s.stats.darts = darts_thrown_;
-    s.stats.peak_bytes = bytes_ + t_.nodes.capacity() * 4 * 2;
+    s.stats.peak_bytes = bytes_ + t_.bytes();
     s.stats.profile = phases_.phases();
     return s;
 }

@@ -148,27 +148,27 @@ Draft draft(const FieldSource& f, const Box& box, std::uint32_t cells_x, std::ui
     return d;
 }
 
+// Level 0 (one table cell) is read from the cell's four nodes; level k >= 1 holds the least and
+// greatest node over blocks of 2^k x 2^k cells.
 void build_pyramids(FieldTable& t) {
+    t.lo.assign(1, {});
+    t.hi.assign(1, {});
     std::uint32_t w = t.cells_x, h = t.cells_y;
-    std::vector<std::uint32_t> lo(std::size_t(w) * h), hi(lo.size());
-    for (std::uint32_t j = 0; j < h; ++j)
-        for (std::uint32_t i = 0; i < w; ++i) {
-            const std::uint32_t v[4] = {t.node(i, j), t.node(i + 1, j), t.node(i, j + 1), t.node(i + 1, j + 1)};
-            lo[std::size_t(j) * w + i] = *std::min_element(v, v + 4);
-            hi[std::size_t(j) * w + i] = *std::max_element(v, v + 4);
-        }
-    t.lo.push_back(std::move(lo));
-    t.hi.push_back(std::move(hi));
     while (w > 1 || h > 1) {
         const std::uint32_t pw = w, nw = (w + 1) / 2, nh = (h + 1) / 2;
+        const bool cells = t.lo.size() == 1;
         std::vector<std::uint32_t> nlo(std::size_t(nw) * nh, UINT32_MAX), nhi(nlo.size(), 0);
-        const auto& plo = t.lo.back();
-        const auto& phi = t.hi.back();
         for (std::uint32_t j = 0; j < h; ++j)
             for (std::uint32_t i = 0; i < w; ++i) {
                 const std::size_t to = std::size_t(j / 2) * nw + i / 2, from = std::size_t(j) * pw + i;
-                nlo[to] = std::min(nlo[to], plo[from]);
-                nhi[to] = std::max(nhi[to], phi[from]);
+                if (cells) {
+                    const glm::uvec4 v = t.cell_nodes(i, j);
+                    nlo[to] = std::min({nlo[to], v.x, v.y, v.z, v.w});
+                    nhi[to] = std::max({nhi[to], v.x, v.y, v.z, v.w});
+                } else {
+                    nlo[to] = std::min(nlo[to], t.lo.back()[from]);
+                    nhi[to] = std::max(nhi[to], t.hi.back()[from]);
+                }
             }
         t.lo.push_back(std::move(nlo));
         t.hi.push_back(std::move(nhi));
@@ -190,7 +190,14 @@ std::uint32_t over_blocks(const FieldTable& t, const std::vector<std::vector<std
     const std::uint32_t w = (t.cells_x + (1u << k) - 1) >> k;
     std::uint32_t v = init;
     for (std::uint32_t j = j0 >> k; j <= j1 >> k; ++j)
-        for (std::uint32_t i = i0 >> k; i <= i1 >> k; ++i) v = pick(v, pyr[k][std::size_t(j) * w + i]);
+        for (std::uint32_t i = i0 >> k; i <= i1 >> k; ++i) {
+            if (k > 0) {
+                v = pick(v, pyr[k][std::size_t(j) * w + i]);
+                continue;
+            }
+            const glm::uvec4 n = t.cell_nodes(i, j);
+            v = pick(pick(v, n.x), pick(pick(n.y, n.z), n.w));
+        }
     return v;
 }
 

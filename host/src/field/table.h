@@ -27,8 +27,9 @@ struct FieldTable {
     std::uint32_t cell_bits = 0;             // table cells span 2^cell_bits lattice units
     std::uint32_t cells_x = 0, cells_y = 0;  // table cells over the tiles
     std::vector<std::uint32_t> nodes;        // (cells_x + 1) x (cells_y + 1), row by row
-    // lo[k], hi[k]: the least and greatest node over blocks of 2^k x 2^k table cells (their
-    // boundary nodes included), cells_x >> k (rounded up) per row.
+    // lo[k], hi[k] (k >= 1): the least and greatest node over blocks of 2^k x 2^k table cells
+    // (their boundary nodes included), cells_x >> k (rounded up) per row; lo[0] and hi[0] are
+    // empty (a cell's four nodes give them).
     std::vector<std::vector<std::uint32_t>> lo, hi;
     std::uint32_t r_lo = 0, r_hi = 0;      // over all nodes (a free box's outer ones too)
     std::uint32_t box_lo = 0, box_hi = 0;  // r's least and greatest over the box's lattice points
@@ -56,6 +57,12 @@ struct FieldTable {
     // The same over a square of half-width `reach` around p (wrapping on a torus, clipped to a free box).
     std::uint32_t max_near(glm::uvec2 p, std::uint64_t reach) const;
     FieldStats stats() const;
+    // The bytes the nodes and the pyramids hold.
+    std::uint64_t bytes() const {
+        std::uint64_t n = nodes.capacity();
+        for (std::size_t k = 0; k < lo.size(); ++k) n += lo[k].capacity() + hi[k].capacity();
+        return 4 * n;
+    }
 };
 
 // Replaces the nodes of `cells_x` x `cells_y` table cells of side h (row by row; on a torus the
