@@ -24,9 +24,9 @@ FieldQuadtree::FieldQuadtree(const FieldTable& t, std::uint64_t max_leaves, Thre
     pool.parallel_for(tiles, [&](std::size_t begin, std::size_t end, unsigned w) {
         Part part{begin, end, {}};
         for (std::size_t k = begin; k < end; ++k)
-            roots_[k] = build(part.arrays, {std::uint32_t(k % t.tiles_x) << t.tile_bits,
-                                            std::uint32_t(k / t.tiles_x) << t.tile_bits},
-                              t.tile_bits, limits, leaves);
+            roots_[k] = build(
+                part.arrays, {std::uint32_t(k % t.tiles_x) << t.tile_bits, std::uint32_t(k / t.tiles_x) << t.tile_bits},
+                t.tile_bits, 0, limits, leaves);
         parts[w] = std::move(part);
     });
     std::size_t nodes = 0, leaf_count = 0;
@@ -49,14 +49,20 @@ FieldQuadtree::FieldQuadtree(const FieldTable& t, std::uint64_t max_leaves, Thre
     sample_.assign(leaf_count, kNone);
 }
 
-std::uint32_t FieldQuadtree::build(Arrays& out, glm::uvec2 c, std::uint32_t bits, const Limits& limits,
-                                   std::atomic<std::uint64_t>& leaves) const {
+std::uint32_t FieldQuadtree::build(Arrays& out, glm::uvec2 c, std::uint32_t bits, std::uint32_t floor,
+                                   const Limits& limits, std::atomic<std::uint64_t>& leaves) const {
     if (c.x >= t_.lattice.extent_x || c.y >= t_.lattice.extent_y) return kOutside;
     const std::uint64_t side = std::uint64_t(1) << bits;
-    const glm::uvec2 b(std::uint32_t(std::min<std::uint64_t>(c.x + side - 1, t_.lattice.extent_x - 1)),
-                       std::uint32_t(std::min<std::uint64_t>(c.y + side - 1, t_.lattice.extent_y - 1)));
-    const std::uint64_t r = t_.min_over(c, b);
-    if (2 * (side - 1) * (side - 1) < r * r) {
+    // A leaf's diagonal is shorter than the least r over it: known without the table where the
+    // parent's least r is enough (a leaf above most leaves' parents), else read from it.
+    auto short_enough = [&](std::uint64_t r) { return 2 * (side - 1) * (side - 1) < r * r; };
+    std::uint32_t r = floor;
+    if (!short_enough(r)) {
+        const glm::uvec2 b(std::uint32_t(std::min<std::uint64_t>(c.x + side - 1, t_.lattice.extent_x - 1)),
+                           std::uint32_t(std::min<std::uint64_t>(c.y + side - 1, t_.lattice.extent_y - 1)));
+        r = t_.min_over(c, b);
+    }
+    if (short_enough(r)) {
         // Leaf indices fit the node word's index bits.
         if (leaves.fetch_add(1, std::memory_order_relaxed) >= limits.leaves)
             throw Error(fmt::format("the field needs more than {} base cells, past {}", limits.leaves,
@@ -69,7 +75,8 @@ std::uint32_t FieldQuadtree::build(Arrays& out, glm::uvec2 c, std::uint32_t bits
     out.nodes.resize(out.nodes.size() + 4);
     const std::uint32_t half = 1u << (bits - 1);
     for (std::uint32_t k = 0; k < 4; ++k) {
-        const std::uint32_t child = build(out, {c.x + (k & 1) * half, c.y + (k >> 1) * half}, bits - 1, limits, leaves);
+        const std::uint32_t child =
+            build(out, {c.x + (k & 1) * half, c.y + (k >> 1) * half}, bits - 1, r, limits, leaves);
         out.nodes[first + k] = child;
     }
     return first;

@@ -82,8 +82,8 @@ private:
         std::uint64_t leaves, memory;  // the leaves allowed, and those the memory allows
     };
     // Builds the subtree of the block at `corner` (side 2^bits) into `out`; returns its node word.
-    // `leaves` counts every worker's leaves.
-    std::uint32_t build(Arrays& out, glm::uvec2 corner, std::uint32_t bits, const Limits& limits,
+    // `floor` is at most the least r over the block; `leaves` counts every worker's leaves.
+    std::uint32_t build(Arrays& out, glm::uvec2 corner, std::uint32_t bits, std::uint32_t floor, const Limits& limits,
                         std::atomic<std::uint64_t>& leaves) const;
     // Sets or clears `flag` on the nodes from the tile root down to the leaf holding point p.
     void mark(glm::uvec2 p, std::uint32_t flag, bool on);
