@@ -56,7 +56,10 @@ private:
     std::uint64_t reach(uvec2 a, uvec2 b, std::uint32_t r_hi) const;
     // The farthest a point sample x (radius r) may cover under the rule.
     std::uint64_t cover_reach(uvec2 x, std::uint32_t r) const;
-    std::uint64_t grown_reach(uvec2 a, uvec2 b, std::uint32_t r_hi) const;
+    // The reach of f = max(r(z), r_hi) (grown_reach in engine.cpp). A search takes one tightening
+    // step (a second costs more than its narrower square saves); a sample's stamps take up to
+    // four (each leaf stamped costs a re-test of its cells).
+    std::uint64_t grown_reach(uvec2 a, uvec2 b, std::uint32_t r_hi, int steps) const;
     // Does sample s conflict with a later point p of radius r?
     bool conflicts_with(std::uint32_t s, uvec2 p, std::uint32_t r) const;
     // Does a sample conflict with point p of radius r?
