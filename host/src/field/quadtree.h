@@ -39,6 +39,7 @@ public:
     Leaf leaf_at(glm::uvec2 p) const;
     std::uint32_t leaf_of(glm::uvec2 p) const { return leaf_at(p).index; }
     std::uint32_t sample(std::uint32_t leaf) const { return sample_[leaf]; }
+    void prefetch(std::uint32_t leaf) const { __builtin_prefetch(&sample_[leaf]); }
     // Gives the leaf holding point p its sample s, and marks the nodes above it as holding one,
     // and a fresh one.
     void set_sample(std::uint32_t leaf, glm::uvec2 p, std::uint32_t s);

@@ -50,6 +50,12 @@ struct FieldTable {
         return shared::field_interpolate(cell_nodes(p.x >> cell_bits, p.y >> cell_bits),
                                          glm::uvec2(p.x & mask, p.y & mask), cell_bits);
     }
+    // Starts fetching the nodes radius(p) reads.
+    void prefetch(glm::uvec2 p) const {
+        const std::uint32_t* v = &nodes[std::size_t(p.y >> cell_bits) * (cells_x + 1) + (p.x >> cell_bits)];
+        __builtin_prefetch(v);
+        __builtin_prefetch(v + cells_x + 1);
+    }
     // The least and greatest r over the lattice points of [x0, x1] x [y0, y1] (inclusive, inside
     // the lattice): exact inside one table cell, else a bound from the pyramid.
     std::uint32_t min_over(glm::uvec2 a, glm::uvec2 b) const;
