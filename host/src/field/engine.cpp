@@ -91,8 +91,23 @@ bool FieldSampler::covered_by_fresh(uvec2 a, uvec2 b, std::uint32_t leaf) const 
     if (!stamped(leaf)) return false;
     const std::uint32_t lo = t_.min_over(a, b);
     if (const std::uint32_t s = stamp(leaf); s != FieldQuadtree::kNone) return covers(s, lo, a, b);
-    return tree_.near_fresh(a, b, reach(a, b, t_.max_over(a, b)),
-                            [&](std::uint32_t leaf) { return covers(tree_.sample(leaf), lo, a, b); });
+    auto test = [&](std::uint32_t leaf) { return covers(tree_.sample(leaf), lo, a, b); };
+    // A covering sample's f: at most lo under current and smaller; under prior and bigger at
+    // most the reach, which bounds r(x) for each x within it (the largest r over its square, or
+    // the Lipschitz growth).
+    const bool own = rule_ == shared::RULE_CURRENT || rule_ == shared::RULE_SMALLER;
+    const std::uint64_t f = own ? lo : reach(a, b, t_.max_over(a, b));
+    const std::uint32_t wx = b.x - a.x, wy = b.y - a.y, half_x = (wx + 1) / 2, half_y = (wy + 1) / 2;
+    const shared::Lattice& l = t_.lattice;
+    if (l.periodic && (2 * (f + wx) >= l.extent_x || 2 * (f + wy) >= l.extent_y))
+        return tree_.near_fresh(a, b, f, test);
+    // Along each axis the farther end of [a, b] lies ceil(w / 2) beyond a sample's gap to the
+    // middle lattice points [a + floor(w / 2), a + ceil(w / 2)] (on a torus too: the block and
+    // the reach are under half of it, a line there). So a cover's gap to them is below
+    // f - ceil(w / 2), and none covers a block whose half-width reaches f.
+    if (std::max(half_x, half_y) >= f) return false;
+    return tree_.near_fresh({a.x + wx / 2, a.y + wy / 2}, {a.x + half_x, a.y + half_y},
+                            f - 1 - std::min(half_x, half_y), test);
 }
 
 bool FieldSampler::covers(std::uint32_t s, std::uint32_t lo, uvec2 a, uvec2 b) const {
