@@ -79,12 +79,36 @@ bool FieldSampler::conflicts_fresh(uvec2 p, std::uint32_t r, std::uint32_t leaf)
                             [&](std::uint32_t l) { return conflicts_with(tree_.sample(l), p, r); });
 }
 
-void FieldSampler::gather(uvec2 a, uvec2 b, std::vector<std::uint32_t>& out) const {
+void FieldSampler::gather(const Cell& c, std::vector<std::uint32_t>& out) const {
     out.clear();
-    tree_.near_samples(a, b, reach(a, b, t_.max_over(a, b)), [&](std::uint32_t leaf) {
+    const uvec2 a = c.corner, b = far_corner(c);
+    const std::uint32_t hi = t_.max_over(a, b);
+    const std::uint64_t f = reach(a, b, hi);  // at least f's value for any cover of a child
+    auto keep = [&](std::uint32_t leaf) {
         out.push_back(tree_.sample(leaf));
         return false;
-    });
+    };
+    const shared::Lattice& l = t_.lattice;
+    if (l.periodic && (2 * (f + b.x - a.x) >= l.extent_x || 2 * (f + b.y - a.y) >= l.extent_y)) {
+        tree_.near_samples(a, b, f, keep);
+        return;
+    }
+    // A cover of child k lies within f - 1 - ceil(w / 2) of the child's middle points
+    // (covered_by_fresh): search around the box of the children's middles.
+    const std::uint32_t side = 1u << (c.bits - 1);
+    uvec2 from(UINT32_MAX), to(0);
+    std::uint32_t half = UINT32_MAX;
+    for (std::uint32_t k = 0; k < 4; ++k) {
+        const uvec2 ka(a.x + (k & 1) * side, a.y + (k >> 1) * side);
+        if (ka.x >= l.extent_x || ka.y >= l.extent_y) continue;
+        const uvec2 kb(std::min(ka.x + side - 1, b.x), std::min(ka.y + side - 1, b.y));
+        const std::uint32_t wx = kb.x - ka.x, wy = kb.y - ka.y;
+        from = glm::min(from, uvec2(ka.x + wx / 2, ka.y + wy / 2));
+        to = glm::max(to, uvec2(ka.x + (wx + 1) / 2, ka.y + (wy + 1) / 2));
+        half = std::min({half, (wx + 1) / 2, (wy + 1) / 2});
+    }
+    if (half >= f) return;
+    tree_.near_samples(from, to, f - 1 - half, keep);
 }
 
 bool FieldSampler::covered_by_fresh(uvec2 a, uvec2 b, std::uint32_t leaf) const {
@@ -154,14 +178,11 @@ double FieldSampler::balance() {
                 next.push_back(c);
                 continue;
             }
-            near.clear();
+            if (!lattice_.empty()) gather(c, near);
             for (std::uint32_t k = 0; k < 4; ++k) {
                 const auto kid = child(c, k);
                 if (!kid) continue;
-                if (!lattice_.empty()) {
-                    if (near.empty()) gather(c.corner, far_corner(c), near);
-                    if (covered_by(near, kid->corner, far_corner(*kid))) continue;
-                }
+                if (!near.empty() && covered_by(near, kid->corner, far_corner(*kid))) continue;
                 next.push_back(*kid);
             }
         }
@@ -237,7 +258,7 @@ void FieldSampler::refine() {
             } else {
                 // Split: the children are tested against every sample that may cover part of the
                 // cell, found by one search (an earlier round's sample may cover a child).
-                gather(c.corner, far_corner(c), near);
+                gather(c, near);
                 fate = kSplit;
                 for (std::uint32_t k = 0; k < 4; ++k)
                     if (const auto kid = child(c, k); kid && !covered_by(near, kid->corner, far_corner(*kid)))

@@ -66,9 +66,8 @@ private:
     bool conflicts(uvec2 p, std::uint32_t r) const;
     // Does one of this round's samples conflict with point p (radius r) of leaf `leaf`?
     bool conflicts_fresh(uvec2 p, std::uint32_t r, std::uint32_t leaf) const;
-    // The samples that may conflict with some point of [a, b]: every sample that can cover any
-    // part of it (the reach of [a, b] holds the reach of each part).
-    void gather(uvec2 a, uvec2 b, std::vector<std::uint32_t>& out) const;
+    // The samples that may cover one of the children of cell c wholly (c.bits >= 1).
+    void gather(const Cell& c, std::vector<std::uint32_t>& out) const;
     // Does one of `near` cover every point of [a, b] under the rule?
     bool covered_by(const std::vector<std::uint32_t>& near, uvec2 a, uvec2 b) const;
     // Does one of this round's samples (fresh in the tree) cover every point of [a, b], a block
