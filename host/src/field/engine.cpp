@@ -83,7 +83,7 @@ void FieldSampler::gather(const Cell& c, std::vector<std::uint32_t>& out) const 
     out.clear();
     const uvec2 a = c.corner, b = far_corner(c);
     const std::uint32_t hi = t_.max_over(a, b);
-    const std::uint64_t f = reach(a, b, hi);  // at least f's value for any cover of a child
+    const std::uint64_t f = reach(a, b, hi);  // bounds the f of any sample covering a child
     auto keep = [&](std::uint32_t leaf) {
         out.push_back(tree_.sample(leaf));
         return false;

@@ -54,7 +54,7 @@ std::uint32_t FieldQuadtree::build(Arrays& out, glm::uvec2 c, std::uint32_t bits
     if (c.x >= t_.lattice.extent_x || c.y >= t_.lattice.extent_y) return kOutside;
     const std::uint64_t side = std::uint64_t(1) << bits;
     // A leaf's diagonal is shorter than the least r over it: known without the table where the
-    // parent's least r is enough (a leaf above most leaves' parents), else read from it.
+    // parent's least r is already enough (for most leaves), else read from it.
     auto short_enough = [&](std::uint64_t r) { return 2 * (side - 1) * (side - 1) < r * r; };
     std::uint32_t r = floor;
     if (!short_enough(r)) {
