@@ -88,24 +88,24 @@ void FieldSampler::gather(const Cell& c, std::vector<std::uint32_t>& out) const 
         out.push_back(tree_.sample(leaf));
         return false;
     };
-    const shared::Lattice& l = t_.lattice;
-    if (l.periodic && (2 * (f + b.x - a.x) >= l.extent_x || 2 * (f + b.y - a.y) >= l.extent_y)) {
+    if (wraps(a, b, f)) {
         tree_.near_samples(a, b, f, keep);
         return;
     }
     // A cover of child k lies within f - 1 - ceil(w / 2) of the child's middle points
-    // (covered_by_fresh): search around the box of the children's middles.
+    // (covered_by_fresh): search around the box of the children's middles. The children split
+    // each axis of the cell at a + side, the second part clipped to the cell.
     const std::uint32_t side = 1u << (c.bits - 1);
     uvec2 from(UINT32_MAX), to(0);
     std::uint32_t half = UINT32_MAX;
     for (std::uint32_t k = 0; k < 4; ++k) {
         const uvec2 ka(a.x + (k & 1) * side, a.y + (k >> 1) * side);
-        if (ka.x >= l.extent_x || ka.y >= l.extent_y) continue;
-        const uvec2 kb(std::min(ka.x + side - 1, b.x), std::min(ka.y + side - 1, b.y));
-        const std::uint32_t wx = kb.x - ka.x, wy = kb.y - ka.y;
-        from = glm::min(from, uvec2(ka.x + wx / 2, ka.y + wy / 2));
-        to = glm::max(to, uvec2(ka.x + (wx + 1) / 2, ka.y + (wy + 1) / 2));
-        half = std::min({half, (wx + 1) / 2, (wy + 1) / 2});
+        if (ka.x > b.x || ka.y > b.y) continue;
+        const Middle mx = middle(ka.x, std::min(ka.x + side - 1, b.x)),
+                     my = middle(ka.y, std::min(ka.y + side - 1, b.y));
+        from = glm::min(from, uvec2(mx.from, my.from));
+        to = glm::max(to, uvec2(mx.to, my.to));
+        half = std::min({half, mx.half, my.half});
     }
     if (half >= f) return;
     tree_.near_samples(from, to, f - 1 - half, keep);
@@ -121,17 +121,14 @@ bool FieldSampler::covered_by_fresh(uvec2 a, uvec2 b, std::uint32_t leaf) const 
     // the Lipschitz growth).
     const bool own = rule_ == shared::RULE_CURRENT || rule_ == shared::RULE_SMALLER;
     const std::uint64_t f = own ? lo : reach(a, b, t_.max_over(a, b));
-    const std::uint32_t wx = b.x - a.x, wy = b.y - a.y, half_x = (wx + 1) / 2, half_y = (wy + 1) / 2;
-    const shared::Lattice& l = t_.lattice;
-    if (l.periodic && (2 * (f + wx) >= l.extent_x || 2 * (f + wy) >= l.extent_y))
-        return tree_.near_fresh(a, b, f, test);
+    if (wraps(a, b, f)) return tree_.near_fresh(a, b, f, test);
     // Along each axis the farther end of [a, b] lies ceil(w / 2) beyond a sample's gap to the
-    // middle lattice points [a + floor(w / 2), a + ceil(w / 2)] (on a torus too: the block and
-    // the reach are under half of it, a line there). So a cover's gap to them is below
-    // f - ceil(w / 2), and none covers a block whose half-width reaches f.
-    if (std::max(half_x, half_y) >= f) return false;
-    return tree_.near_fresh({a.x + wx / 2, a.y + wy / 2}, {a.x + half_x, a.y + half_y},
-                            f - 1 - std::min(half_x, half_y), test);
+    // middle lattice points (on a torus too: the block and the reach are under half of it, a line
+    // there). So a cover's gap to them is below f - ceil(w / 2), and none covers a block whose
+    // half-width reaches f.
+    const Middle mx = middle(a.x, b.x), my = middle(a.y, b.y);
+    if (std::max(mx.half, my.half) >= f) return false;
+    return tree_.near_fresh({mx.from, my.from}, {mx.to, my.to}, f - 1 - std::min(mx.half, my.half), test);
 }
 
 bool FieldSampler::covers(std::uint32_t s, std::uint32_t lo, uvec2 a, uvec2 b) const {

@@ -68,6 +68,21 @@ private:
     bool conflicts_fresh(uvec2 p, std::uint32_t r, std::uint32_t leaf) const;
     // The samples that may cover one of the children of cell c wholly (c.bits >= 1).
     void gather(const Cell& c, std::vector<std::uint32_t>& out) const;
+    // Does a search of reach f around [a, b] pass half the torus? Then a cover search keeps the
+    // block's square rather than going around its middle (covered_by_fresh).
+    bool wraps(uvec2 a, uvec2 b, std::uint64_t f) const {
+        const shared::Lattice& l = t_.lattice;
+        return l.periodic && (2 * (f + b.x - a.x) >= l.extent_x || 2 * (f + b.y - a.y) >= l.extent_y);
+    }
+    // The middle lattice points of [lo, hi] along one axis, [lo + floor(w / 2), lo + ceil(w / 2)],
+    // and ceil(w / 2): how far beyond a sample's gap to them the axis's farther end lies.
+    struct Middle {
+        std::uint32_t from, to, half;
+    };
+    static Middle middle(std::uint32_t lo, std::uint32_t hi) {
+        const std::uint32_t w = hi - lo;
+        return {lo + w / 2, lo + (w + 1) / 2, (w + 1) / 2};
+    }
     // Does one of `near` cover every point of [a, b] under the rule?
     bool covered_by(const std::vector<std::uint32_t>& near, uvec2 a, uvec2 b) const;
     // Does one of this round's samples (fresh in the tree) cover every point of [a, b], a block
