@@ -39,6 +39,11 @@ Plan step_plan(const Plan& finest, const SampleOptions& options, double scale);
 // given, or a hierarchy's steps.
 Sampling sample_plan(const SampleOptions& options, const Plan& plan);
 
+// sample_plan's run on `engine`, made for `plan` (tests run engines of other settings); the
+// result's backend and time are the caller's to set.
+class Engine;
+Sampling run_plan(const SampleOptions& options, const Plan& plan, Engine& engine);
+
 // Samples a run is expected to end with, give or take a few percent: the engines reserve room
 // for them up front rather than growing their sample arrays by doubling.
 std::uint64_t expected_samples(const Plan& plan);

@@ -189,6 +189,16 @@ Sampling detail::sample_plan(const SampleOptions& options, const Plan& plan) {
                                 double(have.bytes) / (1 << 30), have.what));
 
     const BackendChoice choice = choose_backend(options);
+    // One engine, made for the finest plan, runs every step.
+    std::unique_ptr<Engine> engine = make_engine(options, choice.backend, plan);
+    Sampling result = run_plan(options, plan, *engine);
+    result.backend = choice.backend;
+    result.choice = choice.reason;
+    result.stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return result;
+}
+
+Sampling detail::run_plan(const SampleOptions& options, const Plan& plan, Engine& engine) {
     Sampling result;
     // A hierarchy's steps: t_k = 1 - (1 - 1/S) k / (K - 1) and the radii's scale S t_k, each as
     // one division of exact numerators for whole S (so S = K = 10 gives t = 0.2, not 0.19999...).
@@ -204,33 +214,28 @@ Sampling detail::sample_plan(const SampleOptions& options, const Plan& plan) {
         }
     }
     std::vector<glm::uvec2> samples = initial_samples(options, plan);
-    // One engine, made for the finest plan, runs every step.
-    std::unique_ptr<Engine> engine = make_engine(options, choice.backend, plan);
-    if (options.profile) engine->start_profile();
+    if (options.profile) engine.start_profile();
     std::uint32_t round = 0;
     for (const auto& [t, scale] : births) {
         const Plan step = steps == 0 ? plan : step_plan(plan, options, scale);
         const std::size_t before = samples.size();
-        const std::uint32_t levels = run_to_maximal(*engine, step, engine->start(step, samples), round, result.stats);
-        samples = engine->samples();
+        const std::uint32_t levels = run_to_maximal(engine, step, engine.start(step, samples), round, result.stats);
+        samples = engine.samples();
         if (steps != 0) result.birth.resize(samples.size(), t);
         result.stats.levels = std::max(result.stats.levels, levels);
         if (samples.size() < before) throw Error("internal: a step lost samples");
     }
-    result.stats.peak_bytes = engine->peak_bytes();
-    result.stats.profile = engine->profile();
-    result.stats.round_trips = engine->round_trips();
-    result.device = engine->device_name();
+    result.stats.peak_bytes = engine.peak_bytes();
+    result.stats.profile = engine.profile();
+    result.stats.round_trips = engine.round_trips();
+    result.device = engine.device_name();
     result.lattice = std::move(samples);
     result.quantum = plan.quantum;
     result.radius = options.radius;
     result.coverage = options.coverage == 0.0 ? options.radius : options.coverage;
     result.box = options.box;
     result.hierarchy_start = steps == 0 ? 1.0 : hierarchy_start(options);
-    result.backend = choice.backend;
-    result.choice = choice.reason;
     result.stats.rounds = round;
-    result.stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return result;
 }
 

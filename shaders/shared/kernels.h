@@ -213,5 +213,17 @@ struct WorkArgs {
 static_assert(sizeof(WorkArgs) == 16 && offsetof(WorkArgs, slot) == 8);
 #endif
 
+// gate: zeroes the group counts of the `count` indirect dispatch commands at `table` (3 words
+// each) if counters[slot] is not 0, so that the dispatches recorded through them do no work.
+struct GateArgs {
+    VRPD_BUFFER(Uints) counters;
+    VRPD_BUFFER(Uints) table;
+    uint slot;
+    uint count;
+};
+#ifdef __cplusplus
+static_assert(sizeof(GateArgs) == 24 && offsetof(GateArgs, slot) == 16);
+#endif
+
 VRPD_END
 #endif

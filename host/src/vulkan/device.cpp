@@ -319,8 +319,24 @@ void VulkanContext::note_allocation(std::int64_t bytes) {
     peak_allocated_ = std::max(peak_allocated_, allocated_);
 }
 
+void VulkanContext::open_gate(const Buffer& table) {
+    if (table.mapped() == nullptr || table.size() < kGateDispatches * 12)
+        throw Error("internal: a gate's table must be host-visible and hold its commands");
+    gate_ = &table;
+    gated_ = 0;
+}
+
 void VulkanContext::dispatch(const Kernel& k, const void* push, std::uint32_t groups) {
     if (groups == 0) return;
+    if (gate_) {
+        if (gated_ == kGateDispatches) throw Error("internal: more gated dispatches than a gate's table holds");
+        auto* command = static_cast<std::uint32_t*>(gate_->mapped()) + 3 * gated_;
+        command[0] = groups;
+        command[1] = 1;
+        command[2] = 1;
+        dispatch_indirect(k, push, *gate_, VkDeviceSize(12) * gated_++);
+        return;
+    }
     vk_.vkCmdBindPipeline(cmd_, VK_PIPELINE_BIND_POINT_COMPUTE, k.pipeline());
     vk_.vkCmdPushConstants(cmd_, k.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, k.push_size(), push);
     vk_.vkCmdDispatch(cmd_, groups, 1, 1);

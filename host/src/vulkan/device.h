@@ -64,6 +64,12 @@ public:
     void barrier();
     void dispatch(const Kernel& k, const void* push, std::uint32_t groups);
     void dispatch_indirect(const Kernel& k, const void* push, const Buffer& args, VkDeviceSize offset);
+    // Between open_gate and close_gate, dispatch() records indirect dispatches whose commands it
+    // writes to `table` (host-visible, kGateDispatches commands of 3 words): a kernel recorded
+    // before them (gate.comp) may zero their group counts, and with them the gated work.
+    static constexpr std::uint32_t kGateDispatches = 64;
+    void open_gate(const Buffer& table);
+    void close_gate() { gate_ = nullptr; }
 
     // Validation messages (VRPD_VALIDATION=1); throws Error with the first if there were any.
     void check_validation();
@@ -105,6 +111,8 @@ private:
     std::uint64_t allocated_ = 0;
     std::uint64_t peak_allocated_ = 0;
     std::uint64_t submits_ = 0;
+    const Buffer* gate_ = nullptr;  // the open gate's table, if any
+    std::uint32_t gated_ = 0;       // dispatches recorded through it
 };
 
 }  // namespace vrpd::detail

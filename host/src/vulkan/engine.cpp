@@ -16,6 +16,7 @@
 #include "flag_dart_cells.h"
 #include "flag_free_cells.h"
 #include "flag_masked.h"
+#include "gate.h"
 #include "init_cells.h"
 #include "place_samples.h"
 #include "list_dart_cells.h"
@@ -39,17 +40,16 @@ namespace vrpd::detail {
 using namespace shared;
 
 namespace {
-// Resolution passes recorded in one submit: most rounds end within 8, and a pass with no dart
-// left is three dispatches of no work (indirect, zero groups), far cheaper than a round trip.
-constexpr std::uint32_t kResolvePassesPerSubmit = 8;
 // A round writes the next active list at its worst-case size, or sorts all its darts' slots
 // (round), only while those bytes are at most 1 / kWorstCaseShare of the most device memory held
 // so far: the early rounds, whose arrays make the peak, keep their exact sizes.
 constexpr std::uint64_t kWorstCaseShare = 8;
 }  // namespace
 
-VulkanEngine::VulkanEngine(const Plan& plan, const std::string& selector, const VulkanTarget* target)
+VulkanEngine::VulkanEngine(const Plan& plan, const std::string& selector, const VulkanTarget* target,
+                           std::uint32_t passes_per_submit)
     : plan_(plan),
+      passes_per_submit_(std::max<std::uint32_t>(passes_per_submit, 1)),
       ctx_(selector, target),
       VRPD_KERNEL(init_cells, CellArgs, WORKGROUP_SIZE),
       VRPD_KERNEL(place_samples, DartArgs, WORKGROUP_SIZE),
@@ -61,6 +61,7 @@ VulkanEngine::VulkanEngine(const Plan& plan, const std::string& selector, const 
       VRPD_KERNEL(apply_decisions, DartArgs, WORKGROUP_SIZE),
       VRPD_KERNEL(throw_darts, CellArgs, WORKGROUP_SIZE),
       VRPD_KERNEL(work_args, WorkArgs, 1),
+      gate_kernel_(ctx_, "gate", spirv_words(spirv_gate), sizeof(GateArgs), WORKGROUP_SIZE),
       resolve_darts_(ctx_, "resolve_darts",
                      two_ ? spirv_words(spirv_resolve_darts) : spirv_words(spirv_resolve_darts_one), sizeof(DartArgs),
                      WORKGROUP_SIZE),
@@ -85,6 +86,7 @@ VulkanEngine::VulkanEngine(const Plan& plan, const std::string& selector, const 
                                 double(estimated_device_bytes(plan)) / (1 << 30), ctx_.device_name(),
                                 double(ctx_.device_heap_bytes()) / (1 << 30)));
     counters_ = Buffer(ctx_, COUNTER_WORDS * 4, true);
+    gate_ = Buffer(ctx_, VulkanContext::kGateDispatches * 12, true);
     grid_ = Buffer(ctx_, plan.base_cells * sizeof(uvec2), false);
 }
 
@@ -190,10 +192,20 @@ RoundResult VulkanEngine::round(const RoundSpec& spec, const RoundSpec* next) {
     const std::uint32_t darts = counter(COUNTER_DARTS);
     if (darts >= MAX_ROUND_DARTS) throw Error("a round would throw more than 2^30 darts");
 
+    // One radius: the commit shares a submit with the emission when the darts are few (an eighth
+    // of the peak device memory, at the sort's 12 bytes each) and the samples' buffer has room for
+    // every dart. The emission then sorts all the darts' key slots, those of darts not accepted
+    // keyed past every dart (2^32 - 1, after any accepted dart by stability), for the accepted
+    // count is not known when it is recorded. Else the commit takes a submit of its own, whose
+    // count sizes the emission and the sort.
+    const bool few = !two && std::uint64_t(darts) * 12 <= ctx_.peak_allocated_bytes() / kWorstCaseShare;
+    const std::uint64_t room = (emitted_ + darts) * sizeof(uvec2);
     // Submit 2..: throw (rejecting darts covered by earlier samples), resolve in arrival order.
     const Scratch at(n, darts, listed, masked);
     // Keeps the prefix sums; makes room for the next round's (precount).
     grow(ctx_, scratch_, worst_case ? std::max(at.end, (bound + 1) * 4) : at.end, true);
+    primitives_.reserve_scan(std::uint64_t(std::max(darts, active_)) + 1);
+    if (worst_case) primitives_.reserve_scan(bound + 1);  // the next round's counts (record_refinement)
     // The darts get a buffer of their own, freed once they are emitted: the next active list
     // is then allocated in their place. When mask mode ends, refine_masked parks half of each
     // base cell's 64-bit mask there too.
@@ -202,7 +214,29 @@ RoundResult VulkanEngine::round(const RoundSpec& spec, const RoundSpec* next) {
     const std::uint64_t ranks = scratch_.address() + at.ranks;
     const std::uint64_t dart_list = darts_.address();
     const std::uint64_t work[2] = {scratch_.address() + at.work0, scratch_.address() + at.work1};
+    // Near the end of a run, past the expected count, the samples' buffer may lack room for every
+    // dart: it grows by a quarter, its copy recorded at the start of the round, if that keeps the
+    // device memory within its peak so far (the sort's histogram and the next active list at its
+    // worst-case size included).
+    const std::uint64_t grown = std::max(room, samples_.size() + samples_.size() / 4);
+    const std::uint64_t later = (worst_case ? bound * sizeof(uvec2) : 0) + Primitives::sort_bytes(darts);
+    const bool grow_samples =
+        few && samples_.size() < room && ctx_.allocated_bytes() + grown + later <= ctx_.peak_allocated_bytes();
+    const bool one_submit = few && (samples_.size() >= room || grow_samples);
+    // Gated (the deep rounds of one radius): each submit of resolution passes also carries the
+    // whole end of the round, its next active list at the worst-case size, behind a gate that
+    // zeroes the end's dispatches while darts are left undecided. Most such rounds are then one
+    // round trip; one whose passes outrun a submit runs the end with the submit that finishes them.
+    const bool gated = one_submit && worst_case;
+    if (one_submit) primitives_.reserve_sort(darts);
     VkCommandBuffer cmd = ctx_.begin();
+    Buffer spent_samples;  // the samples' buffer before grow_samples, kept until the round's submits end
+    if (grow_samples) {
+        spent_samples = std::move(samples_);
+        samples_ = Buffer(ctx_, grown, false);
+        const VkBufferCopy all{0, 0, emitted_ * sizeof(uvec2)};
+        if (emitted_ > 0) ctx_.vk().vkCmdCopyBuffer(cmd, spent_samples.handle(), samples_.handle(), 1, &all);
+    }
     ctx_.vk().vkCmdFillBuffer(cmd, darts_.handle(), 0, VK_WHOLE_SIZE, 0);  // the darts' states start undecided
     ctx_.vk().vkCmdFillBuffer(cmd, counters_.handle(), (COUNTER_WORK0 + 3) * 4, 4, 0);
     ctx_.vk().vkCmdFillBuffer(cmd, counters_.handle(), COUNTER_ACTIVE * 4, 4, 0);  // refine_masked's sum
@@ -213,49 +247,76 @@ RoundResult VulkanEngine::round(const RoundSpec& spec, const RoundSpec* next) {
     const Kernel& thrower = !masked ? throw_darts_ : (emitted_ == 0 ? throw_masked_empty_ : throw_masked_);
     ctx_.dispatch(thrower, &a, dispatch_groups(n, WORKGROUP_SIZE));
     ctx_.barrier();  // darts, grid dart ranges and work list before resolution
+    const std::uint32_t fanout = spec.refine ? 4 : 1;
+    const std::uint32_t child_side = spec.refine ? spec.side / 2 : spec.side;
+    a.param = darts;  // the commit kernels end the flags with a 0 at flags[darts]
+    DartArgs d = dart_args(dart_list, darts, std::uint32_t(emitted_));
+    d.scan = ranks;
+    d.sample_keys = scratch_.address() + at.keys;
+    const Regions regions = at.in(scratch_, 0);
+    Buffer list;  // gated: the next active list
     std::uint32_t in = 0;
     // Each pass decides at least the earliest undecided dart, so `darts` passes end any round;
     // more means corrupted states (a bug), which fails the run instead of looping.
-    for (std::uint64_t passes = 0;; passes += kResolvePassesPerSubmit) {
+    for (std::uint64_t passes = 0;; passes += passes_per_submit_) {
         if (passes > darts) throw Error("internal: the resolution of a round did not end");
-        for (std::uint32_t p = 0; p < kResolvePassesPerSubmit; ++p, in ^= 1) {
+        for (std::uint32_t p = 0; p < passes_per_submit_; ++p, in ^= 1) {
             const std::uint32_t in_slot = in ? COUNTER_WORK1 : COUNTER_WORK0;
             const std::uint32_t out_slot = in ? COUNTER_WORK0 : COUNTER_WORK1;
             WorkArgs w{counters_.address(), in_slot, out_slot};
             ctx_.dispatch(work_args_, &w, 1);
             ctx_.barrier();  // indirect command and emptied output list before the pass
-            DartArgs d = dart_args(dart_list, darts, passes == 0 && p == 0 ? 1u : 0u);
-            d.work_in = work[in];
-            d.work_out = work[in ^ 1];
-            d.work_in_slot = in_slot;
-            d.work_out_slot = out_slot;
-            ctx_.dispatch_indirect(resolve_darts_, &d, counters_, in_slot * 4);
+            DartArgs r = dart_args(dart_list, darts, passes == 0 && p == 0 ? 1u : 0u);
+            r.work_in = work[in];
+            r.work_out = work[in ^ 1];
+            r.work_in_slot = in_slot;
+            r.work_out_slot = out_slot;
+            ctx_.dispatch_indirect(resolve_darts_, &r, counters_, in_slot * 4);
             ctx_.barrier();  // decisions before they are applied
-            ctx_.dispatch_indirect(apply_decisions_, &d, counters_, in_slot * 4);
+            ctx_.dispatch_indirect(apply_decisions_, &r, counters_, in_slot * 4);
             ctx_.barrier();  // states and the next work list before the next pass
         }
+        const std::uint32_t undecided = (in ? COUNTER_WORK1 : COUNTER_WORK0) + 3;
+        if (gated) {
+            GateArgs g{counters_.address(), gate_.address(), undecided, VulkanContext::kGateDispatches};
+            ctx_.dispatch(gate_kernel_, &g, dispatch_groups(VulkanContext::kGateDispatches, WORKGROUP_SIZE));
+            ctx_.barrier();  // the gated commands before the dispatches read them
+            ctx_.open_gate(gate_);
+            record_emission(a, d, n, true);
+            list = record_refinement(spec, regions, ranks, child_side, fanout, next_listed, true);
+            ctx_.close_gate();
+        }
         ctx_.submit_and_wait();
-        if (counter((in ? COUNTER_WORK1 : COUNTER_WORK0) + 3) == 0) break;
+        if (counter(undecided) == 0) break;
+        if (gated) ++shut_gates_;
         ctx_.begin();
     }
+    if (gated) {
+        active_ = adopt(std::move(list));
+    } else {
+        ctx_.begin();
+        record_emission(a, d, n, one_submit);
+        if (masked) {
+            active_ = refine_masked(spec, ranks, child_side, fanout, n, targets, next);
+        } else {
+            list = record_refinement(spec, regions, ranks, child_side, fanout, next_listed, worst_case);
+            ctx_.submit_and_wait();
+            active_ = adopt(std::move(list));
+        }
+    }
+    emitted_ += counter(COUNTER_ACCEPTED);
+    return {darts, active_};
+}
 
-    // Commit: grid words become samples or empty again; the accepted darts are flagged and ranked.
-    // One radius, when the round's darts are few (an eighth of the peak device memory, at the
-    // sort's 12 bytes each) and the samples' buffer has room for all of them: the commit shares
-    // the last submit, which then sorts all the round's darts' slots, those of darts not accepted
-    // keyed past every dart (2^32 - 1, after any accepted dart by stability), for the accepted
-    // count is not known when it is recorded. Else it takes a submit of its own, whose count sizes
-    // the emission and the sort.
-    const bool one_submit = !two && std::uint64_t(darts) * 12 <= ctx_.peak_allocated_bytes() / kWorstCaseShare &&
-                            samples_.size() >= (emitted_ + darts) * sizeof(uvec2);
-    primitives_.reserve_scan(std::uint64_t(std::max(darts, active_)) + 1);
-    if (worst_case) primitives_.reserve_scan(bound + 1);  // the next round's counts (refine_listed)
-    if (one_submit) primitives_.reserve_sort(darts);
-    ctx_.begin();
-    a.param = darts;  // the commit kernels end the flags with a 0 at flags[darts]
-    ctx_.dispatch(masked ? commit_masked_ : commit_cells_, &a, dispatch_groups(n, WORKGROUP_SIZE));
+// Records the commit (grid words become samples or empty again; the accepted darts are flagged
+// and ranked), the emission of the accepted darts as samples and their sort into arrival order,
+// into the submit begun. Unless `one_submit`, the commit is submitted first and its count sizes
+// the rest.
+void VulkanEngine::record_emission(const CellArgs& a, const DartArgs& d, std::uint32_t n, bool one_submit) {
+    const std::uint32_t darts = d.dart_count;
+    ctx_.dispatch(masked_ ? commit_masked_ : commit_cells_, &a, dispatch_groups(n, WORKGROUP_SIZE));
     ctx_.barrier();  // accepted flags and grid words before the scan
-    primitives_.scan(ranks, std::uint64_t(darts) + 1, COUNTER_ACCEPTED);
+    primitives_.scan(d.scan, std::uint64_t(darts) + 1, COUNTER_ACCEPTED);
     if (!one_submit) {
         ctx_.submit_and_wait();
         if (counter(COUNTER_TOO_COMPLEX)) throw Error(kTooComplex);
@@ -264,28 +325,14 @@ RoundResult VulkanEngine::round(const RoundSpec& spec, const RoundSpec* next) {
         primitives_.reserve_sort(counter(COUNTER_ACCEPTED));
         ctx_.begin();
     }
-
-    // Emit the accepted darts as samples, put them in arrival order, and count the children
-    // of each active cell that stay active.
-    DartArgs d = dart_args(dart_list, darts, std::uint32_t(emitted_));
-    d.scan = ranks;
-    d.sample_keys = scratch_.address() + at.keys;
-    if (one_submit && darts > 0) {
-        ctx_.vk().vkCmdFillBuffer(ctx_.recording(), scratch_.handle(), at.keys, std::uint64_t(darts) * 4, ~0u);
-        ctx_.barrier();  // the keys of the slots no dart takes before the emission
-    }
-    ctx_.dispatch(emit_samples_, &d, dispatch_groups(darts, WORKGROUP_SIZE));
+    DartArgs e = d;
+    e.samples = samples_.address();
+    ctx_.dispatch(emit_samples_, &e, dispatch_groups(darts, WORKGROUP_SIZE));
     ctx_.barrier();  // the round's samples and keys before the sort; the ranks are read
     // The round's samples into arrival order (stable by key), through the spent darts' buffer.
     const std::uint32_t sorted = one_submit ? darts : counter(COUNTER_ACCEPTED);
     if (sorted > 1)
-        primitives_.sort(d.samples + emitted_ * sizeof(uvec2), d.sample_keys, dart_list, sorted, COUNTER_SORT);
-    const std::uint32_t fanout = spec.refine ? 4 : 1;
-    const std::uint32_t child_side = spec.refine ? spec.side / 2 : spec.side;
-    active_ = masked ? refine_masked(spec, ranks, child_side, fanout, n, targets, next)
-                     : refine_listed(spec, at.in(scratch_, 0), ranks, child_side, fanout, next_listed, worst_case);
-    emitted_ += counter(COUNTER_ACCEPTED);
-    return {darts, active_};
+        primitives_.sort(e.samples + emitted_ * sizeof(uvec2), e.sample_keys, e.darts, sorted, COUNTER_SORT);
 }
 
 std::vector<uvec2> VulkanEngine::samples() {
@@ -305,14 +352,14 @@ std::vector<uvec2> VulkanEngine::samples() {
     return out;
 }
 
-// Ends the round's last submit (begun by round, with the emission and the sort recorded) with
-// the count of each active cell's surviving children and writes the next active list: at its
-// worst-case size in the same submit, or at its exact size (in the place of the spent darts) in
-// another. With `next`, that submit also counts the next round's darts over the list (when the
-// scratch buffer holds the counts). Returns the list's length.
-std::uint32_t VulkanEngine::refine_listed(const RoundSpec& spec, const Regions& r, std::uint64_t ranks,
-                                          std::uint32_t child_side, std::uint32_t fanout, const RoundSpec* next,
-                                          bool worst_case) {
+// Records the count of each listed active cell's surviving children and the writing of the
+// next active list, which it returns: at its worst-case size in the submit begun, or at its
+// exact size (in the place of the spent darts) after a submit of the counts. With `next`, it
+// also counts the next round's darts over the list (when the scratch buffer holds the counts).
+// The caller's submit ends the recording; adopt then makes the list the engine's.
+Buffer VulkanEngine::record_refinement(const RoundSpec& spec, const Regions& r, std::uint64_t ranks,
+                                       std::uint32_t child_side, std::uint32_t fanout, const RoundSpec* next,
+                                       bool worst_case) {
     const std::uint32_t active = active_;
     if (std::uint64_t(active) * fanout >= GRID_TAG) throw Error("more than 2^31 active cells");
     CellArgs a = cell_args(cells_.address(), r, active, spec.round, child_side, fanout);
@@ -341,7 +388,12 @@ std::uint32_t VulkanEngine::refine_listed(const RoundSpec& spec, const Regions& 
     ctx_.dispatch(scatter_cells_, &a, dispatch_groups(active, WORKGROUP_SIZE));
     ctx_.barrier();  // the next active list before the next round and the host; the ranks are read
     if (count) record_counts(*next, count_darts_, list.address(), std::uint32_t(length));
-    ctx_.submit_and_wait();
+    return list;
+}
+
+// After the submit that wrote it: `list` becomes the active list, the spent darts are freed.
+// Returns the list's length.
+std::uint32_t VulkanEngine::adopt(Buffer list) {
     darts_ = Buffer();
     cells_ = std::move(list);
     return counter(COUNTER_ACTIVE);

@@ -37,10 +37,13 @@ void Primitives::scan(std::uint64_t data, std::uint64_t count, std::uint32_t tot
     ctx_.barrier();  // the prefix sums before their readers
 }
 
+std::uint64_t Primitives::sort_bytes(std::uint32_t count) {
+    return (std::uint64_t(SORT_BUCKETS) * dispatch_groups(count, SCAN_BLOCK) + 1) * 4;
+}
+
 void Primitives::reserve_sort(std::uint32_t count) {
-    const std::uint64_t bins = std::uint64_t(SORT_BUCKETS) * dispatch_groups(count, SCAN_BLOCK);
-    grow(ctx_, histogram_, (bins + 1) * 4);
-    reserve_scan(bins + 1);
+    grow(ctx_, histogram_, sort_bytes(count));
+    reserve_scan(sort_bytes(count) / 4);
 }
 
 void Primitives::sort(std::uint64_t points, std::uint64_t keys, std::uint64_t tmp, std::uint32_t count,

@@ -22,8 +22,9 @@ public:
     // Exclusive prefix sum of the `count` uints at device address `data`, in place; the total
     // goes to counters[total_slot].
     void scan(std::uint64_t data, std::uint64_t count, std::uint32_t total_slot);
-    // Sizes the sort's histogram (and the scan over it) for `count` elements.
+    // Sizes the sort's histogram (and the scan over it) for `count` elements: sort_bytes(count).
     void reserve_sort(std::uint32_t count);
+    static std::uint64_t sort_bytes(std::uint32_t count);
     // Sorts the `count` points at `points` (uvec2) by their keys at `keys`, stably, in 4 passes,
     // ping-ponging with `tmp` (count points, then count keys): after the fourth pass the sorted
     // points and keys are back in place. `total_slot` is a counters slot the histogram scans use.

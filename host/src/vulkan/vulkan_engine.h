@@ -19,8 +19,13 @@ namespace vrpd::detail {
 
 class VulkanEngine final : public Engine {
 public:
-    // On the device `selector` picks, or on the application's (target, if not null).
-    VulkanEngine(const Plan& plan, const std::string& selector, const VulkanTarget* target = nullptr);
+    // Resolution passes recorded in one submit: most rounds end within 8, and a pass with no dart
+    // left is three dispatches of no work (indirect, zero groups), far cheaper than a round trip.
+    static constexpr std::uint32_t kResolvePassesPerSubmit = 8;
+    // On the device `selector` picks, or on the application's (target, if not null). Tests set
+    // fewer passes a submit to make gated round ends wait for later submits.
+    VulkanEngine(const Plan& plan, const std::string& selector, const VulkanTarget* target = nullptr,
+                 std::uint32_t passes_per_submit = kResolvePassesPerSubmit);
     std::string device_name() const override { return ctx_.device_name(); }
     void start_profile() override { ctx_.start_profile(); }
     std::vector<PhaseTime> profile() const override { return ctx_.profile(); }
@@ -29,6 +34,8 @@ public:
     std::vector<shared::uvec2> samples() override;
     std::uint64_t peak_bytes() const override { return ctx_.peak_allocated_bytes(); }
     std::uint64_t round_trips() const override { return ctx_.submits(); }
+    // Submits whose gated round end did not run, darts being left undecided (round).
+    std::uint64_t shut_gates() const { return shut_gates_; }
 
 private:
     // The device addresses of the scratch regions that the kernels over cells read.
@@ -68,11 +75,12 @@ private:
         }
     };
 
-    // Ends the round's last submit with the surviving children of the listed active cells, and
-    // writes the next active list (at its worst-case size, in the same submit); with `next`, counts
-    // that round's darts too. Returns the list's length.
-    std::uint32_t refine_listed(const RoundSpec& spec, const Regions& r, std::uint64_t ranks, std::uint32_t child_side,
-                                std::uint32_t fanout, const RoundSpec* next, bool worst_case);
+    // The end of a round after its resolution (engine.cpp): the commit, emission and sort, then
+    // (list mode) the refinement into the next active list, which adopt makes the engine's.
+    void record_emission(const shared::CellArgs& a, const shared::DartArgs& d, std::uint32_t n, bool one_submit);
+    Buffer record_refinement(const RoundSpec& spec, const Regions& r, std::uint64_t ranks, std::uint32_t child_side,
+                             std::uint32_t fanout, const RoundSpec* next, bool worst_case);
+    std::uint32_t adopt(Buffer list);
     bool prepare_counts(const RoundSpec* next, std::uint64_t n);
     void record_counts(const RoundSpec& next, const Kernel& counter, std::uint64_t targets, std::uint32_t n);
     // Mask mode's counterpart (mask_mode.cpp); with `next`, it counts the next round's darts
@@ -91,9 +99,12 @@ private:
     }
 
     Plan plan_;
+    std::uint32_t passes_per_submit_;
+    std::uint64_t shut_gates_ = 0;
     VulkanContext ctx_;
     bool two_ = shared::two_radii(plan_.domain.radii);  // picks the kernels' variants (CMakeLists.txt)
     Buffer counters_, grid_;
+    Buffer gate_;        // the commands of gated dispatches (round, VulkanContext::open_gate)
     Buffer cells_;       // the active cells, ordered by base cell
     Buffer dart_cells_;  // two radii: the base cells that get darts this round
     Buffer samples_;     // all samples so far, in acceptance order
@@ -106,10 +117,9 @@ private:
     // One radius runs refine_cells_one and resolve_darts_one (CMakeLists.txt); profiles name
     // both variants by their source.
     Kernel init_cells_, place_samples_, flag_dart_cells_, flag_free_cells_, list_dart_cells_, count_darts_,
-        mark_ranges_, apply_decisions_, throw_darts_, work_args_, resolve_darts_,
-        commit_cells_, emit_samples_, refine_cells_, scatter_cells_, count_masked_,
-        mark_masked_, throw_masked_, throw_masked_empty_, commit_masked_, refine_masked_,
-        apply_masks_, scatter_masked_, flag_masked_, list_masked_;
+        mark_ranges_, apply_decisions_, throw_darts_, work_args_, gate_kernel_, resolve_darts_, commit_cells_,
+        emit_samples_, refine_cells_, scatter_cells_, count_masked_, mark_masked_, throw_masked_, throw_masked_empty_,
+        commit_masked_, refine_masked_, apply_masks_, scatter_masked_, flag_masked_, list_masked_;
     std::uint64_t emitted_ = 0;
     std::uint32_t active_ = 0;
     // Mask mode (shared/mask_mode.h) at levels 0 to MASK_LEVELS - 1, with one radius: no active list there.
