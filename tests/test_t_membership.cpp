@@ -175,6 +175,44 @@ TEST_CASE("sign of a sqrt(l) + b sqrt(m) is exact up to the 2^124 products the t
     CHECK(shared::sign_of_root_sum(big, 4 * r2 + 1, -2 * big, r2) == 1);
 }
 
+// The host's crossing test reads signs from a double estimate and falls back on the exact test
+// within 1 of 0 (t_membership.h). Crossings on a third circle (D = 0 exactly: circles of radius
+// 5k through one lattice point) must take the exact answer, open disks not covering their
+// boundary; a centre moved by one unit covers the crossing or leaves it, up to the largest Rc.
+TEST_CASE("T membership: the host's estimated crossing signs are the exact ones", "[two-radii]") {
+    for (const int k : {1, 7, 1000, 104857}) {
+        INFO("R = 5 * " << k);
+        const std::uint64_t r2 = std::uint64_t(25) * std::uint64_t(k) * std::uint64_t(k);
+        REQUIRE(r2 <= shared::MAX_COVER2);
+        const glm::ivec2 a(3 * k, 4 * k), b(-3 * k, 4 * k);  // their circles cross at (0, 0) and (0, 8k)
+        for (const glm::ivec2 c : {glm::ivec2(4 * k, -3 * k), glm::ivec2(-5 * k, 0), glm::ivec2(0, -5 * k)}) {
+            for (const glm::ivec2 step : {glm::ivec2(0, 0), glm::ivec2(0, 1), glm::ivec2(0, -1), glm::ivec2(1, 0)}) {
+                const glm::ivec2 centre = c + step;
+                for (const int sigma : {-1, 1}) {
+                    shared::disk_at[0] = a;
+                    shared::disk_at[1] = b;
+                    shared::disk_at[2] = centre;
+                    shared::t_steps = 0;
+                    const bool estimated = shared::crossing_uncovered(a, b, sigma, 0, 1, 3, r2);
+                    const bool exact = !(shared::crossing_near(a, b, centre, r2) &&
+                                         shared::crossing_side(a, b, centre, sigma, r2) < 0);
+                    INFO("centre " << centre.x << "," << centre.y << " sigma " << sigma);
+                    REQUIRE(estimated == exact);
+                }
+            }
+            // The crossing at the origin lies on c's circle: uncovered; one unit nearer, covered.
+            shared::disk_at[2] = c;
+            shared::t_steps = 0;
+            const int at_origin = shared::crossing_side(a, b, c, -1, r2) == 0 ? -1 : 1;
+            REQUIRE(shared::crossing_side(a, b, c, at_origin, r2) == 0);
+            CHECK(shared::crossing_uncovered(a, b, at_origin, 0, 1, 3, r2));
+            shared::disk_at[2] = c - glm::ivec2(glm::sign(c.x), glm::sign(c.y));
+            shared::t_steps = 0;
+            CHECK_FALSE(shared::crossing_uncovered(a, b, at_origin, 0, 1, 3, r2));
+        }
+    }
+}
+
 TEST_CASE("T membership: the exact test agrees with dense brute force", "[two-radii]") {
     std::mt19937_64 rng(11);
     for (const double rc : {1000.0, double((1 << 19) - 1)}) {

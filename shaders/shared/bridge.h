@@ -6,6 +6,7 @@
 
 #ifdef __cplusplus
 #include <bit>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <glm/common.hpp>

@@ -215,7 +215,8 @@ VRPD_FN bool boundary_vertex_uncovered(uint n, uint64_t r2, ivec2 lo, ivec2 hi, 
 
 // Is the crossing (sigma) of the circles around a and b outside every open disk of disk_at[0, n)
 // other than skip_a and skip_b?
-VRPD_FN bool crossing_uncovered(ivec2 a, ivec2 b, int sigma, uint skip_a, uint skip_b, uint n, uint64_t r2) {
+#ifndef __cplusplus
+bool crossing_uncovered(ivec2 a, ivec2 b, int sigma, uint skip_a, uint skip_b, uint n, uint64_t r2) {
     for (uint k = 0u; k < n && t_step(); k++) {
         if (k == skip_a || k == skip_b) continue;
         ivec2 c = disk_at[k];
@@ -223,6 +224,36 @@ VRPD_FN bool crossing_uncovered(ivec2 a, ivec2 b, int sigma, uint skip_a, uint s
     }
     return t_steps <= T_TEST_BUDGET;  // a search cut short proves nothing
 }
+#else
+// The host's body reads each sign from a double-precision estimate first, and takes the exact
+// test (the kernel's) only where the estimate is within 1 of 0: the answers, and the steps
+// counted, are the kernel's. The estimate: with P = a + b + sigma sqrt(M / L) n (twice the
+// crossing), D = |P - 2c|^2 - 4 R2 = 4 (|p - c|^2 - R2). R2 <= 2^38 and the centres lie within
+// 2 Rc <= 2^20 of the origin, so |P| < 2^22 and |P - 2c| < 2^23; M and L are exact, and
+// sqrt(M / L) times an integer carries a relative error below 4 * 2^-53, so each coordinate of
+// P - 2c is within 2^-28 of the truth (each rounding of a sum adds at most 2^-30), its square
+// within 2 * 2^23 * 2^-28 + 2^-7 < 0.07, and D within 0.2.
+inline bool crossing_uncovered(ivec2 a, ivec2 b, int sigma, uint skip_a, uint skip_b, uint n, uint64_t r2) {
+    const double dx = double(b.x) - double(a.x);
+    const double dy = double(b.y) - double(a.y);
+    const double l = dx * dx + dy * dy;
+    const double scale = double(sigma) * std::sqrt((4.0 * double(r2) - l) / l);
+    const double px = double(a.x) + double(b.x) - scale * dy;
+    const double py = double(a.y) + double(b.y) + scale * dx;
+    const double r4 = 4.0 * double(r2);
+    for (uint k = 0u; k < n && t_step(); k++) {
+        if (k == skip_a || k == skip_b) continue;
+        ivec2 c = disk_at[k];
+        const double ex = px - 2.0 * double(c.x);
+        const double ey = py - 2.0 * double(c.y);
+        const double d = ex * ex + ey * ey - r4;
+        if (d > 1.0) continue;
+        if (d < -1.0) return false;
+        if (crossing_near(a, b, c, r2) && crossing_side(a, b, c, sigma, r2) < 0) return false;
+    }
+    return t_steps <= T_TEST_BUDGET;  // a search cut short proves nothing
+}
+#endif
 
 // Does the region reach a point outside every open disk around disk_at[0, n)? The region is the
 // box lo - hi (offsets from the origin; FAR_SIDE for none), cut, if in_disk, to the closed disk of
