@@ -74,10 +74,11 @@ VRPD_FN uint64_t square_gap(int a, int b) {
     return uint64_t(d) * uint64_t(d);
 }
 
-// The larger squared distance from coordinate c to the ends of [lo, hi]: the cell is convex, so
-// its farthest corner pairs the farthest x with the farthest y.
+// The larger squared distance from coordinate c to the ends of [lo, hi] (lo <= hi): the cell is
+// convex, so its farthest corner pairs the farthest x with the farthest y. The farther end is lo
+// if c - lo >= hi - c, else hi, and that difference is the distance (>= (hi - lo) / 2 >= 0).
 VRPD_FN uint64_t far2(int c, int lo, int hi) {
-    uint m = max(gap(c, lo), gap(c, hi));
+    uint m = uint(max(c - lo, hi - c));
     return uint64_t(m) * uint64_t(m);
 }
 
