@@ -65,13 +65,11 @@ VRPD_FN ivec2 sample_offset(Domain dom, int dx, int dy, uvec2 p) {
     return ivec2(dx * side + int(p.x & low), dy * side + int(p.y & low));
 }
 
-// |a - b| for offsets of points of the domain: less than 2^31 apart, so the magnitude fits 32
-// bits and two squares sum below 2^63.
-VRPD_FN uint gap(int a, int b) { return a > b ? uint(a) - uint(b) : uint(b) - uint(a); }
-
+// (a - b)^2 for offsets of points of the domain: less than 2^31 apart, so two squares sum below
+// 2^63. The square needs no absolute value.
 VRPD_FN uint64_t square_gap(int a, int b) {
-    uint d = gap(a, b);
-    return uint64_t(d) * uint64_t(d);
+    int64_t d = int64_t(a) - int64_t(b);
+    return uint64_t(d * d);
 }
 
 // The larger squared distance from coordinate c to the ends of [lo, hi] (lo <= hi): the cell is
