@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# Golden hashes: the SHA-256 of `vrpd sample`'s CSV for a table of cases (one and two radii, both
-# boundaries, several boxes), on every device. A change that moves a point fails here, so moving
-# one is always deliberate: rerun with --print to get the new table, and say why in the commit.
+# Golden hashes: the SHA-256 of `vrpd sample`'s CSV for a table of cases (one and two radii,
+# hierarchies, both boundaries, several boxes), on every device. A change that moves a point
+# fails here, so moving one is always deliberate: rerun with --print to get the new table, and
+# say why in the commit.
 # Usage: golden.sh VRPD [--print] [DEVICE...]   (devices default to cpu gpu serial)
 set -uo pipefail
 set -f  # the sizing expressions hold * and ( ): never globs
@@ -27,6 +28,8 @@ d2f72688f8287e3bc31e03e249eced828a03c0f1558fb9e12ab24409c2fcc2d3 | --rf 0.01 --r
 39a4f22ca35ba3ef170d9f89ca13589060a3e4d485aabc2a2adc2cb4e417e22f | --rf 0.01 --rc 0.04 --extent 2,1 --seed 4
 aeb0c3ec6bb26cba695373bfc0a4eb894ec33e404d908ec45f2902229d5f0f99 | --rf 0.02 --rc 0.03 --extent 1.5,1 --boundary free --seed 5
 3be2ba203644358cb0c3bf6849a97cdd3e8f0e517e538a371e3c4c76c1b48ccf | --rf 2 --rc 3 --extent 160,90 --seed 6
+b654a9b63d8a73f4387a343d2917c748af1d509737dcd29396969545fc9e5c5b | --radius 0.01 --hierarchy discrete:10 --seed 9
+29b470702e2f08e324d42cc54aaf7516be16036cb6b27cfe62d291cb5298afea | --radius 0.01 --hierarchy discrete:5 --boundary free --extent 1.2,1 --seed 4
 EOF
 )
 # Sizing fields (paper section 5) run on the host backends only: cpu and serial.
