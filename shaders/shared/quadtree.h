@@ -80,22 +80,22 @@ VRPD_FN bool cover_tested(Domain dom, uint fanout, uint side) {
 // a point of U. So the cells track U exactly, and vanish as soon as U does. Should that test run
 // past its bounds, the child stays; at the deepest level it then falls back to its lattice point.
 VRPD_FN uint surviving_children(Domain dom, Grid grid, uvec2 base, uvec2 corner, uint side, uint fanout, uint samples) {
-    uint mask = 0u;
-    for (uint c = 0u; c < fanout; c++)
-        if (in_lattice(dom.lattice, child_corner(corner, side, c))) mask |= 1u << c;
+    // Child 0 shares the cell's corner; the others' corners lie side further along x, y or both.
+    uint x1 = corner.x + side;
+    uint y1 = corner.y + side;
+    bool x1_in = fanout == 4u && x1 < dom.lattice.extent_x;
+    bool y1_in = fanout == 4u && y1 < dom.lattice.extent_y;
+    uint mask =
+        !in_lattice(dom.lattice, corner) ? 0u : 1u | (x1_in ? 2u : 0u) | (y1_in ? 4u : 0u) | (x1_in && y1_in ? 8u : 0u);
     if (!cover_tested(dom, fanout, side)) return mask;
     uint pad = two_radii(dom.radii) ? 0u : 1u;  // one radius: the cell's lattice points
     // The children's intervals, as offsets from the base cell's corner (clipped to a free boundary).
     uvec2 origin = uvec2(base.x << dom.cell_bits, base.y << dom.cell_bits);
-    uint x1 = corner.x + side;
-    uint y1 = corner.y + side;
     ChildBoxes b;
     b.lo0 = ivec2(corner - origin);
     b.hi0 = ivec2(uvec2(clip_hi(x1 - pad, dom.lattice.extent_x, dom.lattice.periodic),
                         clip_hi(y1 - pad, dom.lattice.extent_y, dom.lattice.periodic)) -
                   origin);
-    bool x1_in = fanout == 4u && (dom.lattice.periodic != 0u || x1 < dom.lattice.extent_x);
-    bool y1_in = fanout == 4u && (dom.lattice.periodic != 0u || y1 < dom.lattice.extent_y);
     b.lo1 = ivec2(x1_in ? int(x1 - origin.x) : b.lo0.x, y1_in ? int(y1 - origin.y) : b.lo0.y);
     b.hi1 =
         ivec2(x1_in ? int(clip_hi(x1 + side - pad, dom.lattice.extent_x, dom.lattice.periodic) - origin.x) : b.hi0.x,
