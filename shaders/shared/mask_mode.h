@@ -17,16 +17,15 @@ VRPD_BEGIN
 // significant first, are the child indices (child_corner) taken at each level, so the darts,
 // their indices and the samples are the explicit mode's, bit for bit. (MASK_LEVELS: kernels.h.)
 
-// Corner of sub-cell k of side `side` of the base cell at `corner` (of side base_side).
-VRPD_FN uvec2 subcell_corner(uvec2 corner, uint k, uint side, uint base_side) {
-    for (uint s = side; s < base_side; s *= 2u) {
-        corner = child_corner(corner, s, k & 3u);
-        k >>= 2u;
-    }
-    return corner;
+// Corner of sub-cell k (< 64: MASK_LEVELS levels at most) of side `side` of the base cell at
+// `corner`. Digit i of k (from the least significant, the finest level) is child_corner's child
+// index at side 2^i side: its low bit moves x by that side, its high bit y, so x gathers k's
+// even bits and y its odd bits.
+VRPD_FN uvec2 subcell_corner(uvec2 corner, uint k, uint side) {
+    uint x = (k & 1u) | ((k >> 1u) & 2u) | ((k >> 2u) & 4u);
+    uint y = ((k >> 1u) & 1u) | ((k >> 2u) & 2u) | ((k >> 3u) & 4u);
+    return corner + uvec2(x, y) * side;
 }
-
-
 
 VRPD_FN bool masked_active(uvec2 w) { return !grid_is_sample(w) && (w.y & GRID_MASK_BITS) != 0u; }
 
@@ -38,10 +37,9 @@ VRPD_FN bool masked_active(uvec2 w) { return !grid_is_sample(w) && (w.y & GRID_M
 // a.param: exp(-lambda) as in count_darts).
 VRPD_FN uint masked_dart_count(CellArgs a, uvec2 w, uint b) {
     uvec2 corner = base_corner(a.domain, b);
-    uint base_side = 1u << a.domain.cell_bits;
     uint count = 0u;
     for (uint mask = w.y & GRID_MASK_BITS; mask != 0u; mask &= mask - 1u) {
-        uvec2 cc = subcell_corner(corner, uint(findLSB(mask)), a.side, base_side);
+        uvec2 cc = subcell_corner(corner, uint(findLSB(mask)), a.side);
         count += dart_count(cell_stream(a.round_key, cc), a.param);
     }
     return count;
@@ -60,7 +58,6 @@ VRPD_FN uint throw_masked_base(CellArgs a, Darts darts, Grid grid, uint b, uint 
     uvec2 base = uvec2(b % a.domain.cells_x, b / a.domain.cells_x);
     Domain dom = local_domain(a.domain, base);
     uvec2 corner = base_corner(a.domain, b);
-    uint base_side = 1u << a.domain.cell_bits;
     uint j = first;
     uint end = grid_darts(w).y;
     uint undecided = 0u;
@@ -69,7 +66,7 @@ VRPD_FN uint throw_masked_base(CellArgs a, Darts darts, Grid grid, uint b, uint 
     // takes what is left, uncounted, and once none is left the rest have none. At level 0, where
     // a base cell is one sub-cell, no count is drawn twice.
     for (uint mask = w.y & GRID_MASK_BITS; mask != 0u && j < end; mask &= mask - 1u) {
-        uvec2 cc = subcell_corner(corner, uint(findLSB(mask)), a.side, base_side);
+        uvec2 cc = subcell_corner(corner, uint(findLSB(mask)), a.side);
         uint stream = cell_stream(a.round_key, cc);
         uint count = (mask & (mask - 1u)) == 0u ? end - j : dart_count(stream, a.param);
         throw_cell(dom, grid, base, darts, stream, cc, a.side, j, count, states, undecided, no_samples);
@@ -90,11 +87,10 @@ VRPD_FN uvec2 refine_masked_base(CellArgs a, Grid grid, uint b) {
     Domain dom = local_domain(a.domain, base);
     uint samples = cover_tested(dom, a.param, a.side) ? gather_cell_samples(dom, grid, base) : 0u;
     uvec2 corner = base_corner(a.domain, b);
-    uint base_side = 1u << a.domain.cell_bits;
     uint parent_side = a.param == 4u ? 2u * a.side : a.side;
     for (uint mask = w.y & GRID_MASK_BITS; mask != 0u; mask &= mask - 1u) {
         uint k = uint(findLSB(mask));
-        uvec2 cc = subcell_corner(corner, k, parent_side, base_side);
+        uvec2 cc = subcell_corner(corner, k, parent_side);
         uint children = surviving_children(dom, grid, base, cc, a.side, a.param, samples);
         uint bit = a.param * k;
         if (bit < 32u) kept.x |= children << bit;
@@ -114,9 +110,9 @@ VRPD_FN uvec2 masked_word(uvec2 w, uint mask) { return grid_is_sample(w) ? w : u
 VRPD_FN void scatter_subcells(Domain dom, Cells cells_out, uint rank, uvec2 kept, uint b, uint side) {
     uvec2 corner = base_corner(dom, b);
     for (uint bits = kept.x; bits != 0u; bits &= bits - 1u)
-        cells_out.cell[rank++] = subcell_corner(corner, uint(findLSB(bits)), side, 1u << dom.cell_bits);
+        cells_out.cell[rank++] = subcell_corner(corner, uint(findLSB(bits)), side);
     for (uint bits = kept.y; bits != 0u; bits &= bits - 1u)
-        cells_out.cell[rank++] = subcell_corner(corner, uint(findLSB(bits)) + 32u, side, 1u << dom.cell_bits);
+        cells_out.cell[rank++] = subcell_corner(corner, uint(findLSB(bits)) + 32u, side);
 }
 
 VRPD_END
