@@ -254,6 +254,11 @@ RoundResult VulkanEngine::round(const RoundSpec& spec, const RoundSpec* next) {
     d.scan = ranks;
     d.sample_keys = scratch_.address() + at.keys;
     const Regions regions = at.in(scratch_, 0);
+    // List mode: the round's end up to its last submit; returns the next active list.
+    auto record_end = [&] {
+        record_emission(a, d, one_submit);
+        return record_refinement(spec, regions, ranks, child_side, fanout, next_listed, worst_case);
+    };
     Buffer list;  // gated: the next active list
     std::uint32_t in = 0;
     // Each pass decides at least the earliest undecided dart, so `darts` passes end any round;
@@ -282,8 +287,7 @@ RoundResult VulkanEngine::round(const RoundSpec& spec, const RoundSpec* next) {
             ctx_.dispatch(gate_kernel_, &g, dispatch_groups(VulkanContext::kGateDispatches, WORKGROUP_SIZE));
             ctx_.barrier();  // the gated commands before the dispatches read them
             ctx_.open_gate(gate_);
-            record_emission(a, d, n, true);
-            list = record_refinement(spec, regions, ranks, child_side, fanout, next_listed, true);
+            list = record_end();
             ctx_.close_gate();
         }
         ctx_.submit_and_wait();
@@ -293,16 +297,15 @@ RoundResult VulkanEngine::round(const RoundSpec& spec, const RoundSpec* next) {
     }
     if (gated) {
         active_ = adopt(std::move(list));
+    } else if (masked) {
+        ctx_.begin();
+        record_emission(a, d, one_submit);
+        active_ = refine_masked(spec, ranks, child_side, fanout, n, targets, next);
     } else {
         ctx_.begin();
-        record_emission(a, d, n, one_submit);
-        if (masked) {
-            active_ = refine_masked(spec, ranks, child_side, fanout, n, targets, next);
-        } else {
-            list = record_refinement(spec, regions, ranks, child_side, fanout, next_listed, worst_case);
-            ctx_.submit_and_wait();
-            active_ = adopt(std::move(list));
-        }
+        list = record_end();
+        ctx_.submit_and_wait();
+        active_ = adopt(std::move(list));
     }
     emitted_ += counter(COUNTER_ACCEPTED);
     return {darts, active_};
@@ -312,9 +315,9 @@ RoundResult VulkanEngine::round(const RoundSpec& spec, const RoundSpec* next) {
 // and ranked), the emission of the accepted darts as samples and their sort into arrival order,
 // into the submit begun. Unless `one_submit`, the commit is submitted first and its count sizes
 // the rest.
-void VulkanEngine::record_emission(const CellArgs& a, const DartArgs& d, std::uint32_t n, bool one_submit) {
+void VulkanEngine::record_emission(const CellArgs& a, const DartArgs& d, bool one_submit) {
     const std::uint32_t darts = d.dart_count;
-    ctx_.dispatch(masked_ ? commit_masked_ : commit_cells_, &a, dispatch_groups(n, WORKGROUP_SIZE));
+    ctx_.dispatch(masked_ ? commit_masked_ : commit_cells_, &a, dispatch_groups(a.cell_count, WORKGROUP_SIZE));
     ctx_.barrier();  // accepted flags and grid words before the scan
     primitives_.scan(d.scan, std::uint64_t(darts) + 1, COUNTER_ACCEPTED);
     if (!one_submit) {

@@ -77,7 +77,7 @@ private:
 
     // The end of a round after its resolution (engine.cpp): the commit, emission and sort, then
     // (list mode) the refinement into the next active list, which adopt makes the engine's.
-    void record_emission(const shared::CellArgs& a, const shared::DartArgs& d, std::uint32_t n, bool one_submit);
+    void record_emission(const shared::CellArgs& a, const shared::DartArgs& d, bool one_submit);
     Buffer record_refinement(const RoundSpec& spec, const Regions& r, std::uint64_t ranks, std::uint32_t child_side,
                              std::uint32_t fanout, const RoundSpec* next, bool worst_case);
     std::uint32_t adopt(Buffer list);
