@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstring>
 #include <random>
+#include <tuple>
 
 #include "coverage_probe.h"
 #include "resolve_probe.h"
@@ -142,6 +143,77 @@ TEST_CASE("every accepted sample reduced the uncovered set", "[two-radii]") {
     }
 }
 
+// base_covered lets refinement drop a base cell without gathering its neighbourhood: it must say
+// "covered" exactly when one sample's open Rc-disk holds every point of the cell's closed square
+// (clipped to a free boundary), judged here at the square's four corners with the torus's
+// shortest offsets, for one sample placed anywhere a cover could come from, and at the exact
+// edge: the sample one lattice unit nearer or farther than Rc from the farthest corner.
+TEST_CASE("two radii: a base cell counts as covered whole exactly when one sample covers its corners", "[two-radii]") {
+    using namespace vrpd::shared;
+    // The last: a free box whose last column and row of base cells lie past the lattice, as a
+    // hierarchy's steps may keep them (such a cell holds no point, so nothing covers it).
+    for (const auto& [rf, rc, boundary, past] :
+         {std::tuple{0.01, 0.02, Boundary::Periodic, false}, std::tuple{0.01, 0.04, Boundary::Free, false},
+          std::tuple{0.01, 0.011, Boundary::Periodic, false}, std::tuple{0.013, 0.05, Boundary::Free, false},
+          std::tuple{0.01, 0.03, Boundary::Free, true}}) {
+        const detail::Plan plan = detail::make_plan(two_radii(rf, rc, 1, Backend::Cpu, {1.3, 1, boundary}));
+        Domain dom = plan.domain;
+        if (past) {
+            dom.lattice.extent_x = ((dom.cells_x - 1) << dom.cell_bits) - 3;
+            dom.lattice.extent_y = ((dom.cells_y - 1) << dom.cell_bits) - 3;
+        }
+        const Lattice& l = dom.lattice;
+        const std::int64_t side = std::int64_t(1) << dom.cell_bits, c2 = std::int64_t(dom.radii.coverage2);
+        std::vector<uvec2> grid(plan.base_cells, uvec2(GRID_EMPTY, GRID_EMPTY));
+        auto axis = [&](std::int64_t a, std::int64_t b, std::int64_t extent) {
+            const std::int64_t d = std::abs(a - b);
+            return l.periodic ? std::min(d, extent - d) : d;
+        };
+        // Places one sample at p (on the lattice) and asks about base cell `base` both ways.
+        auto agree = [&](uvec2 base, glm::i64vec2 p) {
+            if (l.periodic)
+                p = {(p.x % l.extent_x + l.extent_x) % l.extent_x, (p.y % l.extent_y + l.extent_y) % l.extent_y};
+            if (p.x < 0 || p.y < 0 || p.x >= l.extent_x || p.y >= l.extent_y) return -1;
+            const uvec2 at(uint(p.x), uint(p.y));
+            grid[base_of_point(dom, at)] = at;
+            const bool fast = base_covered(local_domain(dom, base), Grid{grid.data()}, base);
+            grid[base_of_point(dom, at)] = uvec2(GRID_EMPTY, GRID_EMPTY);
+            const std::int64_t x0 = std::int64_t(base.x) * side, y0 = std::int64_t(base.y) * side;
+            const std::int64_t x1 = l.periodic ? x0 + side : std::min<std::int64_t>(x0 + side, l.extent_x - 1);
+            const std::int64_t y1 = l.periodic ? y0 + side : std::min<std::int64_t>(y0 + side, l.extent_y - 1);
+            bool slow = x0 < l.extent_x && y0 < l.extent_y;
+            for (std::int64_t x : {x0, x1})
+                for (std::int64_t y : {y0, y1}) {
+                    const std::int64_t dx = axis(x, p.x, l.extent_x), dy = axis(y, p.y, l.extent_y);
+                    slow = slow && dx * dx + dy * dy < c2;
+                }
+            INFO("Rf " << rf << " Rc " << rc << " base " << base.x << "," << base.y << " sample " << p.x << "," << p.y);
+            REQUIRE(fast == slow);
+            return slow ? 1 : 0;
+        };
+        std::mt19937_64 rng(7);
+        const std::int64_t reach = std::int64_t(std::sqrt(double(c2))) + 2 * side;
+        std::uniform_int_distribution<std::int64_t> offset(-reach, reach);
+        int outcomes[2] = {0, 0};
+        for (int trial = 0; trial < 20000; ++trial) {
+            const uvec2 base(uint(rng() % dom.cells_x), uint(rng() % dom.cells_y));
+            const glm::i64vec2 mid(std::int64_t(base.x) * side + side / 2, std::int64_t(base.y) * side + side / 2);
+            if (const int o = agree(base, mid + glm::i64vec2(offset(rng), offset(rng))); o >= 0) ++outcomes[o];
+        }
+        CHECK(outcomes[0] > 1000);
+        CHECK(outcomes[1] > 1000);
+        // A sample left of an inner base cell, level with its middle: the farthest corners are
+        // (side + a, side / 2) away. The largest a within Rc covers; one unit more does not.
+        const uvec2 base(dom.cells_x / 2, dom.cells_y / 2);
+        const std::int64_t half = side / 2;
+        std::int64_t a = std::int64_t(std::sqrt(double(c2 - half * half))) - side;
+        while ((side + a + 1) * (side + a + 1) + half * half < c2) ++a;
+        while ((side + a) * (side + a) + half * half >= c2) --a;
+        const glm::i64vec2 edge(std::int64_t(base.x) * side - a, std::int64_t(base.y) * side + half);
+        CHECK(agree(base, edge) == 1);
+        CHECK(agree(base, edge - glm::i64vec2(1, 0)) == 0);
+    }
+}
 
 // Rc near the box's size: after a sample or two, U may be a sliver in a corner while the darts
 // still spread over whole base cells. The quadtree must not split cells that no dart reached

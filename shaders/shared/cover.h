@@ -58,6 +58,9 @@ VRPD_FN uint gather_near_box(Domain dom, Grid grid, uvec2 base, uvec2 cc, ivec2 
 const uint MAX_CELL_SAMPLES = (2u * MAX_REACH + 1u) * (2u * MAX_REACH + 1u);
 VRPD_PRIVATE ivec2 cell_sample_at[MAX_CELL_SAMPLES];
 
+// Clamps the last lattice coordinate of an interval to a free boundary's last lattice point.
+VRPD_FN uint clip_hi(uint hi, uint extent, uint periodic) { return periodic != 0u || hi < extent ? hi : extent - 1u; }
+
 // The offset from the corner of base cell `base` to sample p, found in the cell (dx, dy) from it.
 VRPD_FN ivec2 sample_offset(Domain dom, int dx, int dy, uvec2 p) {
     int side = 1 << dom.cell_bits;
@@ -78,6 +81,33 @@ VRPD_FN uint64_t square_gap(int a, int b) {
 VRPD_FN uint64_t far2(int c, int lo, int hi) {
     uint m = uint(max(c - lo, hi - c));
     return uint64_t(m) * uint64_t(m);
+}
+
+// Two radii: does one sample cover every point of base cell `base` (its closed square, clipped
+// to a free boundary)? Then it covers every cell of the base cell and every child, and their
+// cover tests need no gather: most base cells of a run's first refinement end here. Such a sample
+// lies within Rc of the cell's far corners, so the scan is narrower than the gather's. A base
+// cell past a free boundary (a hierarchy's step may keep some) holds no point to test.
+VRPD_FN bool base_covered(Domain dom, Grid grid, uvec2 base) {
+    uvec2 origin = uvec2(base.x << dom.cell_bits, base.y << dom.cell_bits);
+    if (!in_lattice(dom.lattice, origin)) return false;
+    uint side = 1u << dom.cell_bits;
+    int hx = int(clip_hi(origin.x + side, dom.lattice.extent_x, dom.lattice.periodic) - origin.x);
+    int hy = int(clip_hi(origin.y + side, dom.lattice.extent_y, dom.lattice.periodic) - origin.y);
+    // A cover in a base cell dx != 0 columns across lies at least |dx| sides from the far column
+    // of corners, and at least half a side from the far row: the reach is the largest |dx| with
+    // (|dx| side)^2 + (side / 2)^2 < Rc^2 (at least 1, at most cover_reach).
+    uint64_t half2 = uint64_t(side / 2u) * uint64_t(side / 2u);
+    int reach = 1;
+    while (uint64_t(reach + 1) * uint64_t(side) * (uint64_t(reach + 1) * uint64_t(side)) + half2 < dom.radii.coverage2)
+        reach++;
+    VRPD_FOR_EACH_NEIGHBOUR(dom, base, reach, dom.radii.coverage2, dx, dy, nb) {
+        uvec2 p = grid.word[nb];
+        if (!grid_is_sample(p)) continue;
+        ivec2 o = sample_offset(dom, dx, dy, p);
+        if (covers(dom.radii, far2(o.x, 0, hx) + far2(o.y, 0, hy))) return true;
+    }
+    return false;
 }
 
 // Fills cell_sample_at with the samples near base cell `base`, those of the 8 adjacent cells

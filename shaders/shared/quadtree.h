@@ -12,9 +12,6 @@
 
 VRPD_BEGIN
 
-// Clamps the last lattice coordinate of an interval to a free boundary's last lattice point.
-VRPD_FN uint clip_hi(uint hi, uint extent, uint periodic) { return periodic != 0u || hi < extent ? hi : extent - 1u; }
-
 // The children of one active cell as closed lattice intervals, as offsets from the base cell's
 // corner: x in [lo0.x, hi0.x] or [lo1.x, hi1.x], the same in y. A second child off a free
 // boundary (dropped already) repeats the first's intervals.
@@ -136,7 +133,7 @@ VRPD_FN uint surviving_children(Domain dom, Grid grid, uvec2 base, uvec2 corner,
 }
 
 // For the active cells [first, end) of one base cell: masks[i] has bit c set for the children c
-// of cell i that stay active (none if the base cell holds a sample), and counts[i] their number,
+// of cell i that stay active (none if the base cell holds a sample or one covers it), and counts[i] their number,
 // for the scan that places them in the next active list. The samples near the base cell are
 // gathered once for the range. The host passes each base cell's whole group (group_end), the
 // Vulkan kernel one cell per invocation: with two radii a base cell may hold hundreds of active
@@ -145,10 +142,12 @@ VRPD_FN uint surviving_children(Domain dom, Grid grid, uvec2 base, uvec2 corner,
 VRPD_FN void refine_cells_of_base(CellArgs a, Cells cells, Uints counts, Uints masks, Grid grid, uint first, uint end) {
     uvec2 base = base_cell_of(a.domain, cells.cell[first]);
     Domain dom = local_domain(a.domain, base);
-    bool occupied = grid_is_sample(grid.word[base_index(dom, base)]);
-    uint samples = occupied || !cover_tested(dom, a.param, a.side) ? 0u : gather_cell_samples(dom, grid, base);
+    // A base cell that holds a sample, or (two radii) that one sample covers, keeps no cell.
+    bool spent =
+        grid_is_sample(grid.word[base_index(dom, base)]) || (two_radii(dom.radii) && base_covered(dom, grid, base));
+    uint samples = spent || !cover_tested(dom, a.param, a.side) ? 0u : gather_cell_samples(dom, grid, base);
     for (uint i = first; i < end; i++) {
-        uint mask = occupied ? 0u : surviving_children(dom, grid, base, cells.cell[i], a.side, a.param, samples);
+        uint mask = spent ? 0u : surviving_children(dom, grid, base, cells.cell[i], a.side, a.param, samples);
         masks.value[i] = mask;
         counts.value[i] = uint(bitCount(mask));
     }
