@@ -178,7 +178,8 @@ TEST_CASE("sign of a sqrt(l) + b sqrt(m) is exact up to the 2^124 products the t
 // The host's crossing test reads signs from a double estimate and falls back on the exact test
 // within 1 of 0 (t_membership.h). Crossings on a third circle (D = 0 exactly: circles of radius
 // 5k through one lattice point) must take the exact answer, open disks not covering their
-// boundary; a centre moved by one unit covers the crossing or leaves it, up to the largest Rc.
+// boundary; a centre moved by one unit covers the crossing or leaves it, up to the largest Rc. The
+// same for a crossing on the dart's own circle, which the pair loop keeps (closed disk).
 TEST_CASE("T membership: the host's estimated crossing signs are the exact ones", "[two-radii]") {
     for (const int k : {1, 7, 1000, 104857}) {
         INFO("R = 5 * " << k);
@@ -192,6 +193,7 @@ TEST_CASE("T membership: the host's estimated crossing signs are the exact ones"
                     shared::disk_at[0] = a;
                     shared::disk_at[1] = b;
                     shared::disk_at[2] = centre;
+                    shared::estimate_disks(3);
                     shared::t_steps = 0;
                     const bool estimated = shared::crossing_uncovered(a, b, sigma, 0, 1, 3, r2);
                     const bool exact = !(shared::crossing_near(a, b, centre, r2) &&
@@ -202,13 +204,33 @@ TEST_CASE("T membership: the host's estimated crossing signs are the exact ones"
             }
             // The crossing at the origin lies on c's circle: uncovered; one unit nearer, covered.
             shared::disk_at[2] = c;
+            shared::estimate_disks(3);
             shared::t_steps = 0;
             const int at_origin = shared::crossing_side(a, b, c, -1, r2) == 0 ? -1 : 1;
             REQUIRE(shared::crossing_side(a, b, c, at_origin, r2) == 0);
             CHECK(shared::crossing_uncovered(a, b, at_origin, 0, 1, 3, r2));
             shared::disk_at[2] = c - glm::ivec2(glm::sign(c.x), glm::sign(c.y));
+            shared::estimate_disks(3);
             shared::t_steps = 0;
             CHECK_FALSE(shared::crossing_uncovered(a, b, at_origin, 0, 1, 3, r2));
+            // A dart at c (or one unit off it), with a and b as offsets from it: the crossing at
+            // the origin lies on the dart's circle, inside its closed disk, or just outside it.
+            // The pair's estimated test must take the exact side, as the kernel's does.
+            for (const glm::ivec2 step : {glm::ivec2(0, 0), glm::ivec2(0, 1), glm::ivec2(0, -1), glm::ivec2(1, 0)}) {
+                const glm::ivec2 dart = c + step, da = a - dart, db = b - dart;
+                const glm::ivec2 far(shared::FAR_SIDE, shared::FAR_SIDE);
+                shared::disk_at[0] = da;
+                shared::disk_at[1] = db;
+                shared::estimate_disks(2);
+                shared::t_steps = 0;
+                const bool estimated = shared::pair_crossing_uncovered(da, db, 0, 1, 2, r2, -far, far, true);
+                bool exact = false;
+                for (const int sigma : {-1, 1})
+                    exact = exact || shared::crossing_side(da, db, glm::ivec2(0, 0), sigma, r2) <= 0;
+                INFO("dart " << dart.x << "," << dart.y);
+                REQUIRE(estimated == exact);
+                if (step == glm::ivec2(0, 0)) CHECK(exact);
+            }
         }
     }
 }

@@ -224,6 +224,16 @@ bool crossing_uncovered(ivec2 a, ivec2 b, int sigma, uint skip_a, uint skip_b, u
     }
     return t_steps <= T_TEST_BUDGET;  // a search cut short proves nothing
 }
+
+// Is a crossing of the circles around a and b (disk_at[i] and disk_at[j]) in the region and
+// outside every other open disk? sigma = -1 first, then +1.
+bool pair_crossing_uncovered(ivec2 a, ivec2 b, uint i, uint j, uint n, uint64_t r2, ivec2 lo, ivec2 hi, bool in_disk) {
+    for (int sigma = -1; sigma <= 1; sigma += 2)
+        if ((!in_disk || crossing_side(a, b, ivec2(0, 0), sigma, r2) <= 0) &&
+            crossing_in_box(a, b, sigma, lo, hi, r2) && crossing_uncovered(a, b, sigma, i, j, n, r2))
+            return true;
+    return false;
+}
 #else
 // The host's body reads each sign from a double-precision estimate first, and takes the exact
 // test (the kernel's) only where the estimate is within 1 of 0: the answers, and the steps
@@ -232,26 +242,64 @@ bool crossing_uncovered(ivec2 a, ivec2 b, int sigma, uint skip_a, uint skip_b, u
 // 2 Rc <= 2^20 of the origin, so |P| < 2^22 and |P - 2c| < 2^23; M and L are exact, and
 // sqrt(M / L) times an integer carries a relative error below 4 * 2^-53, so each coordinate of
 // P - 2c is within 2^-28 of the truth (each rounding of a sum adds at most 2^-30), its square
-// within 2 * 2^23 * 2^-28 + 2^-7 < 0.07, and D within 0.2.
-inline bool crossing_uncovered(ivec2 a, ivec2 b, int sigma, uint skip_a, uint skip_b, uint n, uint64_t r2) {
+// within 2 * 2^23 * 2^-28 + 2^-7 < 0.07, and D within 0.2. The dart's own circle (the pair
+// loop's in_disk test) is the one around the origin, c = 0: the same bound holds.
+struct Doubled {  // a point times two, in doubles: P, or 2c
+    double x, y;
+};
+// 2 disk_at[k] for the estimates: reaches_uncovered sets them (estimate_disks) before its
+// searches, which read them.
+VRPD_PRIVATE Doubled disk_twice[MAX_DISKS];
+inline void estimate_disks(uint n) {
+    for (uint k = 0u; k < n; k++) disk_twice[k] = {2.0 * double(disk_at[k].x), 2.0 * double(disk_at[k].y)};
+}
+// sqrt(M / L) for the circles around a and b.
+inline double crossing_scale(ivec2 a, ivec2 b, uint64_t r2) {
     const double dx = double(b.x) - double(a.x);
     const double dy = double(b.y) - double(a.y);
     const double l = dx * dx + dy * dy;
-    const double scale = double(sigma) * std::sqrt((4.0 * double(r2) - l) / l);
-    const double px = double(a.x) + double(b.x) - scale * dy;
-    const double py = double(a.y) + double(b.y) + scale * dx;
+    return std::sqrt((4.0 * double(r2) - l) / l);
+}
+// P for the crossing sigma of the circles around a and b, given scale = sigma sqrt(M / L).
+inline Doubled twice_crossing(ivec2 a, ivec2 b, double scale) {
+    const double dx = double(b.x) - double(a.x);
+    const double dy = double(b.y) - double(a.y);
+    return {double(a.x) + double(b.x) - scale * dy, double(a.y) + double(b.y) + scale * dx};
+}
+// crossing_uncovered, the crossing's P given.
+inline bool estimated_crossing_uncovered(Doubled p, ivec2 a, ivec2 b, int sigma, uint skip_a, uint skip_b, uint n,
+                                         uint64_t r2) {
     const double r4 = 4.0 * double(r2);
     for (uint k = 0u; k < n && t_step(); k++) {
         if (k == skip_a || k == skip_b) continue;
-        ivec2 c = disk_at[k];
-        const double ex = px - 2.0 * double(c.x);
-        const double ey = py - 2.0 * double(c.y);
+        const double ex = p.x - disk_twice[k].x;
+        const double ey = p.y - disk_twice[k].y;
         const double d = ex * ex + ey * ey - r4;
         if (d > 1.0) continue;
         if (d < -1.0) return false;
+        ivec2 c = disk_at[k];
         if (crossing_near(a, b, c, r2) && crossing_side(a, b, c, sigma, r2) < 0) return false;
     }
     return t_steps <= T_TEST_BUDGET;  // a search cut short proves nothing
+}
+inline bool crossing_uncovered(ivec2 a, ivec2 b, int sigma, uint skip_a, uint skip_b, uint n, uint64_t r2) {
+    const Doubled p = twice_crossing(a, b, double(sigma) * crossing_scale(a, b, r2));
+    return estimated_crossing_uncovered(p, a, b, sigma, skip_a, skip_b, n, r2);
+}
+// One square root for the pair's two crossings, and the dart's circle estimated too.
+inline bool pair_crossing_uncovered(ivec2 a, ivec2 b, uint i, uint j, uint n, uint64_t r2, ivec2 lo, ivec2 hi,
+                                    bool in_disk) {
+    const double scale = crossing_scale(a, b, r2);
+    for (int sigma = -1; sigma <= 1; sigma += 2) {
+        const Doubled p = twice_crossing(a, b, double(sigma) * scale);
+        if (in_disk) {
+            const double d = p.x * p.x + p.y * p.y - 4.0 * double(r2);
+            if (d > 1.0 || (d >= -1.0 && crossing_side(a, b, ivec2(0, 0), sigma, r2) > 0)) continue;
+        }
+        if (crossing_in_box(a, b, sigma, lo, hi, r2) && estimated_crossing_uncovered(p, a, b, sigma, i, j, n, r2))
+            return true;
+    }
+    return false;
 }
 #endif
 
@@ -264,6 +312,9 @@ inline bool crossing_uncovered(ivec2 a, ivec2 b, int sigma, uint skip_a, uint sk
 // "no witness" needs the whole search.
 VRPD_FN uint reaches_uncovered(uint n, uint64_t r2, ivec2 lo, ivec2 hi, bool in_disk) {
     t_steps = 0u;
+#ifdef __cplusplus
+    estimate_disks(n);
+#endif
     bool centre_covered = false;
     for (uint k = 0u; k < n && !centre_covered; k++) centre_covered = norm2(disk_at[k]) < r2;
     if (in_disk && !centre_covered) return T_INSIDE;
@@ -281,10 +332,7 @@ VRPD_FN uint reaches_uncovered(uint n, uint64_t r2, ivec2 lo, ivec2 hi, bool in_
             ivec2 b = disk_at[j];
             uint64_t l = norm2(ivec2(b.x - a.x, b.y - a.y));
             if (l == uint64_t(0) || l > uint64_t(4) * r2) continue;
-            for (int sigma = -1; sigma <= 1; sigma += 2)
-                if ((!in_disk || crossing_side(a, b, origin, sigma, r2) <= 0) &&
-                    crossing_in_box(a, b, sigma, lo, hi, r2) && crossing_uncovered(a, b, sigma, i, j, n, r2))
-                    return T_INSIDE;
+            if (pair_crossing_uncovered(a, b, i, j, n, r2, lo, hi, in_disk)) return T_INSIDE;
         }
     }
     if (boundary_vertex_uncovered(n, r2, lo, hi, in_disk)) return T_INSIDE;
