@@ -245,7 +245,7 @@ bool pair_crossing_uncovered(ivec2 a, ivec2 b, uint i, uint j, uint n, uint64_t 
 // within 2 * 2^23 * 2^-28 + 2^-7 < 0.07, and D within 0.2. The dart's own circle (the pair
 // loop's in_disk test) is the one around the origin, c = 0: the same bound holds.
 struct Doubled {  // a point times two, in doubles: P, or 2c
-    double x, y;
+    double x = 0.0, y = 0.0;
 };
 // 2 disk_at[k] for the estimates: reaches_uncovered sets them (estimate_disks) before its
 // searches, which read them.
