@@ -23,6 +23,8 @@ VRPD_FN uvec2 grid_darts(uvec2 word) {
     uint first = word.x & ~(GRID_TAG | GRID_PACKED);
     return uvec2(first, (word.x & GRID_PACKED) != 0u ? first + (word.y >> 16u) : word.y);
 }
+// grid_darts for a word outside mask mode, which two radii never use: [first, .y).
+VRPD_FN uvec2 listed_darts(uvec2 word) { return uvec2(word.x & ~GRID_TAG, word.y); }
 
 VRPD_END
 #endif

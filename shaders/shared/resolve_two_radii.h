@@ -53,7 +53,7 @@ VRPD_FN uint gather_accepted(Domain dom, Grid grid, Darts darts, uint d, VRPD_OU
             disk_at[n++] = offset_to(dom.lattice, p, w);
         }
         if (!grid_is_darts(w)) continue;
-        uvec2 range = grid_darts(w);
+        uvec2 range = listed_darts(w);
         for (uint j = range.x; j < range.y; j++) {
             uvec4 other = dart_at(darts, j);
             if (!live_before(other, j, me.z, d)) continue;
@@ -94,7 +94,7 @@ VRPD_FN uint census(Domain dom, Grid grid, Darts darts, uint d, uvec2 p, uvec2 c
             continue;
         }
         if (!grid_is_darts(w)) continue;
-        uvec2 range = grid_darts(w);
+        uvec2 range = listed_darts(w);
         for (uint j = range.x; j < range.y; j++) {
             uvec4 other = dart_at(darts, j);
             if (!live_before(other, j, key, d)) continue;
