@@ -235,6 +235,81 @@ TEST_CASE("T membership: the host's estimated crossing signs are the exact ones"
     }
 }
 
+// The same for a circle's crossing with a box side (side_crossing_uncovered): crossings of
+// radius-5k circles at integer points, exactly at an end of the side, on another circle or on the
+// dart's circle, and one unit off each, against the kernel's exact signs.
+TEST_CASE("T membership: the host's estimated side crossings are the exact ones", "[two-radii]") {
+    using shared::sign_of_root_sum;
+    // The kernel's body: every sign exact; disk 0 is the crossing's own.
+    auto exact = [](glm::ivec2 centre, int s, int v0, int v1, bool swap, int n, std::uint64_t r2, bool in_disk) {
+        const glm::ivec2 c = shared::swizzle(centre, swap);
+        const std::int64_t du = std::int64_t(s) - c.x, cv = c.y, s64 = s;
+        if (std::uint64_t(du * du) > r2) return false;
+        const std::uint64_t nn = r2 - std::uint64_t(du * du);
+        if (sign_of_root_sum(cv - v0, 1, 1, nn) < 0 || sign_of_root_sum(v1 - cv, 1, -1, nn) < 0) return false;
+        if (in_disk && sign_of_root_sum(s64 * s64 + cv * cv + std::int64_t(nn) - std::int64_t(r2), 1, 2 * cv, nn) > 0)
+            return false;
+        for (int k = 1; k < n; ++k) {
+            const glm::ivec2 o = shared::swizzle(shared::disk_at[k], swap);
+            const std::int64_t ku = s64 - o.x, kv = cv - o.y;
+            if (std::uint64_t(ku * ku) >= r2) continue;
+            if (sign_of_root_sum(ku * ku + kv * kv + std::int64_t(nn) - std::int64_t(r2), 1, 2 * kv, nn) < 0)
+                return false;
+        }
+        return true;
+    };
+    int uncovered = 0, covered = 0;
+    for (const int k : {1, 7, 1000, 104857}) {
+        const std::uint64_t r2 = std::uint64_t(25) * std::uint64_t(k) * std::uint64_t(k);
+        // The circle around (0, 0) meets the side u = 3k at v = 4k (tau = +1). The side's end at,
+        // past or short of it; a second circle through it or one unit nearer; the dart's circle
+        // through it or one unit off.
+        for (const bool swap : {false, true})
+            for (const int end : {4 * k, 4 * k + 1, 4 * k - 1})
+                for (const glm::ivec2 other : {glm::ivec2(8 * k, 4 * k), glm::ivec2(8 * k - 1, 4 * k),
+                                               glm::ivec2(3 * k, 9 * k), glm::ivec2(3 * k, 9 * k - 1)})
+                    for (const glm::ivec2 dart :
+                         {glm::ivec2(0, -k), glm::ivec2(6 * k, 8 * k), glm::ivec2(6 * k, 8 * k + 1)})
+                        for (const bool in_disk : {false, true}) {
+                            // Offsets from the dart, in the side's (u, v) order.
+                            auto at = [&](glm::ivec2 p) { return shared::swizzle(p - dart, swap); };
+                            shared::disk_at[0] = at({0, 0});
+                            shared::disk_at[1] = at(other);
+                            const int s = 3 * k - dart.x, v0 = end - dart.y, v1 = 20 * k - dart.y;
+                            shared::t_steps = 0;
+                            const bool estimated = shared::side_crossing_uncovered(shared::disk_at[0], 0, s, v0, v1,
+                                                                                   swap, 1, 2, r2, in_disk);
+                            const bool truth = exact(shared::disk_at[0], s, v0, v1, swap, 2, r2, in_disk);
+                            INFO("k " << k << " swap " << swap << " end " << end << " other " << other.x << ","
+                                      << other.y << " dart " << dart.x << "," << dart.y << " in_disk " << in_disk);
+                            REQUIRE(estimated == truth);
+                            (truth ? uncovered : covered)++;
+                        }
+    }
+    // An irrational crossing: the circle meets u = 2k at v = sqrt(21) k. Its mirror image in the
+    // side passes through the crossing, as may the dart's circle: signs exactly 0, which the
+    // estimates alone cannot tell from a rounding.
+    for (const int k : {1, 7, 1000, 104857}) {
+        const std::uint64_t r2 = std::uint64_t(25) * std::uint64_t(k) * std::uint64_t(k);
+        for (const glm::ivec2 other : {glm::ivec2(4 * k, 0), glm::ivec2(4 * k - 1, 0), glm::ivec2(4 * k + 1, 0)})
+            for (const glm::ivec2 dart : {glm::ivec2(4 * k, 0), glm::ivec2(4 * k + 1, 0), glm::ivec2(4 * k - 1, 0)})
+                for (const bool in_disk : {false, true}) {
+                    shared::disk_at[0] = -dart;
+                    shared::disk_at[1] = other - dart;
+                    const int s = 2 * k - dart.x, v0 = -k - dart.y, v1 = 20 * k - dart.y;
+                    shared::t_steps = 0;
+                    const bool estimated =
+                        shared::side_crossing_uncovered(shared::disk_at[0], 0, s, v0, v1, false, 1, 2, r2, in_disk);
+                    const bool truth = exact(shared::disk_at[0], s, v0, v1, false, 2, r2, in_disk);
+                    INFO("k " << k << " other " << other.x << " dart " << dart.x << " in_disk " << in_disk);
+                    REQUIRE(estimated == truth);
+                    (truth ? uncovered : covered)++;
+                }
+    }
+    CHECK(uncovered > 50);
+    CHECK(covered > 50);
+}
+
 TEST_CASE("T membership: the exact test agrees with dense brute force", "[two-radii]") {
     std::mt19937_64 rng(11);
     for (const double rc : {1000.0, double((1 << 19) - 1)}) {

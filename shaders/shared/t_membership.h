@@ -159,8 +159,9 @@ VRPD_FN ivec2 swizzle(ivec2 p, bool swap) { return swap ? ivec2(p.y, p.x) : p; }
 // (u, v) where u is across the side (swap: u is y); the side runs over v in [v0, v1]. Is the
 // crossing p = (s, c.v + tau sqrt(N)), N = R2 - (s - c.u)^2, on the side, in the dart's closed
 // disk (if in_disk), and outside every open disk but c's (skip)? Each test is a sign of a + b sqrt(N).
-VRPD_FN bool side_crossing_uncovered(ivec2 centre, uint skip, int s, int v0, int v1, bool swap, int tau, uint n,
-                                     uint64_t r2, bool in_disk) {
+#ifndef __cplusplus
+bool side_crossing_uncovered(ivec2 centre, uint skip, int s, int v0, int v1, bool swap, int tau, uint n, uint64_t r2,
+                             bool in_disk) {
     ivec2 c = swizzle(centre, swap);
     int64_t du = int64_t(s) - int64_t(c.x);
     if (uint64_t(du * du) > r2) return false;
@@ -183,6 +184,50 @@ VRPD_FN bool side_crossing_uncovered(ivec2 centre, uint skip, int s, int v0, int
     }
     return t_steps <= T_TEST_BUDGET;
 }
+#else
+// The host's body estimates the crossing's v = c.v + tau sqrt(N) in doubles and takes the exact
+// sign (the kernel's) only where an estimate lies within 1 of 0: the same answers and counted
+// steps. N < 2^39 is exact as a double and its correctly rounded root is within 2^-33 of sqrt(N);
+// the offsets here stay below 2^22, so v (and v less an offset) is within 2^-30, its square within
+// 2^-6, and each squared distance less R2 (sums below 2^46, each rounding within 2^-7) within 0.05.
+inline bool side_crossing_uncovered(ivec2 centre, uint skip, int s, int v0, int v1, bool swap, int tau, uint n,
+                                    uint64_t r2, bool in_disk) {
+    ivec2 c = swizzle(centre, swap);
+    int64_t du = int64_t(s) - int64_t(c.x);
+    if (uint64_t(du * du) > r2) return false;
+    uint64_t nn = r2 - uint64_t(du * du);
+    int64_t t = int64_t(tau);
+    int64_t cv = int64_t(c.y);
+    const double root = double(tau) * std::sqrt(double(nn));
+    auto sign = [](double estimate, auto exact) { return estimate > 1.0 ? 1 : (estimate < -1.0 ? -1 : exact()); };
+    if (sign(double(cv - v0) + root, [&] { return sign_of_root_sum(cv - int64_t(v0), uint64_t(1), t, nn); }) < 0)
+        return false;
+    if (sign(double(v1 - cv) - root, [&] { return sign_of_root_sum(int64_t(v1) - cv, uint64_t(1), -t, nn); }) < 0)
+        return false;
+    int64_t s64 = int64_t(s);
+    const double r2d = double(r2);
+    if (in_disk) {
+        const double v = double(cv) + root;
+        if (sign(double(s64 * s64) + v * v - r2d, [&] {
+                return sign_of_root_sum(s64 * s64 + cv * cv + int64_t(nn) - int64_t(r2), uint64_t(1), 2 * t * cv, nn);
+            }) > 0)
+            return false;
+    }
+    for (uint k = 0u; k < n && t_step(); k++) {
+        if (k == skip) continue;
+        ivec2 o = swizzle(disk_at[k], swap);
+        int64_t ku = s64 - int64_t(o.x);
+        if (uint64_t(ku * ku) >= r2) continue;
+        int64_t kv = cv - int64_t(o.y);
+        const double w = double(kv) + root;
+        if (sign(double(ku * ku) + w * w - r2d, [&] {
+                return sign_of_root_sum(ku * ku + kv * kv + int64_t(nn) - int64_t(r2), uint64_t(1), 2 * t * kv, nn);
+            }) < 0)
+            return false;
+    }
+    return t_steps <= T_TEST_BUDGET;
+}
+#endif
 
 // Is the box corner (x, y) in the dart's closed disk (if in_disk) and outside every open disk?
 VRPD_FN bool corner_uncovered(int x, int y, uint n, uint64_t r2, bool in_disk) {
