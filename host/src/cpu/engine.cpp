@@ -19,6 +19,28 @@ namespace {
 
 using namespace shared;
 
+// Vectors of this allocator leave trivial elements uninitialised on a resize, so that the pool's
+// threads, filling a fresh array, make the first touch of its pages in parallel.
+template <class T>
+struct Uninitialised : std::allocator<T> {
+    template <class U>
+    struct rebind {
+        using other = Uninitialised<U>;
+    };
+    Uninitialised() = default;
+    template <class U>
+    Uninitialised(const Uninitialised<U>&) noexcept {}
+    template <class U>
+    void construct(U* p) noexcept {
+        ::new (static_cast<void*>(p)) U;
+    }
+    template <class U, class... A>
+    void construct(U* p, A&&... a) {
+        ::new (static_cast<void*>(p)) U(std::forward<A>(a)...);
+    }
+};
+using Words = std::vector<uvec2, Uninitialised<uvec2>>;
+
 // Times a dart may find nothing to wait for (another thread decided it meanwhile) and be tried
 // again, before the resolution is called stuck; each retry needs a dart decided by another thread.
 constexpr uint kMaxRetries = 1u << 20;
@@ -42,17 +64,27 @@ public:
         out_.reserve(std::max<std::uint64_t>(expected_samples(plan_), initial.size()));
         out_.assign(initial.begin(), initial.end());
         // Each base cell: empty, with (mask mode) its one level-0 cell active.
-        grid_.assign(plan_.base_cells, uvec2(GRID_EMPTY, masked_ ? 1u : GRID_EMPTY));
+        const std::size_t bases = plan_.base_cells;
+        Words(bases).swap(grid_);
+        const uvec2 empty(GRID_EMPTY, masked_ ? 1u : GRID_EMPTY);
+        pool_.parallel_for(bases,
+                           [&](std::size_t b, std::size_t e, unsigned) { std::fill(&grid_[b], &grid_[e], empty); });
         for (const uvec2& p : initial) place_sample(d, grid(), p);
-        if (masked_) return plan_.base_cells;  // a sample's word holds no active mask
+        if (masked_) return bases;  // a sample's word holds no active mask
         // The list leaves out the base cells that hold a sample, as mask mode does: a round's
-        // darts word would replace the sample's.
-        cells_.clear();
-        cells_.reserve(plan_.base_cells - initial.size());
-        for (uint y = 0; y < d.cells_y; ++y)
-            for (uint x = 0; x < d.cells_x; ++x)
-                if (!grid_is_sample(grid_[std::size_t(y) * d.cells_x + x]))
-                    cells_.emplace_back(x << d.cell_bits, y << d.cell_bits);
+        // darts word would replace the sample's. Each chunk of base cells counts its free ones,
+        // then lists them from the sum of the counts before it.
+        std::vector<std::uint64_t> first(pool_.size() + 1, 0);
+        pool_.parallel_for(bases, [&](std::size_t b, std::size_t e, unsigned w) {
+            first[w + 1] =
+                std::uint64_t(std::count_if(&grid_[b], &grid_[e], [](uvec2 v) { return !grid_is_sample(v); }));
+        });
+        Words(chunk_offsets(first)).swap(cells_);
+        pool_.parallel_for(bases, [&](std::size_t b, std::size_t e, unsigned w) {
+            std::uint64_t next = first[w];
+            for (std::size_t i = b; i < e; ++i)
+                if (!grid_is_sample(grid_[i])) cells_[next++] = base_corner(d, uint(i));
+        });
         return cells_.size();
     }
 
@@ -65,7 +97,7 @@ public:
         // The darts are spent: give their memory back before refinement.
         std::vector<uint>().swap(darts_);
         dart_count_ = 0;
-        std::vector<uvec2>().swap(dart_cells_);
+        Words().swap(dart_cells_);
         const std::uint64_t active = timed("refine", [&] { return masked_ ? refine_masked(spec) : refine(spec); });
         return {total, active};
     }
@@ -94,9 +126,10 @@ private:
     // Resizes v to n elements (contents not kept), reallocating unless its capacity is within
     // an eighth above n: the arrays' high-water marks from earlier rounds would otherwise add up
     // at the peak.
-    template <class T> static void fit(std::vector<T>& v, std::size_t n) {
+    template <class V>
+    static void fit(V& v, std::size_t n) {
         if (v.capacity() < n || v.capacity() > n + n / 8) {
-            std::vector<T>().swap(v);
+            V().swap(v);
             v.reserve(n);
         }
         v.resize(n);
@@ -109,7 +142,10 @@ private:
         return first.back();
     }
 
-    template <class T> static std::uint64_t bytes(const std::vector<T>& v) { return v.capacity() * sizeof(T); }
+    template <class V>
+    static std::uint64_t bytes(const V& v) {
+        return v.capacity() * sizeof(typename V::value_type);
+    }
 
     // Records the memory held by the engine's arrays now, plus `extra` bytes held elsewhere.
     void note_peak(std::uint64_t extra = 0) {
@@ -123,7 +159,7 @@ private:
     std::uint64_t throw_listed(const RoundSpec& spec) {
         const Domain dom = plan_.domain;
         if (two_radii(dom.radii)) list_dart_cells(spec);
-        std::vector<uvec2>& targets = two_radii(dom.radii) ? dart_cells_ : cells_;
+        Words& targets = two_radii(dom.radii) ? dart_cells_ : cells_;
         const uint n = uint(targets.size());
         const uint side = two_radii(dom.radii) ? 1u << dom.cell_bits : spec.side;
         const uint key = round_key(plan_.seed, spec.round);
@@ -431,7 +467,7 @@ private:
                 scatter_children(args, cells(), scan(), Uints{masks_.data()}, Cells{next_.data()}, uint(i));
         });
         cells_.swap(next_);
-        std::vector<uvec2>().swap(next_);
+        Words().swap(next_);
         std::vector<uint>().swap(masks_);
         return cells_.size();
     }
@@ -442,10 +478,10 @@ private:
     // Mask mode (sampler.h) at levels 0 to MASK_LEVELS - 1, for the cpu backend with one radius;
     // the serial backend, the oracle, keeps the explicit list that the GPU runs.
     bool masked_ = false;
-    std::vector<uvec2> grid_;
-    std::vector<uvec2> cells_;
-    std::vector<uvec2> next_;
-    std::vector<uvec2> dart_cells_;  // two radii: the base cells that get darts this round
+    Words grid_;
+    Words cells_;
+    Words next_;
+    Words dart_cells_;               // two radii: the base cells that get darts this round
     std::vector<uint> darts_;        // this round's darts, stored as darts.h says
     std::uint64_t dart_count_ = 0;
     std::vector<uint> scan_;
