@@ -13,32 +13,14 @@
 #include "shared/sampler.h"
 #include "serial_oracle.h"
 #include "thread_pool.h"
+#include "uninitialised.h"
 
 namespace vrpd::detail {
 namespace {
 
 using namespace shared;
 
-// Vectors of this allocator leave trivial elements uninitialised on a resize, so that the pool's
-// threads, filling a fresh array, make the first touch of its pages in parallel.
-template <class T>
-struct Uninitialised : std::allocator<T> {
-    template <class U>
-    struct rebind {
-        using other = Uninitialised<U>;
-    };
-    Uninitialised() = default;
-    template <class U>
-    Uninitialised(const Uninitialised<U>&) noexcept {}
-    template <class U>
-    void construct(U* p) noexcept {
-        ::new (static_cast<void*>(p)) U;
-    }
-    template <class U, class... A>
-    void construct(U* p, A&&... a) {
-        ::new (static_cast<void*>(p)) U(std::forward<A>(a)...);
-    }
-};
+// The grid and cell lists: a resize leaves them unwritten, for the pool to fill.
 using Words = std::vector<uvec2, Uninitialised<uvec2>>;
 
 // Times a dart may find nothing to wait for (another thread decided it meanwhile) and be tried
