@@ -133,9 +133,9 @@ VRPD_FN uint surviving_children(Domain dom, Grid grid, uvec2 base, uvec2 corner,
 }
 
 // For the active cells [first, end) of one base cell: masks[i] has bit c set for the children c
-// of cell i that stay active (none if the base cell holds a sample or one covers it), and counts[i] their number,
-// for the scan that places them in the next active list. The samples near the base cell are
-// gathered once for the range. The host passes each base cell's whole group (group_end), the
+// of cell i that stay active (none if the base cell holds a sample or one covers it), and
+// counts[i] their number, for the scan that places them in the next active list. The samples
+// near the base cell are gathered once for the range. The host passes each base cell's whole group (group_end), the
 // Vulkan kernel one cell per invocation: with two radii a base cell may hold hundreds of active
 // cells (driver.cpp, kCrowded), and llvmpipe ends a loop once 65 535 iterations have run in one
 // SIMD batch, which a group's T tests in one invocation passed, leaving cells unrefined.

@@ -49,8 +49,9 @@ public:
         const std::size_t bases = plan_.base_cells;
         Words(bases).swap(grid_);
         const uvec2 empty(GRID_EMPTY, masked_ ? 1u : GRID_EMPTY);
-        pool_.parallel_for(bases,
-                           [&](std::size_t b, std::size_t e, unsigned) { std::fill(&grid_[b], &grid_[e], empty); });
+        pool_.parallel_for(bases, [&](std::size_t b, std::size_t e, unsigned) {
+            std::fill(grid_.begin() + b, grid_.begin() + e, empty);
+        });
         for (const uvec2& p : initial) place_sample(d, grid(), p);
         if (masked_) return bases;  // a sample's word holds no active mask
         // The list leaves out the base cells that hold a sample, as mask mode does: a round's
@@ -58,8 +59,8 @@ public:
         // then lists them from the sum of the counts before it.
         std::vector<std::uint64_t> first(pool_.size() + 1, 0);
         pool_.parallel_for(bases, [&](std::size_t b, std::size_t e, unsigned w) {
-            first[w + 1] =
-                std::uint64_t(std::count_if(&grid_[b], &grid_[e], [](uvec2 v) { return !grid_is_sample(v); }));
+            first[w + 1] = std::uint64_t(
+                std::count_if(grid_.begin() + b, grid_.begin() + e, [](uvec2 v) { return !grid_is_sample(v); }));
         });
         Words(chunk_offsets(first)).swap(cells_);
         pool_.parallel_for(bases, [&](std::size_t b, std::size_t e, unsigned w) {
