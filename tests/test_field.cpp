@@ -3,6 +3,8 @@
 // case, Eq. 12's density weighting, Lipschitz limiting, and refused input.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -10,6 +12,7 @@
 
 #include "cli_support.h"
 #include "cpu/thread_pool.h"
+#include "field/power_sum.h"
 #include "field/quadtree.h"
 #include "field/table.h"
 #include "vrpd/io.h"
@@ -57,6 +60,45 @@ SizingReport judge(const Sampling& s, const Sizing& sizing) {
 }
 
 }  // namespace
+
+TEST_CASE("the exact sum of the cells' powers of two equals the serial sum, or declines", "[field]") {
+    using vrpd::detail::field::exact_power_sum;
+    constexpr int kBias = 64;
+    std::mt19937 rng(7);
+    int summed = 0;
+    for (int trial = 0; trial < 300; ++trial) {
+        const int lo = int(rng() % 60), width = int(rng() % 45), n = 1 + int(rng() % 3000);
+        std::vector<int> exponents(std::size_t(n), 0);
+        std::array<std::uint64_t, 128> count{};
+        for (int& e : exponents) ++count[std::size_t(e = lo + int(rng() % std::uint32_t(width + 1)))];
+        const auto sum = exact_power_sum(count, kBias);
+        if (!sum) continue;
+        ++summed;
+        for (int order = 0; order < 2; ++order) {
+            std::shuffle(exponents.begin(), exponents.end(), rng);
+            double serial = 0;
+            for (int e : exponents) serial += std::ldexp(1.0, e - kBias);
+            REQUIRE(*sum == serial);
+        }
+    }
+    CHECK(summed > 200);
+    // Sums that a double cannot hold exactly at every step: 2^60 + 1 units; 2^53 + 3 units from
+    // powers each within bounds; 2^64 + 1 units (past 64 bits); 2^53 units of one power.
+    std::array<std::uint64_t, 128> wide{};
+    wide[10] = 1, wide[70] = 1;
+    CHECK(!exact_power_sum(wide, kBias));
+    std::array<std::uint64_t, 128> close{};
+    close[20] = 3, close[71] = 2, close[72] = 1;
+    CHECK(!exact_power_sum(close, kBias));
+    std::array<std::uint64_t, 128> past{};
+    past[20] = 1, past[60] = std::uint64_t(1) << 24;
+    CHECK(!exact_power_sum(past, kBias));
+    std::array<std::uint64_t, 128> many{};
+    many[3] = std::uint64_t(1) << 53;
+    CHECK(!exact_power_sum(many, kBias));
+    many[3] -= 1;
+    CHECK(exact_power_sum(many, kBias) == std::ldexp(double((std::uint64_t(1) << 53) - 1), 3 - kBias));
+}
 
 TEST_CASE("field_interpolate is the floor of the exact bilinear interpolant", "[field]") {
     std::mt19937_64 rng(7);

@@ -4,6 +4,7 @@
 // cells dropped when one sample covers them under the rule, split where darts fell. Design and
 // bounds: docs/design.md, "Sizing fields".
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <chrono>
 #include <cmath>
@@ -12,6 +13,7 @@
 #include <fmt/format.h>
 
 #include "field.h"
+#include "power_sum.h"
 #include "sampler.h"
 #include "../plan.h"
 
@@ -29,6 +31,10 @@ constexpr double kLambda = 0.3;
 constexpr double kSplitAbove = 4.0;
 constexpr std::uint32_t kMaxRounds = 1000000;  // a bug guard, far above any run
 constexpr int kExpBias = 64;  // exp_neg_'s index: the weighted area's exponent + 64
+constexpr std::size_t kExponents = 128;
+// A cell's fate in got_ (balance, refine): dropped (0), kept whole, or split with the mask of its
+// surviving children in bits 0-3.
+constexpr std::uint8_t kKeep = 0x10, kSplit = 0x20;
 
 }  // namespace
 
@@ -158,32 +164,75 @@ Cell FieldSampler::make_cell(uvec2 corner, std::uint32_t bits) const {
     return c;
 }
 
-double FieldSampler::balance() {
-    std::vector<std::uint32_t> near;
-    for (;;) {
-        double area = 0;
-        for (const Cell& c : cells_) area += pow2(exponent(c));
-        const double rate = kLambda * double(cells_.size()) / area;
-        auto splits = [&](const Cell& c) { return c.bits > 0 && rate * pow2(exponent(c)) > kSplitAbove; };
-        std::size_t most = 0;  // each split cell's four children kept
-        for (const Cell& c : cells_) most += splits(c) ? 4 : 1;
-        if (most == cells_.size()) return rate;  // none splits
-        std::vector<Cell> next;
-        next.reserve(most);
-        for (const Cell& c : cells_) {
-            if (!splits(c)) {
-                next.push_back(c);
-                continue;
-            }
-            if (!lattice_.empty()) gather(c, near);
-            for (std::uint32_t k = 0; k < 4; ++k) {
-                const auto kid = child(c, k);
-                if (!kid) continue;
-                if (!near.empty() && covered_by(near, kid->corner, far_corner(*kid))) continue;
-                next.push_back(*kid);
-            }
+double FieldSampler::weighted_area() {
+    // The cells per exponent, counted on the threads; their exact sum is the serial sum's value.
+    std::vector<std::array<std::uint64_t, kExponents>> counts(pool_.size());
+    pool_.parallel_for(cells_.size(), [&](std::size_t begin, std::size_t end, unsigned w) {
+        std::array<std::uint64_t, kExponents> count{};
+        for (std::size_t i = begin; i < end; ++i) ++count[std::size_t(exponent(cells_[i]) + kExpBias)];
+        counts[w] = count;
+    });
+    std::array<std::uint64_t, kExponents> total{};
+    for (const auto& count : counts)
+        for (std::size_t e = 0; e < kExponents; ++e) total[e] += count[e];
+    if (const auto sum = exact_power_sum(total, kExpBias)) return *sum;
+    double area = 0;
+    for (const Cell& c : cells_) area += pow2(exponent(c));
+    return area;
+}
+
+template <typename Fate>
+void FieldSampler::write_fates(Cells& next, const std::vector<std::uint64_t>& first, Fate&& fate) {
+    pool_.parallel_for(cells_.size(), [&](std::size_t begin, std::size_t end, unsigned w) {
+        std::size_t at = first[w];
+        for (std::size_t i = begin; i < end; ++i) {
+            const std::uint8_t f = fate(i);
+            if (f == kKeep) next[at++] = cells_[i];
+            if (f & kSplit)
+                for (std::uint32_t k = 0; k < 4; ++k)
+                    if (f >> k & 1) next[at++] = *child(cells_[i], k);
         }
+    });
+}
+
+double FieldSampler::balance() {
+    for (;;) {
+        const double rate = kLambda * double(cells_.size()) / weighted_area();
+        auto splits = [&](const Cell& c) { return c.bits > 0 && rate * pow2(exponent(c)) > kSplitAbove; };
+        // A cell's fate: kept, or split with the mask of its children not covered by a sample.
+        // Before the first sample it costs a few instructions and is found again when written;
+        // after, it is kept in got_ (one search a split cell).
+        const bool store = !lattice_.empty();
+        auto fate_of = [&](const Cell& c, std::vector<std::uint32_t>& near) {
+            if (!splits(c)) return kKeep;
+            if (store) gather(c, near);
+            std::uint8_t fate = kSplit;
+            for (std::uint32_t k = 0; k < 4; ++k)
+                if (const auto kid = child(c, k);
+                    kid && (!store || near.empty() || !covered_by(near, kid->corner, far_corner(*kid))))
+                    fate |= std::uint8_t(1u << k);
+            return fate;
+        };
+        if (store) got_.resize(cells_.size());
+        std::vector<std::uint64_t> first(pool_.size() + 1, 0);
+        std::vector<char> split(pool_.size(), 0);
+        pool_.parallel_for(cells_.size(), [&](std::size_t begin, std::size_t end, unsigned w) {
+            std::vector<std::uint32_t> near;
+            std::uint64_t count = 0;
+            for (std::size_t i = begin; i < end; ++i) {
+                const std::uint8_t fate = fate_of(cells_[i], near);
+                if (store) got_[i] = fate;
+                split[w] |= fate != kKeep;
+                count += fate == kKeep ? 1 : std::uint64_t(std::popcount(fate & 0xFu));
+            }
+            first[w + 1] = count;
+        });
+        if (std::find(split.begin(), split.end(), 1) == split.end()) return rate;
+        for (unsigned w = 0; w < pool_.size(); ++w) first[w + 1] += first[w];
+        Cells next(first.back());
         note_bytes(next.capacity() * sizeof(Cell));
+        std::vector<std::uint32_t> unused;
+        write_fates(next, first, [&](std::size_t i) { return store ? got_[i] : fate_of(cells_[i], unused); });
         std::swap(cells_, next);
     }
 }
@@ -231,10 +280,8 @@ void FieldSampler::throw_darts(std::uint32_t round) {
 }
 
 void FieldSampler::refine() {
-    // First each cell's fate, written over its got_ entry once read: dropped (0), kept whole, or
-    // split with the mask of its surviving children. Then each chunk writes its cells to the next
-    // list from its offset: every cell is copied once, and no third list is held.
-    constexpr std::uint8_t kKeep = 0x10, kSplit = 0x20;
+    // First each cell's fate, written over its got_ entry once read. Then each chunk writes its
+    // cells to the next list from its offset: every cell is copied once, and no third list is held.
     std::vector<std::uint64_t> first(pool_.size() + 1, 0);
     pool_.parallel_for(cells_.size(), [&](std::size_t begin, std::size_t end, unsigned w) {
         std::vector<std::uint32_t> near;
@@ -267,18 +314,9 @@ void FieldSampler::refine() {
         first[w + 1] = count;
     });
     for (unsigned w = 0; w < pool_.size(); ++w) first[w + 1] += first[w];
-    std::vector<Cell> next(first.back());
+    Cells next(first.back());
     note_bytes(next.capacity() * sizeof(Cell));
-    pool_.parallel_for(cells_.size(), [&](std::size_t begin, std::size_t end, unsigned w) {
-        std::size_t at = first[w];
-        for (std::size_t i = begin; i < end; ++i) {
-            const std::uint8_t fate = got_[i];
-            if (fate == kKeep) next[at++] = cells_[i];
-            if (fate & kSplit)
-                for (std::uint32_t k = 0; k < 4; ++k)
-                    if (fate >> k & 1) next[at++] = *child(cells_[i], k);
-        }
-    });
+    write_fates(next, first, [&](std::size_t i) { return got_[i]; });
     std::swap(cells_, next);
 }
 

@@ -140,16 +140,25 @@ void FieldSampler::resolve_in_parallel() {
     for (std::size_t j = 0; j < n; ++j)
         if (j == 0 || darts_[j].leaf != darts_[j - 1].leaf) tree_.settle(darts_[j].p);
     first.reset();
+    // The accepted darts become samples in arrival order; the tree's marks and the stamps are
+    // then set in throwing order, which is spatial: neighbouring searches share cached nodes.
     std::vector<std::uint32_t> accepted;
     for (std::uint32_t j = 0; j < n; ++j)
         if (state[j] == shared::DART_ACCEPTED) accepted.push_back(j);
-    std::sort(accepted.begin(), accepted.end(), [&](std::uint32_t a, std::uint32_t b) {
+    std::vector<std::uint32_t> arrival(accepted);
+    std::sort(arrival.begin(), arrival.end(), [&](std::uint32_t a, std::uint32_t b) {
         return shared::arrives_before(darts_[a].key, a, darts_[b].key, b);
     });
-    const std::size_t base = lattice_.size();
-    for (std::uint32_t j : accepted) accept(darts_[j], t_.radius(darts_[j].p));
+    std::vector<std::uint32_t> sample_of(n);  // dart j's sample, for the accepted ones
+    note_bytes(n * 4 + accepted.size() * 8);
+    for (std::uint32_t j : arrival) {
+        sample_of[j] = std::uint32_t(lattice_.size());
+        lattice_.push_back(darts_[j].p);
+        radii_.push_back(t_.radius(darts_[j].p));
+    }
+    for (std::uint32_t j : accepted) tree_.set_sample(darts_[j].leaf, darts_[j].p, sample_of[j]);
     pool_.parallel_for(accepted.size(), [&](std::size_t begin, std::size_t end, unsigned) {
-        for (std::size_t i = base + begin; i < base + end; ++i) touch(std::uint32_t(i));
+        for (std::size_t i = begin; i < end; ++i) touch(sample_of[accepted[i]]);
     });
 }
 

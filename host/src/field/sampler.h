@@ -8,6 +8,7 @@
 
 #include "quadtree.h"
 #include "../cpu/thread_pool.h"
+#include "../cpu/uninitialised.h"
 #include "../phase_times.h"
 #include "shared/darts.h"
 #include "vrpd/vrpd.h"
@@ -22,6 +23,8 @@ struct Cell {
     std::uint8_t bits;
     std::uint8_t weight;  // Eq. 12: darts at the rate of radius r_lo 2^weight (<= r over the cell)
 };
+// The active list: filled by the pool's threads, which make the first touch of its pages.
+using Cells = std::vector<Cell, Uninitialised<Cell>>;
 
 // A dart still undecided after its throw, in throwing order (cell order, then index in the cell):
 // the tie-break of equal keys. It carries its cell's leaf: the textbook resolution reads it in
@@ -111,6 +114,13 @@ private:
     static double pow2(int e) { return std::bit_cast<double>(std::uint64_t(1023 + e) << 52); }
     // Splits cells expecting more than kSplitAbove darts at this round's rate; returns the rate.
     double balance();
+    // The cells' weighted area: the sum of 2^exponent over the list, in list order.
+    double weighted_area();
+    // Writes each cell's fate, fate(i) (engine.cpp's kKeep, or kSplit with its surviving
+    // children's mask), to `next`: itself, or those children; chunk w of the pool from
+    // next[first[w]].
+    template <typename Fate>
+    void write_fates(Cells& next, const std::vector<std::uint64_t>& first, Fate&& fate);
     void throw_darts(std::uint32_t round);
     // Decides the round's darts (field/resolve.cpp): as the textbook does, one dart at a time in
     // arrival order, or (cpu backend; current and smaller) in parallel, with the same outcome.
@@ -168,8 +178,8 @@ private:
     bool density_;
     std::uint32_t seed_;
     bool serial_;
-    std::vector<Cell> cells_;
-    std::vector<std::uint8_t> got_;  // the cell took darts this round
+    Cells cells_;
+    std::vector<std::uint8_t> got_;  // per cell: its fate (balance, refine); in between, it took darts
     // Per leaf, the samples that may cover part of it (touch): the one sample of this round, or
     // kStampedMany | round when several of this round may; older stamps are stale. Only cells of
     // a stamped leaf (and cells that took darts) can have become covered, and with one stamp
