@@ -22,7 +22,8 @@ void FieldSampler::resolve() {
     // Under prior and bigger an earlier dart in conflict may lie past the later one's r (f may be
     // the earlier's radius): a search per dart over that reach costs more than the arrival-order
     // search of the round's samples, so those rules resolve in arrival order on every backend.
-    if (serial_ || rule_ == shared::RULE_PRIOR || rule_ == shared::RULE_BIGGER)
+    // On one thread the parallel resolution's extra searches buy nothing.
+    if (serial_ || pool_.size() == 1 || rule_ == shared::RULE_PRIOR || rule_ == shared::RULE_BIGGER)
         resolve_in_arrival_order();
     else
         resolve_in_parallel();
