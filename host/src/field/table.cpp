@@ -9,6 +9,7 @@
 
 #include "field.h"
 #include "../cpu/thread_pool.h"
+#include "../cpu/uninitialised.h"
 #include "../plan.h"
 
 #include <algorithm>
@@ -50,11 +51,14 @@ double checked(const FieldSource& f, double x, double y) {
 // The double-valued table at a resolution: its nodes, the source at the points halfway between
 // them (which are the next resolution's nodes), and its largest relative error against the
 // source at those of them inside the box.
+// Its arrays are written row by row on the host's threads, which make the first touch of their
+// pages (Uninitialised).
+using Doubles = std::vector<double, Uninitialised<double>>;
 struct Draft {
     std::uint32_t cells_x = 0, cells_y = 0;
     double h = 0;
-    std::vector<double> values;
-    std::vector<double> fine;  // (2 cells_x + 1) x (2 cells_y + 1), at spacing h / 2
+    Doubles values;
+    Doubles fine;  // (2 cells_x + 1) x (2 cells_y + 1), at spacing h / 2
     double error = 0;
 };
 
@@ -103,7 +107,7 @@ void fill_nodes(const FieldSource& f, const Box& box, bool periodic, std::uint32
 
 // The draft of n_x x n_y cells of side h, from its nodes if the last draft's `fine` holds them.
 Draft draft(const FieldSource& f, const Box& box, std::uint32_t cells_x, std::uint32_t cells_y, double h,
-            std::vector<double> nodes) {
+            Doubles nodes) {
     Draft d{cells_x, cells_y, h, std::move(nodes), {}, 0};
     const bool periodic = box.boundary == Boundary::Periodic;
     const std::size_t row = std::size_t(cells_x) + 1;
@@ -335,7 +339,7 @@ FieldTable tabulate(const Sizing& s, const Box& box) {
                         "the table's {} nodes hold",
                         lo, hi, kMaxTableNodes));
     Draft d;
-    std::vector<double> nodes;
+    Doubles nodes;
     for (;;) {
         d = draft(f, box, std::uint32_t(tx << a), std::uint32_t(ty << a), tile / double(1u << a), std::move(nodes));
         const double quantum = d.h / double(1u << shared::MAX_FIELD_CELL_BITS);
@@ -350,7 +354,7 @@ FieldTable tabulate(const Sizing& s, const Box& box) {
         nodes = std::move(d.fine);
         ++a;
     }
-    std::vector<double>().swap(d.fine);
+    Doubles().swap(d.fine);
     if (lo == hi && std::all_of(d.values.begin(), d.values.end(), [&](double v) { return v == lo; })) t.constant = lo;
     if (s.lipschitz >= 0) limit_lipschitz(d.values, d.cells_x, d.cells_y, d.h, s.lipschitz, periodic);
 
@@ -409,7 +413,7 @@ FieldTable tabulate(const Sizing& s, const Box& box) {
     return t;
 }
 
-void limit_lipschitz(std::vector<double>& values, std::uint32_t cells_x, std::uint32_t cells_y, double h, double L,
+void limit_lipschitz(std::span<double> values, std::uint32_t cells_x, std::uint32_t cells_y, double h, double L,
                      bool periodic) {
     // The distinct nodes (on a torus the last row and column repeat the first), and min pyramids
     // over blocks of 2^k x 2^k of them.

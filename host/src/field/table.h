@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <span>
 #include <vector>
 
 #include "shared/field.h"
@@ -74,7 +75,7 @@ struct FieldTable {
 // Replaces the nodes of `cells_x` x `cells_y` table cells of side h (row by row; on a torus the
 // last row and column repeat the first) by the largest L-Lipschitz function at or below them:
 // each node's least v(y) + L |x - y| over the nodes y (on a torus, the nearest image of y).
-void limit_lipschitz(std::vector<double>& values, std::uint32_t cells_x, std::uint32_t cells_y, double h, double L,
+void limit_lipschitz(std::span<double> values, std::uint32_t cells_x, std::uint32_t cells_y, double h, double L,
                      bool periodic);
 
 // Tabulates the field of `sizing` over `box`. Throws Error with the reason for a field that is
