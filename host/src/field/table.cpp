@@ -52,8 +52,8 @@ double checked(const FieldSource& f, double x, double y) {
 // them (which are the next resolution's nodes), and its largest relative error against the
 // source at those of them inside the box.
 // Its arrays are written row by row on the host's threads, which make the first touch of their
-// pages (Uninitialised).
-using Doubles = std::vector<double, Uninitialised<double>>;
+// pages, huge where the kernel grants them (Uninitialised).
+using Doubles = std::vector<double, Uninitialised<double, true>>;
 struct Draft {
     std::uint32_t cells_x = 0, cells_y = 0;
     double h = 0;
