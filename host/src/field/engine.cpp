@@ -321,10 +321,15 @@ void FieldSampler::refine() {
 }
 
 Sampling FieldSampler::run() {
+    // Every leaf an active cell, unstamped; a run of tiles is a run of leaves, written by one thread.
     cells_.resize(tree_.leaves());
-    touched_.assign(tree_.leaves(), kUnstamped);
-    tree_.each_leaf(
-        [&](std::uint32_t leaf, uvec2 corner, std::uint32_t bits) { cells_[leaf] = make_cell(corner, bits); });
+    touched_.resize(tree_.leaves());
+    pool_.parallel_for(tree_.tiles(), [&](std::size_t begin, std::size_t end, unsigned) {
+        tree_.each_leaf(begin, end, [&](std::uint32_t leaf, uvec2 corner, std::uint32_t bits) {
+            cells_[leaf] = make_cell(corner, bits);
+            touched_[leaf] = kUnstamped;
+        });
+    });
     std::uint32_t round = 0;
     std::uint32_t deepest = 0;
     // Runs one phase, timed when the run is profiled.

@@ -26,7 +26,13 @@ public:
     // first with children in order: the order the build numbers them in). A leaf's corner and
     // side are found by descent, not stored.
     template <typename Visit>
-    void each_leaf(Visit&& visit) const;
+    void each_leaf(Visit&& visit) const {
+        each_leaf(0, roots_.size(), visit);
+    }
+    // The same over the leaves of tiles [first, end) (row by row): a run of leaf indices.
+    template <typename Visit>
+    void each_leaf(std::size_t first, std::size_t end, Visit&& visit) const;
+    std::size_t tiles() const { return roots_.size(); }
     // A leaf: its index, corner and side 2^bits.
     struct Leaf {
         std::uint32_t index, bits;
@@ -116,13 +122,13 @@ private:
 };
 
 template <typename Visit>
-void FieldQuadtree::each_leaf(Visit&& visit) const {
+void FieldQuadtree::each_leaf(std::size_t first, std::size_t end, Visit&& visit) const {
     struct Item {
         std::uint32_t node, bits;
         glm::uvec2 corner;
     };
     std::vector<Item> stack;
-    for (std::size_t k = 0; k < roots_.size(); ++k) {
+    for (std::size_t k = first; k < end; ++k) {
         const glm::uvec2 tile(std::uint32_t(k % t_.tiles_x), std::uint32_t(k / t_.tiles_x));
         stack.push_back({roots_[k], t_.tile_bits, {tile.x << t_.tile_bits, tile.y << t_.tile_bits}});
         while (!stack.empty()) {

@@ -187,7 +187,7 @@ private:
     // 2^29 (one per leaf, kIndex), so they never carry kStampedMany.
     static constexpr std::uint32_t kStampedMany = 0x80000000u;
     static constexpr std::uint32_t kUnstamped = 0xFFFFFFFFu;  // many in a round that never comes
-    std::vector<std::uint32_t> touched_;
+    std::vector<std::uint32_t, Uninitialised<std::uint32_t>> touched_;
     std::uint32_t round_ = 0, round_first_ = 0;  // the round, and its first sample
     std::vector<Dart> darts_;
     std::vector<uvec2> lattice_;
