@@ -29,12 +29,6 @@ void FieldSampler::resolve() {
         resolve_in_parallel();
 }
 
-void FieldSampler::accept(const Dart& d, std::uint32_t r) {
-    tree_.set_sample(d.leaf, d.p, std::uint32_t(lattice_.size()));
-    lattice_.push_back(d.p);
-    radii_.push_back(r);
-}
-
 void FieldSampler::touch(std::uint32_t s) {
     const uvec2 p = lattice_[s];
     const std::uint32_t many = kStampedMany | round_;
@@ -152,11 +146,7 @@ void FieldSampler::resolve_in_parallel() {
     });
     std::vector<std::uint32_t> sample_of(n);  // dart j's sample, for the accepted ones
     note_bytes(n * 4 + accepted.size() * 8);
-    for (std::uint32_t j : arrival) {
-        sample_of[j] = std::uint32_t(lattice_.size());
-        lattice_.push_back(darts_[j].p);
-        radii_.push_back(t_.radius(darts_[j].p));
-    }
+    for (std::uint32_t j : arrival) sample_of[j] = add_sample(darts_[j].p, t_.radius(darts_[j].p));
     for (std::uint32_t j : accepted) tree_.set_sample(darts_[j].leaf, darts_[j].p, sample_of[j]);
     pool_.parallel_for(accepted.size(), [&](std::size_t begin, std::size_t end, unsigned) {
         for (std::size_t i = begin; i < end; ++i) touch(sample_of[accepted[i]]);

@@ -133,8 +133,14 @@ private:
     // conflict. `first` holds the first dart of each leaf marked fresh.
     std::uint32_t decide(std::uint32_t j, const std::uint32_t* first, std::uint8_t* state,
                          std::uint32_t& wait) const;
-    // Adds dart d (radius r) as the next sample.
-    void accept(const Dart& d, std::uint32_t r);
+    // Appends point p (radius r) to the samples; returns its index.
+    std::uint32_t add_sample(uvec2 p, std::uint32_t r) {
+        lattice_.push_back(p);
+        radii_.push_back(r);
+        return std::uint32_t(lattice_.size() - 1);
+    }
+    // Adds dart d (radius r) as the next sample, in the tree too.
+    void accept(const Dart& d, std::uint32_t r) { tree_.set_sample(d.leaf, d.p, add_sample(d.p, r)); }
     // Stamps sample s (one of this round's) on the leaves it may cover: those meeting the square
     // of its cover reach. Safe from several threads.
     void touch(std::uint32_t s);
