@@ -227,14 +227,21 @@ bool FieldQuadtree::search(glm::uvec2 a, glm::uvec2 b, std::uint64_t reach, Visi
         query.hi[k] = q[k + 2] + std::int64_t(reach);
         query.all[k] = all[k];
     }
+    auto search_tile = [&](std::int64_t tx, std::int64_t ty) {
+        // A query narrower than the torus meets its tiles' images one period either side at most.
+        const std::int64_t wx = tx < 0 ? tx + tiles[0] : tx >= tiles[0] ? tx - tiles[0] : tx,
+                           wy = ty < 0 ? ty + tiles[1] : ty >= tiles[1] ? ty - tiles[1] : ty;
+        const std::uint32_t root = roots_[std::size_t(wy * tiles[0] + wx)];
+        return descend<kNeed>(root, tx * tile, ty * tile, t_.tile_bits, query, visit);
+    };
+    // The tile holding the query's middle first: a search for one hit mostly ends there.
+    std::int64_t mid[2];
+    for (int k = 0; k < 2; ++k)
+        mid[k] = std::clamp<std::int64_t>((query.lo[k] + query.hi[k]) >> 1 >> t_.tile_bits, lo[k], hi[k]);
+    if (search_tile(mid[0], mid[1])) return true;
     for (std::int64_t ty = lo[1]; ty <= hi[1]; ++ty)
-        for (std::int64_t tx = lo[0]; tx <= hi[0]; ++tx) {
-            // A query narrower than the torus meets its tiles' images one period either side at most.
-            const std::int64_t wx = tx < 0 ? tx + tiles[0] : tx >= tiles[0] ? tx - tiles[0] : tx,
-                               wy = ty < 0 ? ty + tiles[1] : ty >= tiles[1] ? ty - tiles[1] : ty;
-            const std::uint32_t root = roots_[std::size_t(wy * tiles[0] + wx)];
-            if (descend<kNeed>(root, tx * tile, ty * tile, t_.tile_bits, query, visit)) return true;
-        }
+        for (std::int64_t tx = lo[0]; tx <= hi[0]; ++tx)
+            if ((tx != mid[0] || ty != mid[1]) && search_tile(tx, ty)) return true;
     return false;
 }
 
