@@ -135,7 +135,7 @@ TEST_CASE("a tabulated ramp is within 0.1 % of its source, with its L measured",
     }
 }
 
-TEST_CASE("min_over and max_over bound r over a block, exactly inside one table cell", "[field]") {
+TEST_CASE("min_over and max_over (and extremes_over, both) bound r over a block, exactly inside one table cell", "[field]") {
     Sizing s;
     s.expression = "0.02 + 0.01*sin(9*x)*cos(7*y)";
     const detail::FieldTable t = detail::tabulate(s, {1, 1, Boundary::Periodic});
@@ -146,6 +146,7 @@ TEST_CASE("min_over and max_over bound r over a block, exactly inside one table 
                            std::uint32_t(rng() % (t.lattice.extent_y - side)));
         const glm::uvec2 b(a.x + side - 1, a.y + side - 1);
         const std::uint32_t lo = t.min_over(a, b), hi = t.max_over(a, b);
+        REQUIRE(t.extremes_over(a, b) == std::pair{lo, hi});
         std::uint32_t seen_lo = UINT32_MAX, seen_hi = 0;
         for (int k = 0; k < 64; ++k) {
             const glm::uvec2 p(a.x + std::uint32_t(rng() % side), a.y + std::uint32_t(rng() % side));

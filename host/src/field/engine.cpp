@@ -119,14 +119,18 @@ void FieldSampler::gather(const Cell& c, std::vector<std::uint32_t>& out) const 
 
 bool FieldSampler::covered_by_fresh(uvec2 a, uvec2 b, std::uint32_t leaf) const {
     if (!stamped(leaf)) return false;
-    const std::uint32_t lo = t_.min_over(a, b);
-    if (const std::uint32_t s = stamp(leaf); s != FieldQuadtree::kNone) return covers(s, lo, a, b);
+    // r's least value over the block; for a search under prior and bigger its largest too.
+    const std::uint32_t one = stamp(leaf);
+    const bool own = rule_ == shared::RULE_CURRENT || rule_ == shared::RULE_SMALLER;
+    const std::pair<std::uint32_t, std::uint32_t> extremes =
+        one != FieldQuadtree::kNone || own ? std::pair{t_.min_over(a, b), 0u} : t_.extremes_over(a, b);
+    const std::uint32_t lo = extremes.first;
+    if (one != FieldQuadtree::kNone) return covers(one, lo, a, b);
     auto test = [&](std::uint32_t leaf) { return covers(tree_.sample(leaf), lo, a, b); };
     // A covering sample's f: at most lo under current and smaller; under prior and bigger at
     // most the reach, which bounds r(x) for each x within it (the largest r over its square, or
     // the Lipschitz growth).
-    const bool own = rule_ == shared::RULE_CURRENT || rule_ == shared::RULE_SMALLER;
-    const std::uint64_t f = own ? lo : reach(a, b, t_.max_over(a, b));
+    const std::uint64_t f = own ? lo : reach(a, b, extremes.second);
     if (wraps(a, b, f)) return tree_.near_fresh(a, b, f, test);
     // Along each axis the farther end of [a, b] lies ceil(w / 2) beyond a sample's gap to the
     // middle lattice points (on a torus too: the block and the reach are under half of it, a line

@@ -234,6 +234,14 @@ std::uint32_t FieldTable::max_over(glm::uvec2 a, glm::uvec2 b) const {
     return over_blocks(*this, hi, a, b, 0u, [](std::uint32_t x, std::uint32_t y) { return std::max(x, y); });
 }
 
+std::pair<std::uint32_t, std::uint32_t> FieldTable::extremes_over(glm::uvec2 a, glm::uvec2 b) const {
+    if ((a.x >> cell_bits) == (b.x >> cell_bits) && (a.y >> cell_bits) == (b.y >> cell_bits)) {
+        const auto r = corner_radii(*this, a, b);
+        return {std::min({r[0], r[1], r[2], r[3]}), std::max({r[0], r[1], r[2], r[3]})};
+    }
+    return {min_over(a, b), max_over(a, b)};
+}
+
 std::uint32_t FieldTable::max_near(glm::uvec2 p, std::uint64_t reach) const {
     // Each axis as one or two inclusive ranges of the lattice.
     auto ranges = [&](std::uint32_t c, std::uint32_t extent, std::uint64_t lo_r[2], std::uint64_t hi_r[2]) {

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <functional>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "shared/field.h"
@@ -61,6 +62,8 @@ struct FieldTable {
     // the lattice): exact inside one table cell, else a bound from the pyramid.
     std::uint32_t min_over(glm::uvec2 a, glm::uvec2 b) const;
     std::uint32_t max_over(glm::uvec2 a, glm::uvec2 b) const;
+    // Both, {min_over, max_over}, with one read of the table inside one table cell.
+    std::pair<std::uint32_t, std::uint32_t> extremes_over(glm::uvec2 a, glm::uvec2 b) const;
     // The same over a square of half-width `reach` around p (wrapping on a torus, clipped to a free box).
     std::uint32_t max_near(glm::uvec2 p, std::uint64_t reach) const;
     FieldStats stats() const;
