@@ -271,7 +271,13 @@ void FieldSampler::throw_darts(std::uint32_t round) {
                 if (density_ &&
                     !shared::keep_weighted(shared::hash_mix(shared::hash_mix(stream, 0xD1B54A35u), j), bound, r))
                     continue;
-                if (tree_.sample(leaf) != FieldQuadtree::kNone || conflicts(p, r)) continue;
+                if (tree_.sample(leaf) != FieldQuadtree::kNone) continue;
+                // The one sample that last stamped the leaf (an earlier round's, near it), if one
+                // did, is the likeliest conflict: tested before the search (kUnstamped carries
+                // kStampedMany).
+                const std::uint32_t near = touched_[leaf];
+                if (!(near & kStampedMany) && conflicts_with(near, p, r)) continue;
+                if (conflicts(p, r)) continue;
                 out.push_back({p, d.z, leaf});
             }
         }
