@@ -13,7 +13,6 @@
 #include "../plan.h"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <functional>
 #include <mutex>
@@ -51,8 +50,7 @@ double checked(const FieldSource& f, double x, double y) {
 // The double-valued table at a resolution: its nodes, the source at the points halfway between
 // them (which are the next resolution's nodes), and its largest relative error against the
 // source at those of them inside the box.
-// Its arrays are written row by row on the host's threads, which make the first touch of their
-// pages, huge where the kernel grants them (Uninitialised).
+// Its arrays are first touched by the row threads that fill them, on huge pages where granted.
 using Doubles = std::vector<double, Uninitialised<double, true>>;
 struct Draft {
     std::uint32_t cells_x = 0, cells_y = 0;
@@ -205,41 +203,37 @@ std::uint32_t over_blocks(const FieldTable& t, const std::vector<std::vector<std
     return v;
 }
 
+// Does [a, b] lie in one table cell? Then the interpolant's extremes over it are at its corners,
+// since it is linear along each axis.
+bool in_one_cell(const FieldTable& t, glm::uvec2 a, glm::uvec2 b) {
+    return (a.x >> t.cell_bits) == (b.x >> t.cell_bits) && (a.y >> t.cell_bits) == (b.y >> t.cell_bits);
+}
 
-// r at the four corners of [a, b], which lies in one table cell: the interpolant's extremes over
-// it, since it is linear along each axis.
-std::array<std::uint32_t, 4> corner_radii(const FieldTable& t, glm::uvec2 a, glm::uvec2 b) {
+// The least and largest of r at the four corners of [a, b], which lies in one table cell.
+std::pair<std::uint32_t, std::uint32_t> corner_extremes(const FieldTable& t, glm::uvec2 a, glm::uvec2 b) {
     const glm::uvec4 v = t.cell_nodes(a.x >> t.cell_bits, a.y >> t.cell_bits);
     const std::uint32_t mask = (1u << t.cell_bits) - 1u;
     const glm::uvec2 fa(a.x & mask, a.y & mask), fb(b.x & mask, b.y & mask);
-    return {shared::field_interpolate(v, fa, t.cell_bits), shared::field_interpolate(v, fb, t.cell_bits),
-            shared::field_interpolate(v, {fa.x, fb.y}, t.cell_bits),
-            shared::field_interpolate(v, {fb.x, fa.y}, t.cell_bits)};
+    const auto [lo, hi] =
+        std::minmax({shared::field_interpolate(v, fa, t.cell_bits), shared::field_interpolate(v, fb, t.cell_bits),
+                     shared::field_interpolate(v, {fa.x, fb.y}, t.cell_bits),
+                     shared::field_interpolate(v, {fb.x, fa.y}, t.cell_bits)});
+    return {lo, hi};
 }
 }  // namespace
 
 std::uint32_t FieldTable::min_over(glm::uvec2 a, glm::uvec2 b) const {
-    if ((a.x >> cell_bits) == (b.x >> cell_bits) && (a.y >> cell_bits) == (b.y >> cell_bits)) {
-        const auto r = corner_radii(*this, a, b);
-        return std::min({r[0], r[1], r[2], r[3]});
-    }
+    if (in_one_cell(*this, a, b)) return corner_extremes(*this, a, b).first;
     return over_blocks(*this, lo, a, b, UINT32_MAX, [](std::uint32_t x, std::uint32_t y) { return std::min(x, y); });
 }
 
 std::uint32_t FieldTable::max_over(glm::uvec2 a, glm::uvec2 b) const {
-    if ((a.x >> cell_bits) == (b.x >> cell_bits) && (a.y >> cell_bits) == (b.y >> cell_bits)) {
-        const auto r = corner_radii(*this, a, b);
-        return std::max({r[0], r[1], r[2], r[3]});
-    }
+    if (in_one_cell(*this, a, b)) return corner_extremes(*this, a, b).second;
     return over_blocks(*this, hi, a, b, 0u, [](std::uint32_t x, std::uint32_t y) { return std::max(x, y); });
 }
 
 std::pair<std::uint32_t, std::uint32_t> FieldTable::extremes_over(glm::uvec2 a, glm::uvec2 b) const {
-    if ((a.x >> cell_bits) == (b.x >> cell_bits) && (a.y >> cell_bits) == (b.y >> cell_bits)) {
-        const auto r = corner_radii(*this, a, b);
-        return {std::min({r[0], r[1], r[2], r[3]}), std::max({r[0], r[1], r[2], r[3]})};
-    }
-    return {min_over(a, b), max_over(a, b)};
+    return in_one_cell(*this, a, b) ? corner_extremes(*this, a, b) : std::pair{min_over(a, b), max_over(a, b)};
 }
 
 std::uint32_t FieldTable::max_near(glm::uvec2 p, std::uint64_t reach) const {
