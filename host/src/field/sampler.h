@@ -123,7 +123,8 @@ private:
     void write_fates(Cells& next, const std::vector<std::uint64_t>& first, Fate&& fate);
     void throw_darts(std::uint32_t round);
     // Decides the round's darts (field/resolve.cpp): as the textbook does, one dart at a time in
-    // arrival order, or (cpu backend; current and smaller) in parallel, with the same outcome.
+    // arrival order, or (cpu backend on several threads; current and smaller) in parallel, with the
+    // same outcome.
     void resolve();
     void resolve_in_arrival_order();
     void resolve_in_parallel();
