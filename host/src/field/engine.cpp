@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cmath>
 #include <optional>
+#include <tuple>
 
 #include <fmt/format.h>
 
@@ -119,18 +120,24 @@ void FieldSampler::gather(const Cell& c, std::vector<std::uint32_t>& out) const 
 
 bool FieldSampler::covered_by_fresh(uvec2 a, uvec2 b, std::uint32_t leaf) const {
     if (!stamped(leaf)) return false;
-    // r's least value over the block; for a search under prior and bigger its largest too.
+    // r's least value over the block (unread under prior, whose f is the sample's own radius)
+    // and, for a search under prior and bigger, its largest.
     const std::uint32_t one = stamp(leaf);
     const bool own = rule_ == shared::RULE_CURRENT || rule_ == shared::RULE_SMALLER;
-    const std::pair<std::uint32_t, std::uint32_t> extremes =
-        one != FieldQuadtree::kNone || own ? std::pair{t_.min_over(a, b), 0u} : t_.extremes_over(a, b);
-    const std::uint32_t lo = extremes.first;
-    if (one != FieldQuadtree::kNone) return covers(one, lo, a, b);
+    const bool search = one == FieldQuadtree::kNone;
+    std::uint32_t lo = 0, hi = 0;
+    if (rule_ == shared::RULE_PRIOR)
+        hi = search ? t_.max_over(a, b) : 0;
+    else if (search && !own)
+        std::tie(lo, hi) = t_.extremes_over(a, b);
+    else
+        lo = t_.min_over(a, b);
+    if (!search) return covers(one, lo, a, b);
     auto test = [&](std::uint32_t leaf) { return covers(tree_.sample(leaf), lo, a, b); };
     // A covering sample's f: at most lo under current and smaller; under prior and bigger at
     // most the reach, which bounds r(x) for each x within it (the largest r over its square, or
     // the Lipschitz growth).
-    const std::uint64_t f = own ? lo : reach(a, b, extremes.second);
+    const std::uint64_t f = own ? lo : reach(a, b, hi);
     if (wraps(a, b, f)) return tree_.near_fresh(a, b, f, test);
     // Along each axis the farther end of [a, b] lies ceil(w / 2) beyond a sample's gap to the
     // middle lattice points (on a torus too: the block and the reach are under half of it, a line
@@ -153,7 +160,8 @@ bool FieldSampler::covers(std::uint32_t s, std::uint32_t lo, uvec2 a, uvec2 b) c
 }
 
 bool FieldSampler::covered_by(const std::vector<std::uint32_t>& near, uvec2 a, uvec2 b) const {
-    const std::uint32_t lo = t_.min_over(a, b);
+    // Under prior f is the sample's own radius: the block's least r goes unread.
+    const std::uint32_t lo = rule_ == shared::RULE_PRIOR ? 0 : t_.min_over(a, b);
     for (std::uint32_t s : near)
         if (covers(s, lo, a, b)) return true;
     return false;
