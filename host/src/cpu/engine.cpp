@@ -118,13 +118,6 @@ private:
         v.resize(n);
     }
 
-    // Per-chunk counts in first[w + 1] (chunk w of a parallel_for over base cells) become each
-    // chunk's first index, in base cell order; returns the total.
-    static std::uint64_t chunk_offsets(std::vector<std::uint64_t>& first) {
-        for (std::size_t w = 1; w < first.size(); ++w) first[w] += first[w - 1];
-        return first.back();
-    }
-
     template <class V>
     static std::uint64_t bytes(const V& v) {
         return v.capacity() * sizeof(typename V::value_type);

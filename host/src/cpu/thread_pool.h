@@ -5,6 +5,7 @@
 
 #include <condition_variable>
 #include <cstddef>
+#include <cstdint>
 #include <exception>
 #include <utility>
 #include <functional>
@@ -44,5 +45,12 @@ private:
     bool stop_ = false;
     std::exception_ptr error_;  // the first exception of the current job
 };
+
+// Per-chunk counts in first[w + 1] (chunk w of a parallel_for, first[0] = 0) become each chunk's
+// first index in the chunks' order; returns the total.
+inline std::uint64_t chunk_offsets(std::vector<std::uint64_t>& first) {
+    for (std::size_t w = 1; w < first.size(); ++w) first[w] += first[w - 1];
+    return first.back();
+}
 
 }  // namespace vrpd::detail

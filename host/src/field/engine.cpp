@@ -36,6 +36,8 @@ constexpr std::size_t kExponents = 128;
 // A cell's fate in got_ (balance, refine): dropped (0), kept whole, or split with the mask of its
 // surviving children in bits 0-3.
 constexpr std::uint8_t kKeep = 0x10, kSplit = 0x20;
+// The cells a fate leaves in the next list.
+std::uint64_t cells_of(std::uint8_t fate) { return fate == kKeep ? 1 : std::uint64_t(std::popcount(fate & 0xFu)); }
 
 }  // namespace
 
@@ -235,15 +237,14 @@ double FieldSampler::balance() {
                 const std::uint8_t fate = fate_of(cells_[i], near);
                 if (store) got_[i] = fate;
                 split[w] |= fate != kKeep;
-                count += fate == kKeep ? 1 : std::uint64_t(std::popcount(fate & 0xFu));
+                count += cells_of(fate);
             }
             first[w + 1] = count;
         });
         if (std::find(split.begin(), split.end(), 1) == split.end()) return rate;
-        for (unsigned w = 0; w < pool_.size(); ++w) first[w + 1] += first[w];
-        Cells next(first.back());
+        Cells next(chunk_offsets(first));
         note_bytes(next.capacity() * sizeof(Cell));
-        std::vector<std::uint32_t> unused;
+        std::vector<std::uint32_t> unused;  // before the first sample fate_of reads no list
         write_fates(next, first, [&](std::size_t i) { return store ? got_[i] : fate_of(cells_[i], unused); });
         std::swap(cells_, next);
     }
@@ -327,12 +328,11 @@ void FieldSampler::refine() {
                         fate |= std::uint8_t(1u << k);
             }
             got_[i] = fate;
-            count += fate == kKeep ? 1 : std::uint64_t(std::popcount(fate & 0xFu));
+            count += cells_of(fate);
         }
         first[w + 1] = count;
     });
-    for (unsigned w = 0; w < pool_.size(); ++w) first[w + 1] += first[w];
-    Cells next(first.back());
+    Cells next(chunk_offsets(first));
     note_bytes(next.capacity() * sizeof(Cell));
     write_fates(next, first, [&](std::size_t i) { return got_[i]; });
     std::swap(cells_, next);
