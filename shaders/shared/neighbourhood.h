@@ -70,7 +70,7 @@ VRPD_FN Domain local_domain(Domain dom, uvec2 cell) {
 // next cell, `return` ends the scan. GLSL has neither closures nor function pointers: a loop
 // macro keeps the scan written once while every compiler sees two plain nested loops (the
 // inner-cell test and the centre's index ride in the outer loop's declaration, each row's first
-// index in the inner one's, so an inner cell's neighbour costs one add).
+// index in the inner one's, so an inner cell's neighbour costs one add and no off-grid test).
 #define VRPD_FOR_EACH_NEIGHBOUR(dom, cell, reach, limit2, dx, dy, nb)                                           \
     for (int dy = -(reach), nb = 0, vrpd_inner = inner_cell(dom, cell) ? 1 : 0,                                 \
              vrpd_centre = int(base_index(dom, cell));                                                          \
@@ -78,8 +78,8 @@ VRPD_FN Domain local_domain(Domain dom, uvec2 cell) {
         for (int dx = -row_reach(dom, dy, reach, limit2), vrpd_row_end = -dx,                                    \
                  vrpd_row = vrpd_centre + dy * int(dom.cells_x);                                                \
              dx <= vrpd_row_end; dx++)                                                                          \
-            if ((nb = vrpd_inner != 0 ? vrpd_row + dx : int(wrapped_neighbour_index(dom, cell, dx, dy))) !=     \
-                int(GRID_EMPTY))
+            if (vrpd_inner != 0 ? ((nb = vrpd_row + dx), true)                                                  \
+                                : (nb = int(wrapped_neighbour_index(dom, cell, dx, dy))) != int(GRID_EMPTY))
 
 // This round's darts [first, end) in a grid word, or an empty range if it holds none.
 VRPD_FN uvec2 darts_in(uvec2 word) { return grid_is_darts(word) ? grid_darts(word) : uvec2(0u, 0u); }
