@@ -20,7 +20,13 @@ using uint = std::uint32_t;
 using ivec2 = glm::ivec2;
 using uvec2 = glm::uvec2;
 using uvec4 = glm::uvec4;
-inline int bitCount(std::uint32_t v) { return std::popcount(v); }
+// Without a popcnt target (the portable x86-64 baseline) std::popcount is a library call; this
+// sum of bit fields is a dozen inline instructions.
+inline int bitCount(std::uint32_t v) {
+    v -= (v >> 1) & 0x55555555u;
+    v = (v & 0x33333333u) + ((v >> 2) & 0x33333333u);
+    return int((((v + (v >> 4)) & 0x0F0F0F0Fu) * 0x01010101u) >> 24);
+}
 inline int findLSB(std::uint32_t v) { return v == 0u ? -1 : std::countr_zero(v); }
 using std::int64_t;
 using std::uint64_t;
