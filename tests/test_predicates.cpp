@@ -2,7 +2,7 @@
 // shared/: the lattice distance, conflict and cover of a point (strict: a pair at exactly r neither
 // conflicts nor covers), and the quadtree's cover test of a cell, on random and tied inputs. Then
 // whole runs on a lattice where pairs at exactly r occur: they must be kept, and every lattice
-// point must end strictly covered.
+// point must end strictly covered. Last, the host's versions of two GLSL built-ins.
 #include <catch2/catch.hpp>
 
 #include <random>
@@ -148,4 +148,24 @@ TEST_CASE("runs where pairs at exactly r occur keep them, and leave no lattice p
         }
     }
     CHECK(ties > 0);  // the runs did meet pairs at exactly r
+}
+
+TEST_CASE("predicates: the host's bitCount and findLSB are GLSL's, on every bit position and random words",
+          "[predicates]") {
+    std::mt19937 rng(11);
+    auto oracle_count = [](std::uint32_t v) {
+        int n = 0;
+        for (int b = 0; b < 32; ++b) n += int(v >> b & 1u);
+        return n;
+    };
+    std::vector<std::uint32_t> words = {0u, 0xFFFFFFFFu, 0x80000000u, 0x55555555u, 0xAAAAAAAAu};
+    for (int b = 0; b < 32; ++b) words.push_back(1u << b);
+    for (int i = 0; i < 20000; ++i) words.push_back(rng());
+    for (std::uint32_t v : words) {
+        REQUIRE(shared::bitCount(v) == oracle_count(v));
+        int lsb = -1;
+        for (int b = 31; b >= 0; --b)
+            if (v >> b & 1u) lsb = b;
+        REQUIRE(shared::findLSB(v) == lsb);
+    }
 }
