@@ -279,6 +279,17 @@ private:
         const uint side = spec.refine ? spec.side / 2u : spec.side;
         const CellArgs args{dom, 0, 0, 0, 0, 0, 0, 0, 0, bases, round_key(plan_.seed, spec.round), side, fanout};
         std::vector<std::uint64_t> first(pool_.size() + 1, 0);
+        if (!cover_tested(dom, fanout, side)) {
+            // Every cell stays (surviving_children: active cells lie on the lattice), so the words
+            // already hold the masks, and only their cells are counted.
+            pool_.parallel_for(bases, [&](std::size_t b, std::size_t e, unsigned w) {
+                std::uint64_t sum = 0;
+                for (std::size_t i = b; i < e; ++i)
+                    if (masked_active(grid_[i])) sum += uint(bitCount(grid_[i].y & GRID_MASK_BITS));
+                first[w + 1] = sum;
+            });
+            return chunk_offsets(first);
+        }
         if (!masked_leaves(dom, side, fanout)) {
             fit(masks_, bases);
             pool_.parallel_for(bases, [&](std::size_t b, std::size_t e, unsigned w) {
