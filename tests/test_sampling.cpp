@@ -158,15 +158,18 @@ TEST_CASE("gpu, cpu and serial give identical samples in identical order", "[sam
         for (std::uint32_t seed : {3u, 4u}) {
             INFO("r " << c.radius << " box " << c.box.width << "x" << c.box.height << " bits " << c.max_cell_bits
                       << " seed " << seed);
-            auto run = [&](Backend b) {
-                const SampleOptions o = options(c.radius, seed, b, c.box);
+            auto run = [&](Backend b, unsigned threads = 0) {
+                SampleOptions o = options(c.radius, seed, b, c.box);
+                o.threads = threads;
                 return detail::sample_plan(o, detail::make_plan(o, c.max_cell_bits));
             };
             const Sampling serial = run(Backend::Serial);
-            const Sampling cpu = run(Backend::Cpu);
+            const Sampling cpu = run(Backend::Cpu, 2);
+            const Sampling cpu_one_thread = run(Backend::Cpu, 1);  // decides in arrival order
             const Sampling gpu = run(Backend::Gpu);
             REQUIRE(serial.size() > 10);
             CHECK(cpu.lattice == serial.lattice);
+            CHECK(cpu_one_thread.lattice == serial.lattice);
             CHECK(gpu.lattice == serial.lattice);
             CHECK(gpu.stats.darts == serial.stats.darts);
         }

@@ -1,5 +1,6 @@
 // The host engines: `cpu` runs the GPU's kernel bodies (shaders/shared/sampler.h) over a thread
-// pool, in mask mode at levels 0-2 as the GPU does, and decides each dart once (see resolve);
+// pool, in mask mode at levels 0-2 as the GPU does, and decides each dart once (see resolve; one
+// radius on one thread: in arrival order, arrival_order.h);
 // `serial` accepts the same darts one at a time in arrival order (serial_oracle.h), the textbook
 // definition of the process, over explicit active lists at every level: kept simple as the oracle.
 #include <algorithm>
@@ -10,6 +11,7 @@
 #include <fmt/format.h>
 
 #include "engine.h"
+#include "arrival_order.h"
 #include "shared/sampler.h"
 #include "serial_oracle.h"
 #include "thread_pool.h"
@@ -76,7 +78,7 @@ public:
         note_peak();
         timed("resolve", [&] { resolve(); });
         timed("commit", [&] { commit(); });
-        timed("emit", [&] { emit(); });
+        if (!in_arrival_order()) timed("emit", [&] { emit(); });
         // The darts are spent: give their memory back before refinement.
         std::vector<uint>().swap(darts_);
         dart_count_ = 0;
@@ -226,7 +228,7 @@ private:
             for (std::size_t i = b; i < e; ++i) {
                 if (!first_in_base_cell(dom, listed, uint(i))) continue;
                 uvec2& w = grid_[base_of_point(dom, listed.cell[i])];
-                w = committed_word(darts(), w);
+                if (grid_is_darts(w)) w = committed_word(darts(), w);  // else it took its sample already
             }
         });
     }
@@ -378,12 +380,22 @@ private:
         return sum;
     }
 
+    // One radius on one thread: the darts are decided, and the accepted ones emitted, in arrival
+    // order (arrival_order.h), where the parallel resolution would cost twice the instructions.
+    bool in_arrival_order() const {
+        return resolution_ == Resolution::Parallel && pool_.size() == 1 && !two_radii(plan_.domain.radii);
+    }
+
     // Decides the round's undecided darts in arrival order.
     void resolve() {
         const Domain dom = plan_.domain;
         const std::size_t total = dart_count_;
         if (resolution_ == Resolution::Serial) {
             note_peak(resolve_in_arrival_order(dom, grid(), darts(), uint(total)));
+            return;
+        }
+        if (in_arrival_order()) {
+            note_peak(decide_in_arrival_order(dom, grid(), darts(), uint(total), out_));
             return;
         }
         // Each thread decides the undecided darts of its part of the round (spatial order), one at

@@ -1,0 +1,66 @@
+// One radius decided in arrival order, for the cpu backend on one thread. A base cell's diagonal
+// is shorter than Rf, so it holds at most one sample, and once a dart of the round is accepted
+// its point can stand in the base cell's word for the rest of the round: a later dart in that
+// base cell lies within Rf of it, and one elsewhere meets it in the same scan of nearby samples
+// that rejected darts at throw. The parallel resolution instead reads every dart of the round
+// near each undecided one (resolve.h). Arrival order is random in space, so the loop fetches the
+// record of the dart 16 ahead and the grid rows around the dart 8 ahead.
+#include "arrival_order.h"
+
+#include <algorithm>
+
+#include "shared/cover.h"
+
+namespace vrpd::detail {
+
+using namespace shared;
+
+void sort_by_key(std::vector<std::uint64_t>& values) {
+    constexpr int kBits = 11;
+    constexpr std::size_t kBuckets = std::size_t(1) << kBits;
+    std::vector<std::uint64_t> other(values.size());
+    for (int shift = 32; shift < 64; shift += kBits) {
+        std::vector<std::size_t> start(kBuckets + 1, 0);
+        for (std::uint64_t v : values) ++start[((v >> shift) & (kBuckets - 1)) + 1];
+        for (std::size_t b = 1; b <= kBuckets; ++b) start[b] += start[b - 1];
+        for (std::uint64_t v : values) other[start[(v >> shift) & (kBuckets - 1)]++] = v;
+        values.swap(other);
+    }
+}
+
+std::uint64_t decide_in_arrival_order(const Domain& dom, Grid grid, Darts darts, uint count, std::vector<uvec2>& out) {
+    std::vector<std::uint64_t> order;
+    for (uint j = 0; j < count; ++j) {
+        const uvec4 dart = dart_at(darts, j);
+        if (dart.w == DART_UNDECIDED) order.push_back(std::uint64_t(dart.z) << 32 | j);
+    }
+    sort_by_key(order);
+    const int reach = conflict_reach(dom.radii);
+    auto fetch_rows = [&](uint j) {
+        const uint r = dart_record(j);
+        const uvec2 c = base_cell_of(dom, uvec2(darts.word[r], darts.word[r + 1u]));
+        const int last_x = int(dom.cells_x) - 1;
+        for (int y = std::max(int(c.y) - reach, 0); y <= std::min(int(c.y) + reach, int(dom.cells_y) - 1); ++y) {
+            const std::size_t row = std::size_t(y) * dom.cells_x;
+            __builtin_prefetch(&grid.word[row + std::size_t(std::max(int(c.x) - reach, 0))]);
+            __builtin_prefetch(&grid.word[row + std::size_t(std::min(int(c.x) + reach, last_x))]);
+        }
+    };
+    const std::size_t n = order.size();
+    for (std::size_t k = 0; k < n; ++k) {
+        if (k + 16 < n) __builtin_prefetch(&darts.word[dart_record(uint(order[k + 16]))]);
+        if (k + 8 < n) fetch_rows(uint(order[k + 8]));
+        const uint d = uint(order[k]);
+        const uint r = dart_record(d);
+        const uvec2 p(darts.word[r], darts.word[r + 1u]);
+        const uvec2 cell = base_cell_of(dom, p);
+        const bool rejected = near_sample(local_domain(dom, cell), grid, cell, p, INHIBITION);
+        set_dart_state(darts, d, rejected ? DART_REJECTED : DART_ACCEPTED);
+        if (rejected) continue;
+        grid.word[base_index(dom, cell)] = p;
+        out.push_back(p);
+    }
+    return 2 * order.capacity() * sizeof(std::uint64_t);
+}
+
+}  // namespace vrpd::detail
