@@ -2,9 +2,11 @@
 // shared/: the lattice distance, conflict and cover of a point (strict: a pair at exactly r neither
 // conflicts nor covers), and the quadtree's cover test of a cell, on random and tied inputs. Then
 // whole runs on a lattice where pairs at exactly r occur: they must be kept, and every lattice
-// point must end strictly covered. Last, the host's versions of two GLSL built-ins.
+// point must end strictly covered. Last, the host's versions of two GLSL built-ins and its
+// vectorised window scan.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <random>
 
 #include "plan.h"
@@ -168,4 +170,57 @@ TEST_CASE("predicates: the host's bitCount and findLSB are GLSL's, on every bit 
             if (v >> b & 1u) lsb = b;
         REQUIRE(shared::findLSB(v) == lsb);
     }
+}
+
+TEST_CASE("predicates: the host's vectorised window scan finds a sample within the radius iff one is there",
+          "[predicates]") {
+#ifndef VRPD_HOST_AVX2
+    SUCCEED("not x86-64: near_sample keeps its scalar scan");
+#else
+    if (!shared::host_has_avx2()) SUCCEED("no AVX2 here: near_sample keeps its scalar scan");
+    if (!shared::host_has_avx2()) return;
+    std::mt19937_64 rng(13);
+    constexpr int kSide = 9;  // a 9 x 9 grid of base cells, the window around the middle one
+    int found = 0;
+    for (int trial = 0; trial < 20000; ++trial) {
+        const std::uint32_t bits = 1 + std::uint32_t(rng() % 20), side = 1u << bits;
+        const int reach = 1 + int(rng() % 3);
+        // Half the grids with the middle cell last below x = 2^31: a darts word's x (GRID_TAG |
+        // its first dart) then differs little from p's, and only the tag tells it from a sample.
+        const bool top = rng() % 2;
+        const std::uint32_t origin = top ? (0x80000000u >> bits) - 5 : 0;
+        std::vector<glm::uvec2> grid(kSide * kSide);
+        std::vector<std::uint64_t> gaps;  // the samples' squared distances to p
+        const glm::uvec2 p(((origin + 4) << bits) + std::uint32_t(rng() % side),
+                           ((origin + 4) << bits) + std::uint32_t(rng() % side));
+        for (int cy = 0; cy < kSide; ++cy)
+            for (int cx = 0; cx < kSide; ++cx) {
+                glm::uvec2& w = grid[std::size_t(cy * kSide + cx)];
+                switch (top && cx > 4 ? rng() % 2 : rng() % 3) {  // no sample past the lattice
+                    case 0:
+                        w = glm::uvec2(shared::GRID_EMPTY, shared::GRID_EMPTY);
+                        break;
+                    case 1:
+                        w = glm::uvec2(shared::GRID_TAG | std::uint32_t(rng() % side), p.y);
+                        break;
+                    default:
+                        w = glm::uvec2(((origin + std::uint32_t(cx)) << bits) + std::uint32_t(rng() % side),
+                                       ((origin + std::uint32_t(cy)) << bits) + std::uint32_t(rng() % side));
+                        if (std::abs(cx - 4) <= reach && std::abs(cy - 4) <= reach)
+                            gaps.push_back(std::uint64_t((std::int64_t(w.x) - p.x) * (std::int64_t(w.x) - p.x) +
+                                                         (std::int64_t(w.y) - p.y) * (std::int64_t(w.y) - p.y)));
+                }
+            }
+        // The radius at random, or tied with the nearest sample's distance (at it or one unit past).
+        std::uint64_t limit2 = rng() % (std::uint64_t(reach + 1) * side * (std::uint64_t(reach + 1) * side));
+        if (!gaps.empty() && rng() % 2) limit2 = *std::min_element(gaps.begin(), gaps.end()) + rng() % 2;
+        bool oracle = false;
+        for (std::uint64_t g : gaps) oracle |= g < limit2;
+        found += oracle ? 1 : 0;
+        INFO("trial " << trial << " bits " << bits << " reach " << reach << " limit2 " << limit2);
+        REQUIRE(shared::window_holds_near(&grid[4 * kSide + 4], kSide, reach, p, limit2) == oracle);
+    }
+    CHECK(found > 2000);
+    CHECK(found < 18000);
+#endif
 }

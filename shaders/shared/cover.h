@@ -7,14 +7,60 @@
 #include "neighbourhood.h"
 #include "kernels.h"
 #include "t_membership.h"
+#if defined(__cplusplus) && defined(__x86_64__)
+#define VRPD_HOST_AVX2 1
+#include <immintrin.h>
+#endif
 
 VRPD_BEGIN
+
+#ifdef VRPD_HOST_AVX2
+// The host's body of near_sample where the scan neither wraps nor meets a free boundary, on
+// processors with AVX2: each row of the (2 reach + 1)^2 window of base cells around `centre` in
+// two masked loads of four grid words, each lane's (x, y) offset from p in 32 bits and its squared
+// length in 64 (coordinates within the window differ by less than 2^31: distance2's value on a
+// straight domain). A sample in a cell the rows' reaches leave out lies at least sqrt(limit2)
+// from every point of the centre cell, so testing it changes no answer.
+[[gnu::target("avx2")]] inline bool window_holds_near(const uvec2* centre, int stride, int reach, uvec2 p,
+                                                      uint64_t limit2) {
+    const int width = 2 * reach + 1;  // 3, 5 or 7 words a row
+    const int low_lanes = (1 << (width < 4 ? width : 4)) - 1, high_lanes = width > 4 ? (1 << (width - 4)) - 1 : 0;
+    const __m256i lane = _mm256_setr_epi64x(0, 1, 2, 3);
+    const __m256i low = _mm256_cmpgt_epi64(_mm256_set1_epi64x(width), lane);
+    const __m256i high = _mm256_cmpgt_epi64(_mm256_set1_epi64x(width - 4), lane);
+    const __m256i at = _mm256_set1_epi64x(int64_t(uint64_t(p.y) << 32 | p.x));
+    const __m256i limit = _mm256_set1_epi64x(int64_t(limit2));
+    for (int dy = -reach; dy <= reach; dy++) {
+        const auto* row = reinterpret_cast<const long long*>(centre + dy * stride - reach);
+        for (int half = 0; half < (width > 4 ? 2 : 1); half++) {
+            // The lanes of four words that hold a sample closer than sqrt(limit2) to p.
+            const __m256i w = _mm256_maskload_epi64(row + 4 * half, half == 0 ? low : high);
+            const __m256i d = _mm256_sub_epi32(w, at);
+            const __m256i d_y = _mm256_srli_epi64(d, 32);
+            const __m256i d2 = _mm256_add_epi64(_mm256_mul_epi32(d, d), _mm256_mul_epi32(d_y, d_y));
+            const int close = _mm256_movemask_pd(_mm256_castsi256_pd(_mm256_cmpgt_epi64(limit, d2)));
+            const int tagged = _mm256_movemask_pd(_mm256_castsi256_pd(_mm256_slli_epi64(w, 32)));  // GRID_TAG
+            if ((close & ~tagged & (half == 0 ? low_lanes : high_lanes)) != 0) return true;
+        }
+    }
+    return false;
+}
+inline bool host_has_avx2() {
+    static const bool has = (__builtin_cpu_init(), __builtin_cpu_supports("avx2"));
+    return has;
+}
+#endif
 
 // Is point p inhibited (INHIBITION: closer than Rf) or covered (COVERAGE: closer than Rc) by a
 // sample of an earlier round? The samples near base cell `base` are read from the grid; dom is
 // local_domain(base).
 VRPD_FN bool near_sample(Domain dom, Grid grid, uvec2 base, uvec2 p, uint which) {
     int reach = radius_reach(dom.radii, which);
+#ifdef VRPD_HOST_AVX2
+    if (dom.lattice.periodic == 0u && inner_cell(dom, base) && host_has_avx2())
+        return window_holds_near(grid.word + base_index(dom, base), int(dom.cells_x), reach, p,
+                                 radius2(dom.radii, which));
+#endif
     VRPD_FOR_EACH_NEIGHBOUR(dom, base, reach, radius2(dom.radii, which), dx, dy, nb) {
         uvec2 w = grid.word[nb];
         if (grid_is_sample(w) && within(dom.radii, which, distance2(dom.lattice, w, p))) return true;
