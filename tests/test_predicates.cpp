@@ -172,7 +172,7 @@ TEST_CASE("predicates: the host's bitCount and findLSB are GLSL's, on every bit 
     }
 }
 
-TEST_CASE("predicates: the host's vectorised window scan finds a sample within the radius iff one is there",
+TEST_CASE("predicates: the host's vectorised window scans find the samples within a radius of a point or a cell",
           "[predicates]") {
 #ifndef VRPD_HOST_AVX2
     SUCCEED("not x86-64: near_sample keeps its scalar scan");
@@ -219,6 +219,24 @@ TEST_CASE("predicates: the host's vectorised window scan finds a sample within t
         found += oracle ? 1 : 0;
         INFO("trial " << trial << " bits " << bits << " reach " << reach << " limit2 " << limit2);
         REQUIRE(shared::window_holds_near(&grid[4 * kSide + 4], kSide, reach, p, limit2) == oracle);
+        // The gather: the samples whose squared gap to the middle cell's closed square is below
+        // limit2, as offsets from its corner, the 3 x 3 adjacent cells' first, rows in order.
+        const glm::uvec2 corner((origin + 4) << bits, (origin + 4) << bits);
+        std::vector<glm::ivec2> expected[2];
+        for (int dy = -reach; dy <= reach; ++dy)
+            for (int dx = -reach; dx <= reach; ++dx) {
+                const glm::uvec2 w = grid[std::size_t((4 + dy) * kSide + 4 + dx)];
+                if (w.x & shared::GRID_TAG) continue;
+                const glm::i64vec2 o(std::int64_t(w.x) - corner.x, std::int64_t(w.y) - corner.y);
+                const std::int64_t gx = std::max<std::int64_t>({-o.x, o.x - side, 0});
+                const std::int64_t gy = std::max<std::int64_t>({-o.y, o.y - side, 0});
+                if (std::uint64_t(gx * gx + gy * gy) < limit2)
+                    expected[std::abs(dx) <= 1 && std::abs(dy) <= 1 ? 0 : 1].emplace_back(o);
+            }
+        expected[0].insert(expected[0].end(), expected[1].begin(), expected[1].end());
+        std::vector<glm::ivec2> got(shared::MAX_CELL_SAMPLES);
+        got.resize(shared::window_gather(&grid[4 * kSide + 4], kSide, reach, corner, int(side), limit2, got.data()));
+        REQUIRE(got == expected[0]);
     }
     CHECK(found > 2000);
     CHECK(found < 18000);

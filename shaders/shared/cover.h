@@ -15,12 +15,12 @@
 VRPD_BEGIN
 
 #ifdef VRPD_HOST_AVX2
-// The host's body of near_sample where the scan neither wraps nor meets a free boundary, on
-// processors with AVX2: each row of the (2 reach + 1)^2 window of base cells around `centre` in
-// two masked loads of four grid words, each lane's (x, y) offset from p in 32 bits and its squared
-// length in 64 (coordinates within the window differ by less than 2^31: distance2's value on a
-// straight domain). A sample in a cell the rows' reaches leave out lies at least sqrt(limit2)
-// from every point of the centre cell, so testing it changes no answer.
+// The host's body of near_sample where the scan neither wraps nor meets a free boundary and reaches
+// at most MAX_REACH cells, on processors with AVX2: each row of the (2 reach + 1)^2 window of base
+// cells around `centre` in two masked loads of four grid words, each lane's (x, y) offset from p in
+// 32 bits and its squared length in 64 (coordinates within the window differ by less than 2^31:
+// distance2's value on a straight domain). A sample in a cell the rows' reaches leave out lies at
+// least sqrt(limit2) from every point of the centre cell, so testing it changes no answer.
 [[gnu::target("avx2")]] inline bool window_holds_near(const uvec2* centre, int stride, int reach, uvec2 p,
                                                       uint64_t limit2) {
     const int width = 2 * reach + 1;  // 3, 5 or 7 words a row
@@ -57,7 +57,7 @@ inline bool host_has_avx2() {
 VRPD_FN bool near_sample(Domain dom, Grid grid, uvec2 base, uvec2 p, uint which) {
     int reach = radius_reach(dom.radii, which);
 #ifdef VRPD_HOST_AVX2
-    if (dom.lattice.periodic == 0u && inner_cell(dom, base) && host_has_avx2())
+    if (reach <= int(MAX_REACH) && dom.lattice.periodic == 0u && inner_cell(dom, base) && host_has_avx2())
         return window_holds_near(grid.word + base_index(dom, base), int(dom.cells_x), reach, p,
                                  radius2(dom.radii, which));
 #endif
@@ -156,10 +156,63 @@ VRPD_FN bool base_covered(Domain dom, Grid grid, uvec2 base) {
     return false;
 }
 
+#ifdef VRPD_HOST_AVX2
+// The host's body of gather_cell_samples where the scan neither wraps nor meets a free boundary and
+// reaches at most MAX_REACH cells, on processors with AVX2, as window_holds_near reads it: each
+// sample's offset from the base cell's corner `origin` (side `side`) in 32 bits, kept if its
+// squared gap to the closed base cell is below limit2 (Rc^2; an adjacent cell's sample always is,
+// and one in a cell the rows' reaches leave out never). Writes the kept offsets to `out`, the 3 x 3
+// adjacent cells' first, each group in row order; returns their count.
+[[gnu::target("avx2")]] inline uint window_gather(const uvec2* centre, int stride, int reach, uvec2 origin, int side,
+                                                  uint64_t limit2, ivec2* out) {
+    const int width = 2 * reach + 1;
+    const uint low_lanes = (1u << (width < 4 ? width : 4)) - 1u, high_lanes = width > 4 ? (1u << (width - 4)) - 1u : 0u;
+    const __m256i lane = _mm256_setr_epi64x(0, 1, 2, 3);
+    const __m256i low = _mm256_cmpgt_epi64(_mm256_set1_epi64x(width), lane);
+    const __m256i high = _mm256_cmpgt_epi64(_mm256_set1_epi64x(width - 4), lane);
+    const __m256i corner = _mm256_set1_epi64x(int64_t(uint64_t(origin.y) << 32 | origin.x));
+    const __m256i far_side = _mm256_set1_epi32(side);
+    const __m256i zero = _mm256_setzero_si256();
+    const __m256i limit = _mm256_set1_epi64x(int64_t(limit2));
+    ivec2 offset[8 * (2 * MAX_REACH + 1)];  // row r's lane k at 8 r + k
+    uint64_t kept = 0u;                     // the same bits
+    for (int r = 0; r < width; r++) {
+        const auto* row = reinterpret_cast<const long long*>(centre + (r - reach) * stride - reach);
+        for (int half = 0; half < (width > 4 ? 2 : 1); half++) {
+            const __m256i w = _mm256_maskload_epi64(row + 4 * half, half == 0 ? low : high);
+            const __m256i o = _mm256_sub_epi32(w, corner);
+            const __m256i gap =
+                _mm256_max_epi32(_mm256_max_epi32(_mm256_sub_epi32(zero, o), _mm256_sub_epi32(o, far_side)), zero);
+            const __m256i gap_y = _mm256_srli_epi64(gap, 32);
+            const __m256i g2 = _mm256_add_epi64(_mm256_mul_epi32(gap, gap), _mm256_mul_epi32(gap_y, gap_y));
+            const int close = _mm256_movemask_pd(_mm256_castsi256_pd(_mm256_cmpgt_epi64(limit, g2)));
+            const int tagged = _mm256_movemask_pd(_mm256_castsi256_pd(_mm256_slli_epi64(w, 32)));  // GRID_TAG
+            _mm256_storeu_si256(reinterpret_cast<__m256i*>(&offset[8 * r + 4 * half]), o);
+            kept |= uint64_t(uint(close & ~tagged) & (half == 0 ? low_lanes : high_lanes)) << (8 * r + 4 * half);
+        }
+    }
+    // The 3 x 3 adjacent cells: lanes reach - 1 to reach + 1 of rows reach - 1 to reach + 1.
+    const uint64_t adjacent =
+        uint64_t(7u << (reach - 1)) *
+        ((uint64_t(1) << (8 * (reach - 1))) | (uint64_t(1) << (8 * reach)) | (uint64_t(1) << (8 * (reach + 1))));
+    uint n = 0u;
+    for (uint64_t m = kept & adjacent; m != 0u; m &= m - 1u) out[n++] = offset[std::countr_zero(m)];
+    for (uint64_t m = kept & ~adjacent; m != 0u; m &= m - 1u) out[n++] = offset[std::countr_zero(m)];
+    return n;
+}
+#endif
+
 // Fills cell_sample_at with the samples near base cell `base`, those of the 8 adjacent cells
 // first (the likeliest to cover a cell wholly, so that cover tests stop early); returns their
 // count, or MAX_CELL_SAMPLES + 1 if they do not fit.
 VRPD_FN uint gather_cell_samples(Domain dom, Grid grid, uvec2 base) {
+#ifdef VRPD_HOST_AVX2
+    if (cover_reach(dom.radii) <= int(MAX_REACH) && dom.lattice.periodic == 0u && inner_cell(dom, base) &&
+        host_has_avx2())
+        return window_gather(grid.word + base_index(dom, base), int(dom.cells_x), cover_reach(dom.radii),
+                             uvec2(base.x << dom.cell_bits, base.y << dom.cell_bits), 1 << dom.cell_bits,
+                             dom.radii.coverage2, cell_sample_at);
+#endif
     uint near = 0u;
     uint far = 0u;  // stored from the end of the array down
     int side = 1 << dom.cell_bits;  // the base cell, closed: [0, side]^2 from its corner
