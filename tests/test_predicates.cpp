@@ -242,3 +242,43 @@ TEST_CASE("predicates: the host's vectorised window scans find the samples withi
     CHECK(found < 18000);
 #endif
 }
+
+TEST_CASE("predicates: the host's vectorised cover test of a cell's children drops what the scalar one does",
+          "[predicates]") {
+    using namespace shared;
+#ifndef VRPD_HOST_AVX2
+    SUCCEED("not x86-64: surviving_children keeps its scalar loop");
+#else
+    if (!host_has_avx2()) SUCCEED("no AVX2 here: surviving_children keeps its scalar loop");
+    if (!host_has_avx2()) return;
+    std::mt19937_64 rng(17);
+    int dropped = 0;
+    for (int trial = 0; trial < 20000; ++trial) {
+        // Small sides at the tied radii (pairs at exactly r occur), larger ones at random radii.
+        const bool tied = trial % 2 == 0;
+        const int side = tied ? 1 << (rng() % 3) : 1 << (4 + rng() % 12);
+        Domain dom{};
+        const std::uint64_t r2 = tied ? kTiedRadii2[rng() % std::size(kTiedRadii2)]
+                                      : rng() % (std::uint64_t(4 * side) * std::uint64_t(4 * side));
+        dom.radii = {r2, r2, RADII_ONE, 0};
+        // Children of side `side` at a random place in the base cell (of side 4 side), the second
+        // column and row sometimes clipped to a free boundary (hi1 = hi0, as surviving_children).
+        const ivec2 at(int(rng() % 2) * 2 * side, int(rng() % 2) * 2 * side);
+        ChildBoxes b;
+        b.lo0 = at;
+        b.hi0 = at + ivec2(side - 1);
+        b.lo1 = rng() % 4 ? at + ivec2(side) : b.lo0;
+        b.hi1 = b.lo1 == b.lo0 ? b.hi0 : at + ivec2(2 * side - 1);
+        std::vector<ivec2> near(1 + rng() % MAX_CELL_SAMPLES);
+        for (ivec2& o : near) o = ivec2(int(rng() % (12 * side)) - 4 * side, int(rng() % (12 * side)) - 4 * side);
+        const uint start = 1u + uint(rng() % 15);
+        uint scalar = start, corners = 0u;
+        for (const ivec2& o : near) cover_children(dom, b, 4u, o, scalar, corners);
+        dropped += scalar != start ? 1 : 0;
+        INFO("trial " << trial << " side " << side << " r2 " << r2 << " samples " << near.size());
+        REQUIRE(uncovered_children(b, near.data(), uint(near.size()), r2, start) == scalar);
+    }
+    CHECK(dropped > 2000);
+    CHECK(dropped < 18000);
+#endif
+}

@@ -52,6 +52,37 @@ VRPD_FN void cover_children(Domain dom, ChildBoxes b, uint fanout, ivec2 o, VRPD
 #endif
 }
 
+#ifdef VRPD_HOST_AVX2
+// The host's body of cover_children for one radius over `count` gathered samples, on processors
+// with AVX2: four samples a step, each lane's farthest gaps to the children's intervals along
+// x and y (far2's) in 32 bits, the four corners' squared distances in 64; ends once no child is
+// left. Returns `mask` less the children some sample covers wholly.
+[[gnu::target("avx2")]] inline uint uncovered_children(ChildBoxes b, const ivec2* at, uint count, uint64_t limit2,
+                                                       uint mask) {
+    auto pair = [](ivec2 v) { return int64_t(uint64_t(uint(v.y)) << 32 | uint(v.x)); };
+    const __m256i lo0 = _mm256_set1_epi64x(pair(b.lo0)), hi0 = _mm256_set1_epi64x(pair(b.hi0));
+    const __m256i lo1 = _mm256_set1_epi64x(pair(b.lo1)), hi1 = _mm256_set1_epi64x(pair(b.hi1));
+    const __m256i limit = _mm256_set1_epi64x(int64_t(limit2));
+    const __m256i lane = _mm256_setr_epi64x(0, 1, 2, 3);
+    for (uint k = 0u; k < count && mask != 0u; k += 4u) {
+        const __m256i valid = _mm256_cmpgt_epi64(_mm256_set1_epi64x(int64_t(count - k)), lane);
+        const __m256i o = _mm256_maskload_epi64(reinterpret_cast<const long long*>(at + k), valid);
+        const __m256i f0 = _mm256_max_epi32(_mm256_sub_epi32(o, lo0), _mm256_sub_epi32(hi0, o));
+        const __m256i f1 = _mm256_max_epi32(_mm256_sub_epi32(o, lo1), _mm256_sub_epi32(hi1, o));
+        const __m256i f0_y = _mm256_srli_epi64(f0, 32), f1_y = _mm256_srli_epi64(f1, 32);
+        const __m256i x0 = _mm256_mul_epi32(f0, f0), x1 = _mm256_mul_epi32(f1, f1);
+        const __m256i y0 = _mm256_mul_epi32(f0_y, f0_y), y1 = _mm256_mul_epi32(f1_y, f1_y);
+        const int lanes = _mm256_movemask_pd(_mm256_castsi256_pd(valid));
+        const __m256i corner2[4] = {_mm256_add_epi64(x0, y0), _mm256_add_epi64(x1, y0), _mm256_add_epi64(x0, y1),
+                                    _mm256_add_epi64(x1, y1)};
+        for (uint c = 0u; c < 4u; c++)
+            if ((_mm256_movemask_pd(_mm256_castsi256_pd(_mm256_cmpgt_epi64(limit, corner2[c]))) & lanes) != 0)
+                mask &= ~(1u << c);
+    }
+    return mask;
+}
+#endif
+
 // Does refinement into `fanout` children of side `side` test which of them disks cover? When
 // cells split (fanout 4), and at the deepest level (side 1), where that test is what ends the
 // run. Between the rounds of a coarser level (fanout 1), one radius keeps every cell whose base
@@ -102,6 +133,10 @@ VRPD_FN uint surviving_children(Domain dom, Grid grid, uvec2 base, uvec2 corner,
     // uncovered corner holds a point of U and stays without the exact test.
     uint open_corners = 0x1FFu;
     if (samples <= MAX_CELL_SAMPLES) {
+#ifdef VRPD_HOST_AVX2
+        if (!two_radii(dom.radii) && host_has_avx2())
+            return uncovered_children(b, cell_sample_at, samples, dom.radii.coverage2, mask);
+#endif
         for (uint k = 0u; k < samples && mask != 0u; k++)
             cover_children(dom, b, fanout, cell_sample_at[k], mask, open_corners);
     }
