@@ -251,13 +251,15 @@ TEST_CASE("parity holds on a large first round (many darts per resolution pass)"
 // and ran out of memory (driver.cpp, kCrowded).
 TEST_CASE("the engines' arrays stay within the memory estimate checked before a run", "[sampling][gpu]") {
     for (double rc : {0.0, 0.008, 0.0044}) {
-        for (Backend b : {Backend::Gpu, Backend::Cpu, Backend::Serial}) {
+        for (auto [b, threads] :
+             {std::pair{Backend::Gpu, 0u}, {Backend::Cpu, 0u}, {Backend::Cpu, 1u}, {Backend::Serial, 0u}}) {
             SampleOptions o = options(0.004, 2, b);
             o.coverage = rc;
+            o.threads = threads;  // one thread: arrival order (arrival_order.h)
             const detail::Plan plan = detail::make_plan(o);
             const Sampling s = detail::sample_plan(o, plan);
-            INFO("backend " << int(b) << " Rc " << rc << " base cells " << plan.base_cells << " peak "
-                            << s.stats.peak_bytes);
+            INFO("backend " << int(b) << " threads " << threads << " Rc " << rc << " base cells " << plan.base_cells
+                            << " peak " << s.stats.peak_bytes);
             CHECK(s.stats.peak_bytes >= plan.base_cells * 8 + s.size() * 8);
             CHECK(s.stats.peak_bytes <= plan.base_cells * 48 + (1u << 20));
             // Mask mode and 12-byte darts: the goal of 64 bytes per sample (measured here:
