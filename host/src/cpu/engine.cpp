@@ -88,9 +88,7 @@ public:
     }
 
     std::vector<uvec2> samples() override { return std::move(out_); }
-
     std::uint64_t peak_bytes() const override { return peak_; }
-
     void start_profile() override { profiling_ = true; }
     std::vector<PhaseTime> profile() const override { return times_.phases(); }
 
@@ -108,9 +106,8 @@ private:
         return f();
     }
 
-    // Resizes v to n elements (contents not kept), reallocating unless its capacity is within
-    // an eighth above n: the arrays' high-water marks from earlier rounds would otherwise add up
-    // at the peak.
+    // Resizes v to n elements (contents not kept), reallocating unless its capacity is within an
+    // eighth above n: the arrays' high-water marks from earlier rounds would otherwise add up.
     template <class V>
     static void fit(V& v, std::size_t n) {
         if (v.capacity() < n || v.capacity() > n + n / 8) {
@@ -212,13 +209,16 @@ private:
         return total;
     }
 
-    // Each base cell with darts keeps its accepted dart as its sample, or is empty again.
+    // Each base cell with darts keeps its accepted dart as its sample, or is empty again (in
+    // arrival order an accepted dart took its word at once: a darts word left holds none).
     void commit() {
         const Domain dom = plan_.domain;
+        const bool taken = in_arrival_order();
+        auto commit_word = [&](uvec2& w) { w = taken ? empty_after_round(w) : committed_word(darts(), w); };
         if (masked_) {
             pool_.parallel_for(plan_.base_cells, [&](std::size_t b, std::size_t e, unsigned) {
                 for (std::size_t i = b; i < e; ++i)
-                    if (grid_is_darts(grid_[i])) grid_[i] = committed_word(darts(), grid_[i]);
+                    if (grid_is_darts(grid_[i])) commit_word(grid_[i]);
             });
             return;
         }
@@ -228,7 +228,7 @@ private:
             for (std::size_t i = b; i < e; ++i) {
                 if (!first_in_base_cell(dom, listed, uint(i))) continue;
                 uvec2& w = grid_[base_of_point(dom, listed.cell[i])];
-                if (grid_is_darts(w)) w = committed_word(darts(), w);  // else it took its sample already
+                if (grid_is_darts(w)) commit_word(w);
             }
         });
     }
