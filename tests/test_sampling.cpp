@@ -164,7 +164,7 @@ TEST_CASE("gpu, cpu and serial give identical samples in identical order", "[sam
                 return detail::sample_plan(o, detail::make_plan(o, c.max_cell_bits));
             };
             const Sampling serial = run(Backend::Serial);
-            const Sampling cpu = run(Backend::Cpu, 2);
+            const Sampling cpu = run(Backend::Cpu, 3);             // the parallel resolution
             const Sampling cpu_one_thread = run(Backend::Cpu, 1);  // decides in arrival order
             const Sampling gpu = run(Backend::Gpu);
             REQUIRE(serial.size() > 10);
@@ -179,9 +179,12 @@ TEST_CASE("gpu, cpu and serial give identical samples in identical order", "[sam
 // The profile (SampleOptions::profile) is for finding where the time goes: it must name the
 // phases that ran, account for no more than the run's wall time, and leave the points alone.
 TEST_CASE("profiling names the phases that ran, within the run's time, and changes no point", "[sampling][gpu]") {
-    for (Backend b : {Backend::Serial, Backend::Cpu, Backend::Gpu}) {
-        INFO("backend " << int(b));
+    // The cpu backend on 3 threads resolves in parallel, on 1 it decides and emits in arrival order.
+    for (auto [b, threads] :
+         {std::pair{Backend::Serial, 0u}, {Backend::Cpu, 3u}, {Backend::Cpu, 1u}, {Backend::Gpu, 0u}}) {
+        INFO("backend " << int(b) << " threads " << threads);
         SampleOptions o = options(0.01, 9, b);
+        o.threads = threads;
         const Sampling plain = sample(o);
         CHECK(plain.stats.profile.empty());
         o.profile = true;
@@ -203,8 +206,9 @@ TEST_CASE("profiling names the phases that ran, within the run's time, and chang
         const std::vector<std::string> expected =
             b == Backend::Gpu
                 ? std::vector<std::string>{"count_masked", "throw_masked", "resolve_darts", "refine_masked",
-                                           "throw_darts", "refine_cells", "emit_samples"}
-                : std::vector<std::string>{"throw", "resolve", "commit", "emit", "refine"};
+                                           "throw_darts",  "refine_cells", "emit_samples"}
+            : threads == 1 ? std::vector<std::string>{"throw", "resolve", "commit", "refine"}
+                           : std::vector<std::string>{"throw", "resolve", "commit", "emit", "refine"};
         for (const std::string& e : expected) CHECK(std::count(names.begin(), names.end(), e) == 1);
         if (b != Backend::Gpu) CHECK(names == expected);  // in the order they first ran
     }
@@ -252,10 +256,10 @@ TEST_CASE("parity holds on a large first round (many darts per resolution pass)"
 TEST_CASE("the engines' arrays stay within the memory estimate checked before a run", "[sampling][gpu]") {
     for (double rc : {0.0, 0.008, 0.0044}) {
         for (auto [b, threads] :
-             {std::pair{Backend::Gpu, 0u}, {Backend::Cpu, 0u}, {Backend::Cpu, 1u}, {Backend::Serial, 0u}}) {
+             {std::pair{Backend::Gpu, 0u}, {Backend::Cpu, 3u}, {Backend::Cpu, 1u}, {Backend::Serial, 0u}}) {
             SampleOptions o = options(0.004, 2, b);
             o.coverage = rc;
-            o.threads = threads;  // one thread: arrival order (arrival_order.h)
+            o.threads = threads;  // cpu: 3 threads resolve in parallel, 1 in arrival order
             const detail::Plan plan = detail::make_plan(o);
             const Sampling s = detail::sample_plan(o, plan);
             INFO("backend " << int(b) << " threads " << threads << " Rc " << rc << " base cells " << plan.base_cells

@@ -1,12 +1,13 @@
 // The host engines: `cpu` runs the GPU's kernel bodies (shaders/shared/sampler.h) over a thread
 // pool, in mask mode at levels 0-2 as the GPU does, and decides each dart once (see resolve; one
-// radius on one thread: in arrival order, arrival_order.h);
+// radius on up to two threads: in arrival order, arrival_order.h);
 // `serial` accepts the same darts one at a time in arrival order (serial_oracle.h), the textbook
 // definition of the process, over explicit active lists at every level: kept simple as the oracle.
 #include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <type_traits>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -24,6 +25,9 @@ using namespace shared;
 
 // The grid and cell lists: a resize leaves them unwritten, for the pool to fill.
 using Words = std::vector<uvec2, Uninitialised<uvec2>>;
+
+// Up to this many threads one radius decides its darts in arrival order (docs/performance.md).
+constexpr unsigned kArrivalOrderThreads = 2;
 
 // Times a dart may find nothing to wait for (another thread decided it meanwhile) and be tried
 // again, before the resolution is called stuck; each retry needs a dart decided by another thread.
@@ -271,9 +275,8 @@ private:
         }
     }
 
-    // Mask mode: each base cell's word gets the mask of its surviving children (or cells, when
-    // they do not split). Children at level MASK_LEVELS go to an explicit active list instead.
-    // Returns the active count.
+    // Mask mode: each base cell's word gets the mask of its surviving children (or cells, when they
+    // do not split); at level MASK_LEVELS they go to an explicit list. Returns the active count.
     std::uint64_t refine_masked(const RoundSpec& spec) {
         const Domain dom = plan_.domain;
         const uint bases = uint(plan_.base_cells);
@@ -371,19 +374,16 @@ private:
     // Exclusive prefix sum of scan_[0, n) in place; scan_[n] becomes the total.
     std::uint64_t exclusive_scan(uint n) {
         std::uint64_t sum = 0;
-        for (uint i = 0; i < n; ++i) {
-            uint v = scan_[i];
-            scan_[i] = uint(sum);
-            sum += v;
-        }
+        for (uint i = 0; i < n; ++i) sum += std::exchange(scan_[i], uint(sum));
         scan_[n] = uint(sum);
         return sum;
     }
 
-    // One radius on one thread: the darts are decided, and the accepted ones emitted, in arrival
-    // order (arrival_order.h), where the parallel resolution would cost twice the instructions.
+    // The darts decided and emitted in arrival order on one thread (arrival_order.h), at half the
+    // instructions of the parallel resolution, which only more threads repay.
     bool in_arrival_order() const {
-        return resolution_ == Resolution::Parallel && pool_.size() == 1 && !two_radii(plan_.domain.radii);
+        return resolution_ == Resolution::Parallel && pool_.size() <= kArrivalOrderThreads &&
+               !two_radii(plan_.domain.radii);
     }
 
     // Decides the round's undecided darts in arrival order.
