@@ -77,14 +77,16 @@ TEST_CASE("two radii: conflict-free at Rf, inside the box, gpu = cpu = serial", 
         for (std::uint32_t seed : {1u, 2u}) {
             INFO("Rf " << c.rf << " Rc " << c.rc << " box " << c.box.width << "x" << c.box.height << " bits "
                        << c.max_cell_bits << " seed " << seed);
-            auto run = [&](Backend b) {
-                const SampleOptions o = two_radii(c.rf, c.rc, seed, b, c.box);
+            auto run = [&](Backend b, unsigned threads = 0) {
+                SampleOptions o = two_radii(c.rf, c.rc, seed, b, c.box);
+                o.threads = threads;
                 return detail::sample_plan(o, detail::make_plan(o, c.max_cell_bits));
             };
             const detail::Plan plan =
                 detail::make_plan(two_radii(c.rf, c.rc, seed, Backend::Cpu, c.box), c.max_cell_bits);
             const Sampling serial = run(Backend::Serial);
-            const Sampling cpu = run(Backend::Cpu);
+            const Sampling cpu = run(Backend::Cpu, 2);             // the parallel resolution
+            const Sampling cpu_one_thread = run(Backend::Cpu, 1);  // decides in arrival order
             const Sampling gpu = run(Backend::Gpu);
             REQUIRE(serial.size() > 10);
             CHECK(vrpd::test::brute_force_conflicts(plan, serial) == 0);
@@ -93,6 +95,7 @@ TEST_CASE("two radii: conflict-free at Rf, inside the box, gpu = cpu = serial", 
                 REQUIRE((p.x >= 0 && p.y >= 0 && p.x < c.box.width && p.y < c.box.height));
             }
             CHECK(cpu.lattice == serial.lattice);
+            CHECK(cpu_one_thread.lattice == serial.lattice);
             CHECK(gpu.lattice == serial.lattice);
             CHECK(gpu.stats.darts == serial.stats.darts);
         }

@@ -1,15 +1,18 @@
-// One radius decided in arrival order, for the cpu backend on one thread. A base cell's diagonal
-// is shorter than Rf, so it holds at most one sample, and once a dart of the round is accepted
-// its point can stand in the base cell's word for the rest of the round: a later dart in that
-// base cell lies within Rf of it, and one elsewhere meets it in the same scan of nearby samples
-// that rejected darts at throw. The parallel resolution instead reads every dart of the round
-// near each undecided one (resolve.h). Arrival order is random in space, so the loop fetches the
-// record of the dart 16 ahead and the grid rows around the dart 8 ahead.
+// A round decided in arrival order, for the cpu backend on few threads. A base cell's diagonal is
+// shorter than Rf, so it holds at most one sample, and once a dart of the round is accepted its
+// point can stand in the base cell's word for the rest of the round: a later dart in that base
+// cell lies within Rf of it, and one elsewhere meets it in the same scans of nearby samples that
+// judge a dart against earlier rounds (two radii: its T test sees it as the textbook's list of
+// accepted darts would, in the same place). The parallel resolution instead reads every dart of
+// the round near each undecided one (resolve.h). Arrival order is random in space, so the loop
+// fetches the record of the dart 16 ahead and the grid rows around the dart 8 ahead.
 #include "arrival_order.h"
 
 #include <algorithm>
 
+#include "../engine.h"
 #include "shared/cover.h"
+#include "shared/resolve_two_radii.h"
 
 namespace vrpd::detail {
 
@@ -27,6 +30,29 @@ void sort_by_key(std::vector<std::uint64_t>& values) {
         values.swap(other);
     }
 }
+
+namespace {
+
+// Two radii: the state of a dart at p (base cell `cell`, dom its local domain) given the samples,
+// the round's accepted darts among them (state_given_accepted's answer, whose disks it lists in
+// the same order): rejected if one is closer than Rf; accepted if none is closer than Rc (the
+// dart is in U, so in T); else by the dart's T test over the samples within 2 Rc.
+uint state_given_samples(const Domain& dom, Grid grid, uvec2 p, uvec2 cell) {
+    if (near_sample(dom, grid, cell, p, INHIBITION)) return DART_REJECTED;
+    if (!near_sample(dom, grid, cell, p, COVERAGE)) return DART_ACCEPTED;
+    uint n = 0u;
+    const uint64_t limit2 = influence2(dom.radii);
+    VRPD_FOR_EACH_NEIGHBOUR(dom, cell, int(influence_reach(dom.radii)), limit2, dx, dy, nb) {
+        const uvec2 w = grid.word[nb];
+        if (!grid_is_sample(w) || distance2(dom.lattice, p, w) >= limit2) continue;
+        if (n == MAX_DISKS) return DART_TOO_COMPLEX;
+        disk_at[n++] = offset_to(dom.lattice, p, w);
+    }
+    const uint t = reaches_uncovered_at(dom, p, n);
+    return t == T_INSIDE ? DART_ACCEPTED : (t == T_OUTSIDE ? DART_REJECTED : DART_TOO_COMPLEX);
+}
+
+}  // namespace
 
 std::uint64_t decide_in_arrival_order(const Domain& dom, Grid grid, Darts darts, uint count, std::vector<uvec2>& out) {
     const int reach = conflict_reach(dom.radii);
@@ -64,9 +90,13 @@ std::uint64_t decide_in_arrival_order(const Domain& dom, Grid grid, Darts darts,
             const uint r = dart_record(d);
             const uvec2 p(darts.word[r], darts.word[r + 1u]);
             const uvec2 cell = base_cell_of(dom, p);
-            const bool rejected = near_sample(local_domain(dom, cell), grid, cell, p, INHIBITION);
-            set_dart_state(darts, d, rejected ? DART_REJECTED : DART_ACCEPTED);
-            if (rejected) continue;
+            const Domain local = local_domain(dom, cell);
+            const uint state = two_radii(dom.radii) ? state_given_samples(local, grid, p, cell)
+                               : near_sample(local, grid, cell, p, INHIBITION) ? DART_REJECTED
+                                                                               : DART_ACCEPTED;
+            if (state == DART_TOO_COMPLEX) throw Error(kTooComplex);
+            set_dart_state(darts, d, state);
+            if (state == DART_REJECTED) continue;
             grid.word[base_index(dom, cell)] = p;
             out.push_back(p);
         }

@@ -1,5 +1,5 @@
-// One radius on one thread: a round's darts decided one at a time in arrival order, the textbook
-// process itself, at the cost of the throw's test per dart (see arrival_order.cpp).
+// A round's darts decided one at a time in arrival order, the textbook process itself, each
+// against the samples alone (see arrival_order.cpp): the cpu backend's resolution on few threads.
 #pragma once
 
 #include <cstdint>
@@ -9,10 +9,11 @@
 
 namespace vrpd::detail {
 
-// Decides the undecided darts among the round's `count` (one radius) in arrival order: each
-// accepted dart takes its base cell's grid word as its sample at once, so a dart is rejected iff
-// the samples near it (earlier rounds' and this round's so far) hold one within Rf. Appends the
-// accepted darts to `out` in arrival order, the round's emission. Returns the bytes its lists held.
+// Decides the undecided darts among the round's `count` in arrival order: each accepted dart
+// takes its base cell's grid word as its sample at once, so a dart is judged by the samples near
+// it (earlier rounds' and this round's so far): rejected iff one lies within Rf or, with two
+// radii, it is outside T given them. Appends the accepted darts to `out` in arrival order, the
+// round's emission. Throws Error where a T test passes its bounds. Returns the bytes its lists held.
 std::uint64_t decide_in_arrival_order(const shared::Domain& dom, shared::Grid grid, shared::Darts darts,
                                       shared::uint count, std::vector<shared::uvec2>& out);
 

@@ -1,6 +1,6 @@
 // The host engines: `cpu` runs the GPU's kernel bodies (shaders/shared/sampler.h) over a thread
-// pool, in mask mode at levels 0-2 as the GPU does, and decides each dart once (see resolve; one
-// radius on up to two threads: in arrival order, arrival_order.h);
+// pool, in mask mode at levels 0-2 as the GPU does, and decides each dart once (see resolve; on
+// few threads in arrival order, arrival_order.h);
 // `serial` accepts the same darts one at a time in arrival order (serial_oracle.h), the textbook
 // definition of the process, over explicit active lists at every level: kept simple as the oracle.
 #include <algorithm>
@@ -26,8 +26,9 @@ using namespace shared;
 // The grid and cell lists: a resize leaves them unwritten, for the pool to fill.
 using Words = std::vector<uvec2, Uninitialised<uvec2>>;
 
-// Up to this many threads one radius decides its darts in arrival order (docs/performance.md).
-constexpr unsigned kArrivalOrderThreads = 2;
+// Up to this many threads the darts are decided in arrival order: one radius, two radii
+// (docs/performance.md).
+constexpr unsigned kArrivalOrderThreads[2] = {2, 1};
 
 // Times a dart may find nothing to wait for (another thread decided it meanwhile) and be tried
 // again, before the resolution is called stuck; each retry needs a dart decided by another thread.
@@ -382,8 +383,7 @@ private:
     // The darts decided and emitted in arrival order on one thread (arrival_order.h), at half the
     // instructions of the parallel resolution, which only more threads repay.
     bool in_arrival_order() const {
-        return resolution_ == Resolution::Parallel && pool_.size() <= kArrivalOrderThreads &&
-               !two_radii(plan_.domain.radii);
+        return resolution_ == Resolution::Parallel && pool_.size() <= kArrivalOrderThreads[plan_.domain.radii.kind];
     }
 
     // Decides the round's undecided darts in arrival order.
