@@ -105,6 +105,11 @@ VRPD_FN uint census(Domain dom, Grid grid, Darts darts, uint d, uvec2 p, uvec2 c
     return found;
 }
 
+// A dart's state from its T test (the run fails on DART_TOO_COMPLEX).
+VRPD_FN uint state_of_t(uint t) {
+    return t == T_INSIDE ? DART_ACCEPTED : (t == T_OUTSIDE ? DART_REJECTED : DART_TOO_COMPLEX);
+}
+
 // Two radii, the textbook decision for the serial backend: the state of dart d (at p, in base
 // cell `cell`) given the samples and this round's darts accepted before it: rejected (one is
 // closer than Rf, or d is outside T), accepted, or DART_TOO_COMPLEX (t_membership.h's bounds).
@@ -118,8 +123,7 @@ VRPD_FN uint state_given_accepted(Domain dom, Grid grid, Darts darts, uint d, uv
     bool undecided_conflict;
     uint n = gather_accepted(dom, grid, darts, d, conflict, undecided, undecided_conflict);
     if (conflict) return DART_REJECTED;
-    uint t = n <= MAX_DISKS ? reaches_uncovered_at(dom, p, n) : T_UNKNOWN;
-    return t == T_INSIDE ? DART_ACCEPTED : (t == T_OUTSIDE ? DART_REJECTED : DART_TOO_COMPLEX);
+    return state_of_t(n <= MAX_DISKS ? reaches_uncovered_at(dom, p, n) : T_UNKNOWN);
 }
 
 // One step of the exact parallel resolution (resolve_dart) with two radii. A dart is accepted iff it is free and in T
@@ -145,7 +149,7 @@ VRPD_FN uint resolve_dart_two_radii(Domain global, Grid grid, Darts darts, uint 
     // decides, so the passes end), and its T test with them, growing as n^3, is not tried.
     if (undecided > EARLY_UNDECIDED) return DART_UNDECIDED;
     uint t = n <= MAX_DISKS ? reaches_uncovered_at(dom, p, n) : T_UNKNOWN;
-    if (t != T_INSIDE) return t == T_OUTSIDE ? DART_REJECTED : DART_TOO_COMPLEX;
+    if (t != T_INSIDE) return state_of_t(t);
     if (undecided == 0u) return DART_ACCEPTED;
     if (undecided_conflict || n + undecided > MAX_DISKS) return DART_UNDECIDED;
     for (uint i = 0u; i < undecided; i++) disk_at[n + i] = undecided_at[i];

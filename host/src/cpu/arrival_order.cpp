@@ -48,8 +48,7 @@ uint state_given_samples(const Domain& dom, Grid grid, uvec2 p, uvec2 cell) {
         if (n == MAX_DISKS) return DART_TOO_COMPLEX;
         disk_at[n++] = offset_to(dom.lattice, p, w);
     }
-    const uint t = reaches_uncovered_at(dom, p, n);
-    return t == T_INSIDE ? DART_ACCEPTED : (t == T_OUTSIDE ? DART_REJECTED : DART_TOO_COMPLEX);
+    return state_of_t(reaches_uncovered_at(dom, p, n));
 }
 
 }  // namespace
