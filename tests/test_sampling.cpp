@@ -166,10 +166,12 @@ TEST_CASE("gpu, cpu and serial give identical samples in identical order", "[sam
             const Sampling serial = run(Backend::Serial);
             const Sampling cpu = run(Backend::Cpu, 3);             // the parallel resolution
             const Sampling cpu_one_thread = run(Backend::Cpu, 1);  // decides in arrival order
+            const Sampling cpu_strips = run(Backend::Cpu, 2);      // in arrival order, a strip a thread
             const Sampling gpu = run(Backend::Gpu);
             REQUIRE(serial.size() > 10);
             CHECK(cpu.lattice == serial.lattice);
             CHECK(cpu_one_thread.lattice == serial.lattice);
+            CHECK(cpu_strips.lattice == serial.lattice);
             CHECK(gpu.lattice == serial.lattice);
             CHECK(gpu.stats.darts == serial.stats.darts);
         }
@@ -255,11 +257,14 @@ TEST_CASE("parity holds on a large first round (many darts per resolution pass)"
 // and ran out of memory (driver.cpp, kCrowded).
 TEST_CASE("the engines' arrays stay within the memory estimate checked before a run", "[sampling][gpu]") {
     for (double rc : {0.0, 0.008, 0.0044}) {
-        for (auto [b, threads] :
-             {std::pair{Backend::Gpu, 0u}, {Backend::Cpu, 3u}, {Backend::Cpu, 1u}, {Backend::Serial, 0u}}) {
+        for (auto [b, threads] : {std::pair{Backend::Gpu, 0u},
+                                  {Backend::Cpu, 3u},
+                                  {Backend::Cpu, 2u},
+                                  {Backend::Cpu, 1u},
+                                  {Backend::Serial, 0u}}) {
             SampleOptions o = options(0.004, 2, b);
             o.coverage = rc;
-            o.threads = threads;  // cpu: 3 threads resolve in parallel, 1 in arrival order
+            o.threads = threads;  // cpu: 3 threads resolve in parallel, 1-2 in arrival order
             const detail::Plan plan = detail::make_plan(o);
             const Sampling s = detail::sample_plan(o, plan);
             INFO("backend " << int(b) << " threads " << threads << " Rc " << rc << " base cells " << plan.base_cells

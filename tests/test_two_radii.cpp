@@ -85,8 +85,9 @@ TEST_CASE("two radii: conflict-free at Rf, inside the box, gpu = cpu = serial", 
             const detail::Plan plan =
                 detail::make_plan(two_radii(c.rf, c.rc, seed, Backend::Cpu, c.box), c.max_cell_bits);
             const Sampling serial = run(Backend::Serial);
-            const Sampling cpu = run(Backend::Cpu, 2);             // the parallel resolution
+            const Sampling cpu = run(Backend::Cpu, 3);             // the parallel resolution
             const Sampling cpu_one_thread = run(Backend::Cpu, 1);  // decides in arrival order
+            const Sampling cpu_strips = run(Backend::Cpu, 2);      // in arrival order, a strip a thread
             const Sampling gpu = run(Backend::Gpu);
             REQUIRE(serial.size() > 10);
             CHECK(vrpd::test::brute_force_conflicts(plan, serial) == 0);
@@ -96,6 +97,7 @@ TEST_CASE("two radii: conflict-free at Rf, inside the box, gpu = cpu = serial", 
             }
             CHECK(cpu.lattice == serial.lattice);
             CHECK(cpu_one_thread.lattice == serial.lattice);
+            CHECK(cpu_strips.lattice == serial.lattice);
             CHECK(gpu.lattice == serial.lattice);
             CHECK(gpu.stats.darts == serial.stats.darts);
         }

@@ -5,10 +5,14 @@
 // judge a dart against earlier rounds (two radii: its T test sees it as the textbook's list of
 // accepted darts would, in the same place). The parallel resolution instead reads every dart of
 // the round near each undecided one (resolve.h). Arrival order is random in space, so the loop
-// fetches the record of the dart 16 ahead and the grid rows around the dart 8 ahead.
+// fetches the record of the dart 16 ahead and the grid rows around the dart 8 ahead. On several
+// threads each takes a strip of base-cell rows, waiting at its borders for the neighbouring
+// strips' earlier darts (decide_strip), and the strips' accepted darts are merged by arrival.
 #include "arrival_order.h"
 
 #include <algorithm>
+#include <atomic>
+#include <thread>
 
 #include "../engine.h"
 #include "shared/cover.h"
@@ -51,37 +55,110 @@ uint state_given_samples(const Domain& dom, Grid grid, uvec2 p, uvec2 cell) {
     return state_of_t(reaches_uncovered_at(dom, p, n));
 }
 
+// The strips of base-cell rows the threads take, and how far a dart's judgement reads.
+struct Strips {
+    uint parts = 1;  // strip w holds rows [rows * w / parts, rows * (w + 1) / parts)
+    uint rows = 0;
+    int reach = 0;  // rows a dart's scans read either side of its own
+    bool periodic = false;
+    uint first_row(uint w) const { return uint(std::uint64_t(rows) * w / parts); }
+    // The strip holding row y: the last w with first_row(w) <= y.
+    uint of_row(uint y) const { return uint((std::uint64_t(y + 1u) * parts - 1u) / rows); }
+};
+
+// Progress of one strip's thread through a quarter of the round: below it, every dart of the
+// strip is decided. Apart so the threads' stores do not share a cache line.
+struct alignas(64) Progress {
+    std::atomic<std::uint64_t> next{0};
+};
+
+constexpr std::uint64_t kQuarterDone = UINT64_MAX;
+
 }  // namespace
 
-std::uint64_t decide_in_arrival_order(const Domain& dom, Grid grid, Darts darts, uint count, std::vector<uvec2>& out) {
-    const int reach = conflict_reach(dom.radii);
+std::uint64_t decide_in_arrival_order(const Domain& dom, Grid grid, Darts darts, uint count, std::vector<uvec2>& out,
+                                      ThreadPool& pool) {
+    const int conflict = conflict_reach(dom.radii);
+    Strips strips;
+    strips.rows = dom.cells_y;
+    strips.periodic = dom.lattice.periodic != 0u;
+    strips.reach =
+        two_radii(dom.radii) ? std::max({conflict, cover_reach(dom.radii), int(influence_reach(dom.radii))}) : conflict;
+    // A strip at least 2 reach + 1 rows high: a dart reads at most one neighbouring strip on each
+    // side, and of it only rows within reach of their border.
+    const uint tall = uint(2 * strips.reach + 1);
+    strips.parts = std::max(1u, std::min(pool.size(), dom.cells_y / tall));
     auto fetch_rows = [&](uint j) {
         const uint r = dart_record(j);
         const uvec2 c = base_cell_of(dom, uvec2(darts.word[r], darts.word[r + 1u]));
         const int last_x = int(dom.cells_x) - 1;
-        for (int y = std::max(int(c.y) - reach, 0); y <= std::min(int(c.y) + reach, int(dom.cells_y) - 1); ++y) {
+        for (int y = std::max(int(c.y) - conflict, 0); y <= std::min(int(c.y) + conflict, int(dom.cells_y) - 1); ++y) {
             const std::size_t row = std::size_t(y) * dom.cells_x;
-            __builtin_prefetch(&grid.word[row + std::size_t(std::max(int(c.x) - reach, 0))]);
-            __builtin_prefetch(&grid.word[row + std::size_t(std::min(int(c.x) + reach, last_x))]);
+            __builtin_prefetch(&grid.word[row + std::size_t(std::max(int(c.x) - conflict, 0))]);
+            __builtin_prefetch(&grid.word[row + std::size_t(std::min(int(c.x) + conflict, last_x))]);
         }
     };
-    // The keys' quarters one after another: the sort's two lists then hold a quarter of the
-    // undecided darts, 4 bytes a dart, where the parallel resolution's emission holds 8 bytes an
-    // accepted dart; each quarter costs a pass over the darts' keys and states.
-    std::vector<std::uint64_t> order;
-    std::uint64_t held = 0;
-    for (uint quarter = 0; quarter < 4u; ++quarter) {
-        order.clear();
-        for (uint block = 0; block < count; block += 16u) {  // darts.h: 16 records, then their states
+    // A dart accepted in a strip, by (key, index), for the merge of the strips' emissions.
+    struct Accepted {
+        std::uint64_t order;
+        uvec2 p;
+    };
+    const uint parts = strips.parts;
+    const bool whole = parts == 1u;
+    std::vector<Progress> progress(parts);
+    // listed[v][w]: the quarter's undecided darts of strip w among chunk v of the dart indices.
+    std::vector<std::vector<std::vector<std::uint64_t>>> listed(parts, std::vector<std::vector<std::uint64_t>>(parts));
+    std::vector<std::vector<Accepted>> accepted(parts);
+    std::vector<std::uint64_t> held(parts, 0);
+    std::atomic<bool> failed = false;
+    auto list_quarter = [&](uint v, uint quarter) {
+        const uint begin = uint(std::uint64_t(count) * v / parts) & ~15u,
+                   end = v + 1u == parts ? count : uint(std::uint64_t(count) * (v + 1u) / parts) & ~15u;
+        std::vector<std::vector<std::uint64_t>>& lists = listed[v];
+        for (uint block = begin; block < end; block += 16u) {  // darts.h: 16 records, then their states
             const uint states = load_state_word(darts, dart_state_word(block));
-            const uint* key = &darts.word[dart_record(block) + 2u];
-            for (uint j = block; j < std::min(block + 16u, count); ++j, key += 3)
-                if ((states >> dart_state_shift(j) & 3u) == DART_UNDECIDED && *key >> 30 == quarter)
-                    order.push_back(std::uint64_t(*key) << 32 | j);
+            const uint* word = &darts.word[dart_record(block)];
+            for (uint j = block; j < std::min(block + 16u, end); ++j, word += 3)
+                if ((states >> dart_state_shift(j) & 3u) == DART_UNDECIDED && word[2] >> 30 == quarter)
+                    lists[whole ? 0u : strips.of_row(word[1] >> dom.cell_bits)].push_back(std::uint64_t(word[2]) << 32 |
+                                                                                          j);
+        }
+    };
+    // Strip w's darts of the quarter, in arrival order. A dart within reach of a neighbouring
+    // strip first waits until that strip's thread has decided every earlier dart of its own;
+    // that thread's later darts near the border wait in turn for this one. So a dart's scans see
+    // the earlier darts accepted near it and no later one, as on one thread: the same states.
+    // The thread furthest behind never waits, so the waits end.
+    auto decide_strip = [&](uint w) {
+        std::vector<std::uint64_t> order;
+        std::size_t lists = 0;  // the listed capacity, held beside the list while it is copied
+        if (whole) {
+            order.swap(listed[0][0]);
+        } else {
+            std::size_t n = 0;
+            for (uint v = 0; v < parts; ++v) n += listed[v][w].size(), lists += listed[v][w].capacity();
+            order.reserve(n);
+            for (uint v = 0; v < parts; ++v) {  // chunks in index order, as the sort needs
+                order.insert(order.end(), listed[v][w].begin(), listed[v][w].end());
+                std::vector<std::uint64_t>().swap(listed[v][w]);
+            }
         }
         sort_by_key(order);
-        held = std::max<std::uint64_t>(held, 2 * order.capacity() * sizeof(std::uint64_t));
         const std::size_t n = order.size();
+        if (!whole) progress[w].next.store(n > 0 ? order[0] : kQuarterDone, std::memory_order_release);
+        const uint lo = strips.first_row(w), hi = strips.first_row(w + 1u);
+        const uint below = w > 0u ? w - 1u : strips.periodic ? parts - 1u : parts;  // parts: none
+        const uint above = w + 1u < parts ? w + 1u : strips.periodic ? 0u : parts;
+        auto wait_for = [&](uint u, std::uint64_t o) {
+            for (uint spins = 0; progress[u].next.load(std::memory_order_acquire) <= o;) {
+                if (failed.load(std::memory_order_relaxed)) return false;
+                if (++spins < 256u)
+                    __builtin_ia32_pause();
+                else
+                    std::this_thread::yield();
+            }
+            return true;
+        };
         for (std::size_t k = 0; k < n; ++k) {
             if (k + 16 < n) __builtin_prefetch(&darts.word[dart_record(uint(order[k + 16]))]);
             if (k + 8 < n) fetch_rows(uint(order[k + 8]));
@@ -89,18 +166,79 @@ std::uint64_t decide_in_arrival_order(const Domain& dom, Grid grid, Darts darts,
             const uint r = dart_record(d);
             const uvec2 p(darts.word[r], darts.word[r + 1u]);
             const uvec2 cell = base_cell_of(dom, p);
+            if (!whole) {
+                if (below < parts && int(cell.y) < int(lo) + strips.reach && !wait_for(below, order[k])) return;
+                if (above < parts && int(cell.y) + strips.reach >= int(hi) && !wait_for(above, order[k])) return;
+            }
             const Domain local = local_domain(dom, cell);
             const uint state = two_radii(dom.radii) ? state_given_samples(local, grid, p, cell)
                                : near_sample(local, grid, cell, p, INHIBITION) ? DART_REJECTED
                                                                                : DART_ACCEPTED;
             if (state == DART_TOO_COMPLEX) throw Error(kTooComplex);
             set_dart_state(darts, d, state);
-            if (state == DART_REJECTED) continue;
-            grid.word[base_index(dom, cell)] = p;
-            out.push_back(p);
+            if (state != DART_REJECTED) {
+                grid.word[base_index(dom, cell)] = p;
+                if (whole)
+                    out.push_back(p);
+                else
+                    accepted[w].push_back({order[k], p});
+            }
+            if (!whole) progress[w].next.store(k + 1 < n ? order[k + 1] : kQuarterDone, std::memory_order_release);
         }
+        const std::size_t lists_held = std::max(lists + order.capacity(), 2 * order.capacity());
+        held[w] = std::max<std::uint64_t>(
+            held[w], lists_held * sizeof(std::uint64_t) + accepted[w].capacity() * sizeof(Accepted));
+    };
+    // Strip w's accepted darts written to their places among all strips' in arrival order.
+    auto place_strip = [&](uint w, std::size_t base) {
+        std::vector<std::size_t> at(parts, 0);
+        const std::vector<Accepted>& mine = accepted[w];
+        for (std::size_t i = 0; i < mine.size(); ++i) {
+            std::size_t before = i;
+            for (uint u = 0; u < parts; ++u) {
+                if (u == w) continue;
+                while (at[u] < accepted[u].size() && accepted[u][at[u]].order < mine[i].order) ++at[u];
+                before += at[u];
+            }
+            out[base + before] = mine[i].p;
+        }
+    };
+    // The keys' quarters one after another: the sort's two lists then hold a quarter of the
+    // undecided darts, 4 bytes a dart, where the parallel resolution's emission holds 8 bytes an
+    // accepted dart; each quarter costs a pass over the darts' keys and states. On several
+    // threads each lists a share of the darts, decides its strip's, then places its accepted ones.
+    for (uint quarter = 0; quarter < 4u; ++quarter) {
+        if (whole) {
+            list_quarter(0u, quarter);
+            decide_strip(0u);
+            continue;
+        }
+        pool.each_worker([&](uint w) {
+            if (w < parts) list_quarter(w, quarter);
+        });
+        for (Progress& p : progress) p.next.store(0, std::memory_order_relaxed);
+        pool.each_worker([&](uint w) {
+            if (w >= parts) return;
+            try {
+                decide_strip(w);
+            } catch (...) {
+                failed = true;
+                throw;
+            }
+            progress[w].next.store(kQuarterDone, std::memory_order_release);
+        });
+        const std::size_t base = out.size();
+        std::size_t total = 0;
+        for (const auto& a : accepted) total += a.size();
+        out.resize(base + total);
+        pool.each_worker([&](uint w) {
+            if (w < parts) place_strip(w, base);
+        });
+        for (auto& a : accepted) a.clear();
     }
-    return held;
+    std::uint64_t total = 0;
+    for (std::uint64_t h : held) total += h;
+    return total;
 }
 
 }  // namespace vrpd::detail

@@ -26,9 +26,9 @@ using namespace shared;
 // The grid and cell lists: a resize leaves them unwritten, for the pool to fill.
 using Words = std::vector<uvec2, Uninitialised<uvec2>>;
 
-// Up to this many threads the darts are decided in arrival order: one radius, two radii
-// (docs/performance.md).
-constexpr unsigned kArrivalOrderThreads[2] = {2, 1};
+// Up to this many threads the darts are decided in arrival order, a strip of base-cell rows a
+// thread (arrival_order.h); more resolve in parallel (docs/performance.md).
+constexpr unsigned kArrivalOrderThreads = 2;
 
 // Times a dart may find nothing to wait for (another thread decided it meanwhile) and be tried
 // again, before the resolution is called stuck; each retry needs a dart decided by another thread.
@@ -380,10 +380,10 @@ private:
         return sum;
     }
 
-    // The darts decided and emitted in arrival order on one thread (arrival_order.h), at half the
-    // instructions of the parallel resolution, which only more threads repay.
+    // The darts decided and emitted in arrival order (arrival_order.h), at half the instructions
+    // of the parallel resolution, which only more threads repay.
     bool in_arrival_order() const {
-        return resolution_ == Resolution::Parallel && pool_.size() <= kArrivalOrderThreads[plan_.domain.radii.kind];
+        return resolution_ == Resolution::Parallel && pool_.size() <= kArrivalOrderThreads;
     }
 
     // Decides the round's undecided darts in arrival order.
@@ -395,7 +395,7 @@ private:
             return;
         }
         if (in_arrival_order()) {
-            note_peak(decide_in_arrival_order(dom, grid(), darts(), uint(total), out_));
+            note_peak(decide_in_arrival_order(dom, grid(), darts(), uint(total), out_, pool_));
             return;
         }
         // Each thread decides the undecided darts of its part of the round (spatial order), one at

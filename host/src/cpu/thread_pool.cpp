@@ -54,6 +54,18 @@ void ThreadPool::parallel_for(std::size_t n, const std::function<void(std::size_
         body(0, n, 0);
         return;
     }
+    dispatch(n, body);
+}
+
+void ThreadPool::each_worker(const std::function<void(unsigned)>& body) {
+    if (workers_.empty()) {
+        body(0);
+        return;
+    }
+    dispatch(size(), [&](std::size_t, std::size_t, unsigned w) { body(w); });
+}
+
+void ThreadPool::dispatch(std::size_t n, const std::function<void(std::size_t, std::size_t, unsigned)>& body) {
     {
         std::lock_guard lock(mutex_);
         job_ = &body;

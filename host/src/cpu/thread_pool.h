@@ -28,8 +28,13 @@ public:
     // Calls body(begin, end, worker) on disjoint chunks covering [0, n); worker < size(). Returns
     // when every chunk is done; rethrows the first exception a chunk threw, after all are done.
     void parallel_for(std::size_t n, const std::function<void(std::size_t, std::size_t, unsigned)>& body);
+    // Calls body(worker) once for each worker < size(), each on its own thread and all at once
+    // (parallel_for runs a small n on the caller alone), for work whose shares wait on each other.
+    void each_worker(const std::function<void(unsigned)>& body);
 
 private:
+    // Runs body over [0, n) in size() chunks, one a worker.
+    void dispatch(std::size_t n, const std::function<void(std::size_t, std::size_t, unsigned)>& body);
     void work(unsigned id);
     void stop();
     // Runs one chunk, keeping its exception (the first of the job's) instead of letting it out.
