@@ -80,7 +80,9 @@ TEST_CASE("two radii: conflict-free at Rf, inside the box, gpu = cpu = serial", 
             auto run = [&](Backend b, unsigned threads = 0) {
                 SampleOptions o = two_radii(c.rf, c.rc, seed, b, c.box);
                 o.threads = threads;
-                return detail::sample_plan(o, detail::make_plan(o, c.max_cell_bits));
+                detail::Plan plan = detail::make_plan(o, c.max_cell_bits);
+                plan.strip_darts = 0;  // cpu on 2 threads: strips in every round, however small
+                return detail::sample_plan(o, plan);
             };
             const detail::Plan plan =
                 detail::make_plan(two_radii(c.rf, c.rc, seed, Backend::Cpu, c.box), c.max_cell_bits);
@@ -101,6 +103,26 @@ TEST_CASE("two radii: conflict-free at Rf, inside the box, gpu = cpu = serial", 
             CHECK(gpu.lattice == serial.lattice);
             CHECK(gpu.stats.darts == serial.stats.darts);
         }
+    }
+}
+
+// The cpu backend on two threads decides a round in arrival order, a strip of base-cell rows a
+// thread, waiting at the strips' borders as far as the T test reads (Rc = 4 Rf: 2 Rc spans
+// several base cells); here in every round, small ones too.
+TEST_CASE("two radii: the cpu backend's strips on two threads decide as one thread does", "[two-radii]") {
+    for (auto [rf, rc, boundary] : {std::tuple{0.004, 0.008, Boundary::Periodic},
+                                    {0.0025, 0.01, Boundary::Periodic},
+                                    {0.004, 0.012, Boundary::Free}}) {
+        INFO("Rf " << rf << " Rc " << rc << " boundary " << int(boundary));
+        SampleOptions o = two_radii(rf, rc, 5, Backend::Cpu, {1, 1, boundary});
+        detail::Plan plan = detail::make_plan(o);
+        plan.strip_darts = 0;
+        o.threads = 1;
+        const Sampling one = detail::sample_plan(o, plan);
+        o.threads = 2;
+        const Sampling two = detail::sample_plan(o, plan);
+        REQUIRE(one.size() > 3000);
+        CHECK(two.lattice == one.lattice);
     }
 }
 

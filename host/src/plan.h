@@ -15,6 +15,10 @@ struct Plan {
     std::uint32_t deepest_level; // cells of this level are single lattice points
     std::uint64_t base_cells;
     std::uint32_t seed;          // keys the RNG with each round (shared/darts.h, round_key)
+    // The cpu backend on several threads decides a round in arrival order a strip of base-cell
+    // rows a thread (cpu/arrival_order.h) from this many darts a thread: in smaller rounds
+    // starting the threads costs more than it saves. Tests set 0 to run strips on small rounds.
+    std::uint32_t strip_darts = 1024;
 };
 
 // max_cell_bits caps the lattice's resolution (tests use it to make runs reach the deepest

@@ -77,7 +77,7 @@ constexpr std::uint64_t kQuarterDone = UINT64_MAX;
 }  // namespace
 
 std::uint64_t decide_in_arrival_order(const Domain& dom, Grid grid, Darts darts, uint count, std::vector<uvec2>& out,
-                                      ThreadPool& pool) {
+                                      ThreadPool& pool, uint strip_darts) {
     const int conflict = conflict_reach(dom.radii);
     Strips strips;
     strips.rows = dom.cells_y;
@@ -85,9 +85,9 @@ std::uint64_t decide_in_arrival_order(const Domain& dom, Grid grid, Darts darts,
     strips.reach =
         two_radii(dom.radii) ? std::max({conflict, cover_reach(dom.radii), int(influence_reach(dom.radii))}) : conflict;
     // A strip at least 2 reach + 1 rows high: a dart reads at most one neighbouring strip on each
-    // side, and of it only rows within reach of their border.
+    // side, and of it only rows within reach of their border; and strip_darts darts a thread.
     const uint tall = uint(2 * strips.reach + 1);
-    strips.parts = std::max(1u, std::min(pool.size(), dom.cells_y / tall));
+    strips.parts = std::max(1u, std::min({pool.size(), dom.cells_y / tall, strip_darts ? count / strip_darts : count}));
     auto fetch_rows = [&](uint j) {
         const uint r = dart_record(j);
         const uvec2 c = base_cell_of(dom, uvec2(darts.word[r], darts.word[r + 1u]));

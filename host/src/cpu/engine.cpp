@@ -395,7 +395,7 @@ private:
             return;
         }
         if (in_arrival_order()) {
-            note_peak(decide_in_arrival_order(dom, grid(), darts(), uint(total), out_, pool_));
+            note_peak(decide_in_arrival_order(dom, grid(), darts(), uint(total), out_, pool_, plan_.strip_darts));
             return;
         }
         // Each thread decides the undecided darts of its part of the round (spatial order), one at
