@@ -74,6 +74,13 @@ struct alignas(64) Progress {
 
 constexpr std::uint64_t kQuarterDone = UINT64_MAX;
 
+// One step of a short busy wait: the processor's hint where it has one.
+inline void spin_pause() {
+#if defined(__x86_64__) || defined(__i386__)
+    __builtin_ia32_pause();
+#endif
+}
+
 }  // namespace
 
 std::uint64_t decide_in_arrival_order(const Domain& dom, Grid grid, Darts darts, uint count, std::vector<uvec2>& out,
@@ -153,7 +160,7 @@ std::uint64_t decide_in_arrival_order(const Domain& dom, Grid grid, Darts darts,
             for (uint spins = 0; progress[u].next.load(std::memory_order_acquire) <= o;) {
                 if (failed.load(std::memory_order_relaxed)) return false;
                 if (++spins < 256u)
-                    __builtin_ia32_pause();
+                    spin_pause();
                 else
                     std::this_thread::yield();
             }
