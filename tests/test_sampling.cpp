@@ -7,6 +7,7 @@
 #include <numeric>
 #include <random>
 
+#include "engine.h"
 #include "plan.h"
 #include "shared/sampler.h"
 #include "support.h"
@@ -176,6 +177,27 @@ TEST_CASE("gpu, cpu and serial give identical samples in identical order", "[sam
             CHECK(cpu_strips.lattice == serial.lattice);
             CHECK(gpu.lattice == serial.lattice);
             CHECK(gpu.stats.darts == serial.stats.darts);
+        }
+    }
+}
+
+// The arrival-order decisions in three and four strips, whose neighbours on either side are other
+// threads (the cpu backend takes them on up to two threads), in every round however small; one
+// radius and two, periodic and free.
+TEST_CASE("arrival order in three and four strips decides as the serial oracle does", "[sampling]") {
+    for (const Box& box : {Box{1, 1, Boundary::Periodic}, Box{1, 0.8, Boundary::Free}}) {
+        for (double rc : {0.0, 0.008}) {
+            SampleOptions o = options(0.004, 7, Backend::Serial, box);
+            o.coverage = rc;
+            detail::Plan plan = detail::make_plan(o);
+            plan.strip_darts = 0;
+            const Sampling serial = detail::sample_plan(o, plan);
+            REQUIRE(serial.size() > 10000);
+            for (unsigned threads : {3u, 4u}) {
+                INFO("box " << box.width << "x" << box.height << " Rc " << rc << " threads " << threads);
+                const auto engine = detail::make_host_engine(plan, detail::Resolution::ArrivalOrder, threads);
+                CHECK(detail::run_plan(o, plan, *engine).lattice == serial.lattice);
+            }
         }
     }
 }

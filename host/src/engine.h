@@ -62,7 +62,10 @@ inline constexpr const char* kTooComplex =
     "two radii: a dart's T-membership test went past its bounds (more than 64 samples within 2 Rc, or 8192 "
     "steps); this Rc/Rf and box are beyond what the kernels handle";
 
-enum class Resolution { Parallel, Serial };
+// The host engines: Parallel is the cpu backend (its darts decided in arrival order, a strip of
+// rows a thread, up to two threads, and by the parallel resolution on more); ArrivalOrder decides
+// in arrival order on any number of threads; Serial is the one-dart-at-a-time oracle.
+enum class Resolution { Parallel, ArrivalOrder, Serial };
 std::unique_ptr<Engine> make_host_engine(const Plan& plan, Resolution resolution, unsigned threads);
 
 // A run with a sizing field (SampleOptions::sizing; field/run.cpp).

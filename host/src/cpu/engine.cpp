@@ -37,8 +37,10 @@ constexpr uint kMaxRetries = 1u << 20;
 class HostEngine final : public Engine {
 public:
     HostEngine(const Plan& plan, Resolution resolution, unsigned threads)
-        : plan_(plan), resolution_(resolution), pool_(threads ? threads : std::thread::hardware_concurrency()),
-          masked_(resolution == Resolution::Parallel && !two_radii(plan.domain.radii)) {}
+        : plan_(plan),
+          resolution_(resolution),
+          pool_(threads ? threads : std::thread::hardware_concurrency()),
+          masked_(resolution != Resolution::Serial && !two_radii(plan.domain.radii)) {}
 
     std::string device_name() const override {
         if (resolution_ == Resolution::Serial) return "serial (host, one dart at a time)";
@@ -47,7 +49,7 @@ public:
 
     std::uint64_t start(const Plan& plan, const std::vector<uvec2>& initial) override {
         plan_ = plan;
-        masked_ = resolution_ == Resolution::Parallel && !two_radii(plan.domain.radii);
+        masked_ = resolution_ != Resolution::Serial && !two_radii(plan.domain.radii);
         const Domain& d = plan_.domain;
         // Reserving the expected count avoids the vector doubling past the end (more samples grow it).
         out_.reserve(std::max<std::uint64_t>(expected_samples(plan_), initial.size()));
@@ -383,7 +385,8 @@ private:
     // The darts decided and emitted in arrival order (arrival_order.h), at half the instructions
     // of the parallel resolution, which only more threads repay.
     bool in_arrival_order() const {
-        return resolution_ == Resolution::Parallel && pool_.size() <= kArrivalOrderThreads;
+        return resolution_ == Resolution::ArrivalOrder ||
+               (resolution_ == Resolution::Parallel && pool_.size() <= kArrivalOrderThreads);
     }
 
     // Decides the round's undecided darts in arrival order.
