@@ -37,10 +37,7 @@ constexpr uint kMaxRetries = 1u << 20;
 class HostEngine final : public Engine {
 public:
     HostEngine(const Plan& plan, Resolution resolution, unsigned threads)
-        : plan_(plan),
-          resolution_(resolution),
-          pool_(threads ? threads : std::thread::hardware_concurrency()),
-          masked_(resolution != Resolution::Serial && !two_radii(plan.domain.radii)) {}
+        : plan_(plan), resolution_(resolution), pool_(threads ? threads : std::thread::hardware_concurrency()) {}
 
     std::string device_name() const override {
         if (resolution_ == Resolution::Serial) return "serial (host, one dart at a time)";
@@ -477,8 +474,8 @@ private:
     Plan plan_;
     Resolution resolution_;
     ThreadPool pool_;
-    // Mask mode (sampler.h) at levels 0 to MASK_LEVELS - 1, for the cpu backend with one radius;
-    // the serial backend, the oracle, keeps the explicit list that the GPU runs.
+    // Mask mode (sampler.h) at levels 0 to MASK_LEVELS - 1, for the cpu backend with one radius
+    // (set by start); the serial backend, the oracle, keeps the explicit list that the GPU runs.
     bool masked_ = false;
     Words grid_;
     Words cells_;
