@@ -2,12 +2,18 @@
 // bit for bit; version 1 .bin files still read; malformed files are refused with the line.
 #include <catch2/catch.hpp>
 
+#include <bit>
+#include <charconv>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
+#include <random>
 #include <stdexcept>
 #include <system_error>
 
+#include "shortest.h"
 #include "support.h"
 #include "vrpd/io.h"
 
@@ -129,4 +135,42 @@ TEST_CASE("point files: a long or binary line is refused in a short, printable m
     write_text(p, std::string("x,y\n1,\x1b[31mred") + '\0' + "\n");
     CHECK_THROWS_WITH(read_point_set(p.string()), Catch::Contains("got `1,\\x1b[31mred\\x00`"));
     CHECK_THROWS_WITH(read_point_set("/dev/zero"), Catch::Contains("/dev/zero:1: a line longer than 4096 characters"));
+}
+
+TEST_CASE("point files: numbers are written as std::to_chars writes them, byte for byte", "[io]") {
+    // Coordinates of the unit square and of large boxes, any bit pattern, few-digit decimals
+    // across the exponents (where fixed and scientific notation tie or swap), integers around
+    // 2^53, zeros, infinities and NaN.
+    std::mt19937_64 random(7);
+    auto digits = [](double v) {
+        char a[64], b[64];
+        const std::size_t want = std::size_t(std::to_chars(a, a + sizeof a, v).ptr - a);
+        const std::size_t got = std::size_t(vrpd::detail::write_shortest(b, v) - b);
+        return std::pair(std::string(a, want), std::string(b, got));
+    };
+    std::vector<double> values;
+    const std::string special =
+        "0 -0 1 0.5 1e-5 1e-4 0.001 0.000123 123456 1e15 1e16 1e17 1e22 1e23 1e100 1e-100 "
+        "9007199254740991 9007199254740992 -9007199254740993 5e-324 1.7976931348623157e308 "
+        "inf -inf nan";
+    const char* const special_end = special.data() + special.size();
+    for (const char* p = special.data(); p < special_end; ++p) {
+        double v = 0;
+        p = std::from_chars(p, special_end, v).ptr;
+        values.push_back(v);
+    }
+    for (int i = 0; i < 400000; ++i) {
+        const std::uint64_t u = random();
+        const double any = std::bit_cast<double>(u), unit = std::ldexp(double(u >> 11), -53),
+                     few_digits = double(u % 100000) * std::pow(10.0, int(u >> 40) % 50 - 25),
+                     dyadic = double(u >> 44) * std::ldexp(1.0, int(u % 80) - 20);
+        values.push_back(i % 4 == 0 ? unit : i % 4 == 1 ? any : i % 4 == 2 ? few_digits : dyadic);
+    }
+    REQUIRE(std::isnan(values[23]));
+    std::size_t differ = 0;
+    for (double v : values) {
+        const auto [want, got] = digits(v);
+        if (want != got && differ++ < 5) FAIL_CHECK(want << " written as " << got);
+    }
+    CHECK(differ == 0);
 }

@@ -19,7 +19,58 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include "shortest.h"
+
 namespace vrpd {
+
+namespace detail {
+
+char* write_shortest(char* out, double v) {
+    // The digits come from fmt's Dragonbox (a third of std::to_chars's instructions). Past 2^53
+    // to_chars writes an integer's exact digits, not the shortest ones padded with zeros, and
+    // infinities and NaNs have no digits: those go to it.
+    if (!(std::fabs(v) < 9007199254740992.0)) return std::to_chars(out, out + 32, v).ptr;
+    if (std::signbit(v)) *out++ = '-';
+    if (v == 0) {
+        *out++ = '0';
+        return out;
+    }
+    const auto decimal = fmt::detail::dragonbox::to_decimal(std::fabs(v));
+    const fmt::format_int significand(decimal.significand);
+    const char* const digits = significand.data();
+    const int n = int(significand.size());
+    const char* const end = digits + n;
+    const int e = decimal.exponent + n - 1;  // v = d.ddd 10^e
+    const int magnitude = std::abs(e);
+    const int fixed = e >= 0 ? (n <= e + 1 ? e + 1 : n + 1) : n + 1 - e;
+    const int scientific = n + (n > 1) + 2 + (magnitude >= 100 ? 3 : 2);
+    if (fixed <= scientific) {
+        if (e < 0) {
+            *out++ = '0';
+            *out++ = '.';
+            out = std::fill_n(out, -e - 1, '0');
+            return std::copy(digits, end, out);
+        }
+        if (n <= e + 1) return std::fill_n(std::copy(digits, end, out), e + 1 - n, '0');
+        out = std::copy(digits, digits + e + 1, out);
+        *out++ = '.';
+        return std::copy(digits + e + 1, end, out);
+    }
+    *out++ = digits[0];
+    if (n > 1) {
+        *out++ = '.';
+        out = std::copy(digits + 1, end, out);
+    }
+    *out++ = 'e';
+    *out++ = e < 0 ? '-' : '+';
+    if (magnitude >= 100) *out++ = char('0' + magnitude / 100);
+    *out++ = char('0' + magnitude / 10 % 10);
+    *out++ = char('0' + magnitude % 10);
+    return out;
+}
+
+}  // namespace detail
+
 namespace {
 
 constexpr char kMagic[4] = {'V', 'R', 'P', 'D'};
@@ -303,7 +354,7 @@ void write_csv(const Table& t, std::ostream& out) {
         char* e = num;
         for (std::size_t k = 0; k < t.names.size(); ++k) {
             if (k) *e++ = ',';
-            e = std::to_chars(e, num + sizeof num, t.value(i, k)).ptr;
+            e = detail::write_shortest(e, t.value(i, k));
         }
         *e++ = '\n';
         buf.append(num, e);
