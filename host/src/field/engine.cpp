@@ -8,6 +8,7 @@
 #include <bit>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <optional>
 #include <tuple>
 
@@ -183,7 +184,7 @@ double FieldSampler::weighted_area() {
     std::vector<std::array<std::uint64_t, kExponents>> counts(pool_.size());
     pool_.parallel_for(cells_.size(), [&](std::size_t begin, std::size_t end, unsigned w) {
         std::array<std::uint64_t, kExponents> count{};
-        for (std::size_t i = begin; i < end; ++i) ++count[std::size_t(exponent(cells_[i]) + kExpBias)];
+        for (std::size_t i = begin; i < end; ++i) ++count[std::size_t(exponent(i) + kExpBias)];
         counts[w] = count;
     });
     std::array<std::uint64_t, kExponents> total{};
@@ -191,7 +192,7 @@ double FieldSampler::weighted_area() {
         for (std::size_t e = 0; e < kExponents; ++e) total[e] += count[e];
     if (const auto sum = exact_power_sum(total, kExpBias)) return *sum;
     double area = 0;
-    for (const Cell& c : cells_) area += pow2(exponent(c));
+    for (std::size_t i = 0; i < cells_.size(); ++i) area += pow2(exponent(i));
     return area;
 }
 
@@ -201,10 +202,10 @@ void FieldSampler::write_fates(Cells& next, const std::vector<std::uint64_t>& fi
         std::size_t at = first[w];
         for (std::size_t i = begin; i < end; ++i) {
             const std::uint8_t f = fate(i);
-            if (f == kKeep) next[at++] = cells_[i];
+            if (f == kKeep) next.copy(at++, cells_, i);
             if (f & kSplit)
                 for (std::uint32_t k = 0; k < 4; ++k)
-                    if (f >> k & 1) next[at++] = *child(cells_[i], k);
+                    if (f >> k & 1) next.set(at++, *child(cells_[i], k));
         }
     });
 }
@@ -212,13 +213,14 @@ void FieldSampler::write_fates(Cells& next, const std::vector<std::uint64_t>& fi
 double FieldSampler::balance() {
     for (;;) {
         const double rate = kLambda * double(cells_.size()) / weighted_area();
-        auto splits = [&](const Cell& c) { return c.bits > 0 && rate * pow2(exponent(c)) > kSplitAbove; };
+        auto splits = [&](std::size_t i) { return cells_.bits(i) > 0 && rate * pow2(exponent(i)) > kSplitAbove; };
         // A cell's fate: kept, or split with the mask of its children not covered by a sample.
         // Before the first sample it costs a few instructions and is found again when written;
         // after, it is kept in got_ (one search a split cell).
         const bool store = !lattice_.empty();
-        auto fate_of = [&](const Cell& c, std::vector<std::uint32_t>& near) {
-            if (!splits(c)) return kKeep;
+        auto fate_of = [&](std::size_t i, std::vector<std::uint32_t>& near) {
+            if (!splits(i)) return kKeep;
+            const Cell c = cells_[i];
             if (store) gather(c, near);
             std::uint8_t fate = kSplit;
             for (std::uint32_t k = 0; k < 4; ++k)
@@ -234,7 +236,7 @@ double FieldSampler::balance() {
             std::vector<std::uint32_t> near;
             std::uint64_t count = 0;
             for (std::size_t i = begin; i < end; ++i) {
-                const std::uint8_t fate = fate_of(cells_[i], near);
+                const std::uint8_t fate = fate_of(i, near);
                 if (store) got_[i] = fate;
                 split[w] |= fate != kKeep;
                 count += cells_of(fate);
@@ -242,10 +244,10 @@ double FieldSampler::balance() {
             first[w + 1] = count;
         });
         if (std::find(split.begin(), split.end(), 1) == split.end()) return rate;
-        Cells next(chunk_offsets(first));
-        note_bytes(next.capacity() * sizeof(Cell));
+        Cells next(density_, chunk_offsets(first));
+        note_bytes(next.bytes());
         std::vector<std::uint32_t> unused;  // before the first sample fate_of reads no list
-        write_fates(next, first, [&](std::size_t i) { return store ? got_[i] : fate_of(cells_[i], unused); });
+        write_fates(next, first, [&](std::size_t i) { return store ? got_[i] : fate_of(i, unused); });
         std::swap(cells_, next);
     }
 }
@@ -255,20 +257,38 @@ void FieldSampler::throw_darts(std::uint32_t round) {
     for (int e = 0; e < 128; ++e)
         exp_neg_[e] = std::uint32_t(std::floor(std::exp(-rate * std::ldexp(1.0, e - kExpBias)) * 4294967296.0));
     const std::uint32_t key = shared::round_key(seed_, round);
-    got_.assign(cells_.size(), 0);
-    std::vector<std::vector<Dart>> parts(pool_.size());
-    std::vector<std::uint64_t> thrown(pool_.size(), 0);
+    // First each cell's count of darts, kept in got_ (kRecount: count again) and summed per chunk.
+    // The dart list is then allocated once, at the darts thrown, and each chunk writes the darts
+    // its conflict tests leave from its chunk's offset; the chunks' runs are then moved together.
+    // A list per worker would hold the round's darts twice while they are joined.
+    constexpr std::uint8_t kRecount = 255;
+    got_.resize(cells_.size());
+    std::vector<std::uint64_t> first(pool_.size() + 1, 0);
+    auto count_of = [&](std::size_t i, std::uint32_t stream) {
+        return shared::dart_count(stream, exp_neg_[exponent(i) + kExpBias]);
+    };
     pool_.parallel_for(cells_.size(), [&](std::size_t begin, std::size_t end, unsigned w) {
-        // Kept in the worker until its chunk is done: neighbouring workers' slots share cache lines.
-        std::vector<Dart> out;
         std::uint64_t count = 0;
         for (std::size_t i = begin; i < end; ++i) {
-            const Cell& c = cells_[i];
-            const std::uint32_t stream = shared::cell_stream(key, c.corner);
-            const std::uint32_t n = shared::dart_count(stream, exp_neg_[exponent(c) + kExpBias]);
+            const std::uint32_t n = count_of(i, shared::cell_stream(key, cells_.corner(i)));
+            got_[i] = std::uint8_t(std::min<std::uint32_t>(n, kRecount));
             count += n;
-            got_[i] = n > 0;
-            if (n == 0) continue;
+        }
+        first[w + 1] = count;
+    });
+    const std::uint64_t thrown = chunk_offsets(first);
+    darts_.resize(thrown);
+    note_bytes(0);
+    std::vector<std::uint64_t> kept(pool_.size(), 0);
+    pool_.parallel_for(cells_.size(), [&](std::size_t begin, std::size_t end, unsigned w) {
+        Dart* const start = darts_.data() + first[w];
+        Dart* out = start;
+        for (std::size_t i = begin; i < end; ++i) {
+            if (got_[i] == 0) continue;
+            const Cell c = cells_[i];
+            const std::uint32_t stream = shared::cell_stream(key, c.corner);
+            const std::uint32_t n = got_[i] == kRecount ? count_of(i, stream) : got_[i];
+            got_[i] = 1;
             const std::uint32_t leaf = tree_.leaf_of(c.corner);
             const std::uint32_t bound =
                 std::uint32_t(std::min<std::uint64_t>(std::uint64_t(t_.r_lo) << c.weight, UINT32_MAX));
@@ -287,15 +307,19 @@ void FieldSampler::throw_darts(std::uint32_t round) {
                 const std::uint32_t near = touched_[leaf];
                 if (!(near & kStampedMany) && conflicts_with(near, p, r)) continue;
                 if (conflicts(p, r)) continue;
-                out.push_back({p, d.z, leaf});
+                *out++ = {p, d.z, leaf};
             }
         }
-        parts[w] = std::move(out);
-        thrown[w] = count;
+        kept[w] = std::uint64_t(out - start);
     });
     // Worker w's chunk precedes worker w + 1's (thread_pool.cpp): in worker order is cell order.
-    merge(parts, darts_);
-    for (std::uint64_t n : thrown) darts_thrown_ += n;
+    std::uint64_t size = 0;
+    for (std::size_t w = 0; w < kept.size(); ++w) {
+        std::memmove(darts_.data() + size, darts_.data() + first[w], kept[w] * sizeof(Dart));
+        size += kept[w];
+    }
+    darts_.resize(size);
+    darts_thrown_ += thrown;
 }
 
 void FieldSampler::refine() {
@@ -307,14 +331,18 @@ void FieldSampler::refine() {
         std::uint64_t count = 0;
         FieldQuadtree::Leaf at{};  // the last cell's leaf: a leaf's cells are consecutive
         for (std::size_t i = begin; i < end; ++i) {
-            const Cell& c = cells_[i];
-            if (i == begin || !at.holds(c.corner)) at = tree_.leaf_at(c.corner);
+            const uvec2 corner = cells_.corner(i);
+            if (i == begin || !at.holds(corner)) at = tree_.leaf_at(corner);
             const std::uint32_t leaf = at.index;
             const bool got = got_[i] != 0;
+            if (!got && !stamped(leaf)) {  // no dart and no sample of this round near: kept
+                got_[i] = kKeep;
+                ++count;
+                continue;
+            }
+            const Cell c = cells_[i];
             std::uint8_t fate = 0;
-            if (!got && !stamped(leaf)) {
-                fate = kKeep;
-            } else if (tree_.sample(leaf) != FieldQuadtree::kNone || covered_by_fresh(c.corner, far_corner(c), leaf)) {
+            if (tree_.sample(leaf) != FieldQuadtree::kNone || covered_by_fresh(c.corner, far_corner(c), leaf)) {
                 fate = 0;
             } else if (!got || c.bits == 0) {
                 fate = kKeep;
@@ -332,8 +360,8 @@ void FieldSampler::refine() {
         }
         first[w + 1] = count;
     });
-    Cells next(chunk_offsets(first));
-    note_bytes(next.capacity() * sizeof(Cell));
+    Cells next(density_, chunk_offsets(first));
+    note_bytes(next.bytes());
     write_fates(next, first, [&](std::size_t i) { return got_[i]; });
     std::swap(cells_, next);
 }
@@ -344,7 +372,7 @@ Sampling FieldSampler::run() {
     touched_.resize(tree_.leaves());
     pool_.parallel_for(tree_.tiles(), [&](std::size_t begin, std::size_t end, unsigned) {
         tree_.each_leaf(begin, end, [&](std::uint32_t leaf, uvec2 corner, std::uint32_t bits) {
-            cells_[leaf] = make_cell(corner, bits);
+            cells_.set(leaf, make_cell(corner, bits));
             touched_[leaf] = kUnstamped;
         });
     });
@@ -362,11 +390,11 @@ Sampling FieldSampler::run() {
         round_first_ = std::uint32_t(lattice_.size());  // this round's samples are fresh until refined
         phase("throw", [&] { throw_darts(round); });
         phase("resolve", [&] { resolve(); });
-        std::vector<Dart>().swap(darts_);
+        decltype(darts_)().swap(darts_);
         phase("refine", [&] { refine(); });
         ++round;
         for (std::size_t s = round_first_; s < lattice_.size(); ++s) tree_.settle(lattice_[s]);
-        for (const Cell& c : cells_) deepest = std::max(deepest, t_.tile_bits - c.bits);
+        for (std::size_t i = 0; i < cells_.size(); ++i) deepest = std::max(deepest, t_.tile_bits - cells_[i].bits);
     }
     Sampling s;
     s.lattice.reserve(lattice_.size());

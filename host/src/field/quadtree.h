@@ -45,6 +45,11 @@ public:
     Leaf leaf_at(glm::uvec2 p) const;
     std::uint32_t leaf_of(glm::uvec2 p) const { return leaf_at(p).index; }
     std::uint32_t sample(std::uint32_t leaf) const { return sample_[leaf]; }
+    // A leaf with darts of the round holds no sample: while a resolution runs, its sample's slot
+    // holds its first dart instead, until cleared (back to kNone).
+    void set_first_dart(std::uint32_t leaf, std::uint32_t dart) { sample_[leaf] = dart; }
+    std::uint32_t first_dart(std::uint32_t leaf) const { return sample_[leaf]; }
+    void clear_first_dart(std::uint32_t leaf) { sample_[leaf] = kNone; }
     void prefetch(std::uint32_t leaf) const { __builtin_prefetch(&sample_[leaf]); }
     // Gives the leaf holding point p its sample s, and marks the nodes above it as holding one,
     // and a fresh one.

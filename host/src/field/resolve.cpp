@@ -4,7 +4,6 @@
 // accepted darts become samples in arrival order.
 #include <algorithm>
 #include <atomic>
-#include <memory>
 
 #include "sampler.h"
 
@@ -44,7 +43,7 @@ void FieldSampler::touch(std::uint32_t s) {
 }
 
 void FieldSampler::resolve_in_arrival_order() {
-    note_bytes(darts_.size() * sizeof(Dart));  // the sort's buffer
+    note_bytes((darts_.size() + 1) / 2 * sizeof(Dart));  // the sort's buffer: libstdc++ merges through half the range
     std::stable_sort(darts_.begin(), darts_.end(), [](const Dart& a, const Dart& b) { return a.key < b.key; });
     // Arrival order is random in space: the words a dart reads first (its leaf's sample and stamp,
     // its table cell) are fetched a few darts ahead.
@@ -65,14 +64,13 @@ void FieldSampler::resolve_in_arrival_order() {
     }
 }
 
-std::uint32_t FieldSampler::decide(std::uint32_t j, const std::uint32_t* first, std::uint8_t* state,
-                                   std::uint32_t& wait) const {
+std::uint32_t FieldSampler::decide(std::uint32_t j, std::uint8_t* state, std::uint32_t& wait) const {
     const Dart& d = darts_[j];
     const std::uint32_t r = t_.radius(d.p);
     wait = FieldQuadtree::kNone;
     // current, smaller: an earlier dart in conflict lies within r (f <= r(later)).
     const bool rejected = tree_.near_fresh(d.p, d.p, r, [&](std::uint32_t leaf) {
-        for (std::uint32_t k = first[leaf]; k < darts_.size() && darts_[k].leaf == leaf; ++k) {
+        for (std::uint32_t k = tree_.first_dart(leaf); k < darts_.size() && darts_[k].leaf == leaf; ++k) {
             const Dart& o = darts_[k];
             if (!shared::arrives_before(o.key, k, d.key, j)) continue;
             const std::uint8_t s = load_state(state, k);
@@ -95,15 +93,14 @@ void FieldSampler::resolve_in_parallel() {
     const std::size_t n = darts_.size();
     // Darts come in cell order, and a leaf's cells are consecutive in the list (a split cell's
     // children take its place), so a leaf's darts are too. Each leaf with darts records its first
-    // and is marked fresh (it holds no sample: its darts would have been rejected when thrown),
-    // so that a search meets only the leaves with darts.
-    auto first = std::make_unique_for_overwrite<std::uint32_t[]>(tree_.leaves());
+    // in its sample's slot and is marked fresh (it holds no sample: its darts would have been
+    // rejected when thrown), so that a search meets only the leaves with darts.
     std::vector<std::uint8_t> state(n, std::uint8_t(shared::DART_UNDECIDED));
-    note_bytes(tree_.leaves() * 4 + n);
+    note_bytes(n);
     for (std::size_t j = 0; j < n; ++j) {
         if (j > 0 && darts_[j].leaf == darts_[j - 1].leaf) continue;
         if (j > 0 && darts_[j].leaf < darts_[j - 1].leaf) throw Error("internal: a leaf's darts are not consecutive");
-        first[darts_[j].leaf] = std::uint32_t(j);
+        tree_.set_first_dart(darts_[j].leaf, std::uint32_t(j));
         tree_.mark_fresh(darts_[j].p);
     }
     // Each thread decides the darts of its part (spatial order), one at a time: a dart left
@@ -121,7 +118,7 @@ void FieldSampler::resolve_in_parallel() {
                     continue;
                 }
                 std::uint32_t wait = 0;
-                const std::uint32_t s = decide(t, first.get(), state.data(), wait);
+                const std::uint32_t s = decide(t, state.data(), wait);
                 if (s == shared::DART_UNDECIDED) {
                     stack.push_back(wait);
                     continue;
@@ -131,10 +128,12 @@ void FieldSampler::resolve_in_parallel() {
             }
         }
     });
-    // The darts' marks end before the samples' begin.
-    for (std::size_t j = 0; j < n; ++j)
-        if (j == 0 || darts_[j].leaf != darts_[j - 1].leaf) tree_.settle(darts_[j].p);
-    first.reset();
+    // The darts' marks and first darts end before the samples' begin.
+    for (std::size_t j = 0; j < n; ++j) {
+        if (j > 0 && darts_[j].leaf == darts_[j - 1].leaf) continue;
+        tree_.settle(darts_[j].p);
+        tree_.clear_first_dart(darts_[j].leaf);
+    }
     // The accepted darts become samples in arrival order; the tree's marks and the stamps are
     // then set in throwing order, which is spatial: neighbouring searches share cached nodes.
     std::vector<std::uint32_t> accepted;

@@ -17,14 +17,48 @@ namespace vrpd::detail::field {
 
 using shared::uvec2;
 
-// An active cell: a block of one leaf (found from its corner, FieldQuadtree::leaf_of), 12 bytes.
+// An active cell: a block of one leaf (found from its corner, FieldQuadtree::leaf_of).
 struct Cell {
     uvec2 corner;
     std::uint8_t bits;
     std::uint8_t weight;  // Eq. 12: darts at the rate of radius r_lo 2^weight (<= r over the cell)
 };
-// The active list: filled by the pool's threads, which make the first touch of its pages.
-using Cells = std::vector<Cell, Uninitialised<Cell>>;
+
+// The active list, 8 bytes a cell, and under Eq. 12 a byte of weight beside it: the corner's y,
+// and its x with the side as 2 x + 2^bits, whose lowest set bit is bit `bits` (x is a multiple of
+// 2^bits below 2^31, so the sum fits the word). Filled by the pool's threads, which make the
+// first touch of its pages.
+class Cells {
+public:
+    explicit Cells(bool weighted, std::size_t n = 0) : weighted_(weighted) { resize(n); }
+    std::size_t size() const { return words_.size(); }
+    bool empty() const { return words_.empty(); }
+    void resize(std::size_t n) {
+        words_.resize(n);
+        if (weighted_) weights_.resize(n);
+    }
+    Cell operator[](std::size_t i) const { return {corner(i), std::uint8_t(bits(i)), weight(i)}; }
+    // Cell i's corner, its side exponent and its weight, each alone (the corner's x: the word
+    // without its lowest set bit, halved).
+    uvec2 corner(std::size_t i) const { return {(words_[i].x & (words_[i].x - 1)) >> 1, words_[i].y}; }
+    std::uint32_t bits(std::size_t i) const { return std::uint32_t(std::countr_zero(words_[i].x)); }
+    std::uint8_t weight(std::size_t i) const { return weighted_ ? weights_[i] : std::uint8_t(0); }
+    // Cell i of `from` as cell `at`, copied as stored.
+    void copy(std::size_t at, const Cells& from, std::size_t i) {
+        words_[at] = from.words_[i];
+        if (weighted_) weights_[at] = from.weights_[i];
+    }
+    void set(std::size_t i, const Cell& c) {
+        words_[i] = {2 * c.corner.x + (1u << c.bits), c.corner.y};
+        if (weighted_) weights_[i] = c.weight;
+    }
+    std::uint64_t bytes() const { return words_.capacity() * sizeof(uvec2) + weights_.capacity(); }
+
+private:
+    bool weighted_;
+    std::vector<uvec2, Uninitialised<uvec2>> words_;
+    std::vector<std::uint8_t, Uninitialised<std::uint8_t>> weights_;
+};
 
 // A dart still undecided after its throw, in throwing order (cell order, then index in the cell):
 // the tie-break of equal keys. It carries its cell's leaf: the textbook resolution reads it in
@@ -47,6 +81,7 @@ public:
           density_(o.sizing->weighting == Weighting::Density),
           seed_(o.seed),
           serial_(o.backend == Backend::Serial),
+          cells_(density_),
           profile_(o.profile) {
         bytes_ = tree_.build_bytes();
     }
@@ -109,7 +144,8 @@ private:
         return {std::uint32_t(std::min<std::uint64_t>(c.corner.x + s, t_.lattice.extent_x - 1)),
                 std::uint32_t(std::min<std::uint64_t>(c.corner.y + s, t_.lattice.extent_y - 1))};
     }
-    int exponent(const Cell& c) const { return 2 * int(c.bits) - (density_ ? 2 * int(c.weight) : 0); }
+    // The exponent of cell i's weighted area: 2 bits, less 2 weight under Eq. 12.
+    int exponent(std::size_t i) const { return 2 * int(cells_.bits(i)) - (density_ ? 2 * int(cells_.weight(i)) : 0); }
     // 2^e, exactly, for |e| < 1023 (std::ldexp's value without its call).
     static double pow2(int e) { return std::bit_cast<double>(std::uint64_t(1023 + e) << 52); }
     // Splits cells expecting more than kSplitAbove darts at this round's rate; returns the rate.
@@ -131,9 +167,8 @@ private:
     // Dart j's state given the states decided so far (darts.h's DART_*), under current or
     // smaller: rejected if an earlier dart in conflict is accepted, accepted if every earlier one
     // in conflict is rejected, else undecided, with `wait` set to an undecided earlier dart in
-    // conflict. `first` holds the first dart of each leaf marked fresh.
-    std::uint32_t decide(std::uint32_t j, const std::uint32_t* first, std::uint8_t* state,
-                         std::uint32_t& wait) const;
+    // conflict. Each leaf marked fresh holds its first dart (FieldQuadtree::first_dart).
+    std::uint32_t decide(std::uint32_t j, std::uint8_t* state, std::uint32_t& wait) const;
     // Appends point p (radius r) to the samples; returns its index.
     std::uint32_t add_sample(uvec2 p, std::uint32_t r) {
         lattice_.push_back(p);
@@ -159,25 +194,10 @@ private:
     void refine();
     // Notes the arrays' bytes now, with `extra` held outside them, for the peak.
     void note_bytes(std::uint64_t extra) {
-        bytes_ = std::max<std::uint64_t>(bytes_, tree_.bytes() + cells_.capacity() * sizeof(Cell) +
-                                                     darts_.capacity() * sizeof(Dart) + lattice_.capacity() * 12 +
-                                                     got_.capacity() + touched_.capacity() * 4 + extra);
+        bytes_ = std::max<std::uint64_t>(bytes_, tree_.bytes() + cells_.bytes() + darts_.capacity() * sizeof(Dart) +
+                                                     lattice_.capacity() * 12 + got_.capacity() +
+                                                     touched_.capacity() * 4 + extra);
     }
-    // Moves the workers' parts into `out`, in worker order, freeing each part as it goes; the
-    // parts and `out` together are noted for the peak first.
-    template <typename T>
-    void merge(std::vector<std::vector<T>>& parts, std::vector<T>& out) {
-        std::size_t n = 0;
-        for (const auto& part : parts) n += part.size();
-        std::vector<T>().swap(out);
-        note_bytes(2 * n * sizeof(T));
-        out.reserve(n);
-        for (auto& part : parts) {
-            out.insert(out.end(), part.begin(), part.end());
-            std::vector<T>().swap(part);
-        }
-    }
-
     const FieldTable& t_;
     ThreadPool pool_;
     FieldQuadtree tree_;
@@ -196,7 +216,7 @@ private:
     static constexpr std::uint32_t kUnstamped = 0xFFFFFFFFu;  // many in a round that never comes
     std::vector<std::uint32_t, Uninitialised<std::uint32_t>> touched_;
     std::uint32_t round_ = 0, round_first_ = 0;  // the round, and its first sample
-    std::vector<Dart> darts_;
+    std::vector<Dart, Uninitialised<Dart>> darts_;
     std::vector<uvec2> lattice_;
     std::vector<std::uint32_t> radii_;
     std::uint32_t exp_neg_[128] = {};
