@@ -18,11 +18,8 @@ std::uint8_t load_state(std::uint8_t* state, std::uint32_t j) {
 }  // namespace
 
 void FieldSampler::resolve() {
-    // Under prior and bigger an earlier dart in conflict may lie past the later one's r (f may be
-    // the earlier's radius): a search per dart over that reach costs more than the arrival-order
-    // search of the round's samples, so those rules resolve in arrival order on every backend.
     // On one thread the parallel resolution's extra searches buy nothing.
-    if (serial_ || pool_.size() == 1 || rule_ == shared::RULE_PRIOR || rule_ == shared::RULE_BIGGER)
+    if (serial_ || pool_.size() == 1)
         resolve_in_arrival_order();
     else
         resolve_in_parallel();
@@ -68,8 +65,9 @@ std::uint32_t FieldSampler::decide(std::uint32_t j, std::uint8_t* state, std::ui
     const Dart& d = darts_[j];
     const std::uint32_t r = t_.radius(d.p);
     wait = FieldQuadtree::kNone;
-    // current, smaller: an earlier dart in conflict lies within r (f <= r(later)).
-    const bool rejected = tree_.near_fresh(d.p, d.p, r, [&](std::uint32_t leaf) {
+    // An earlier dart in conflict lies within the reach: r under current and smaller (f <= r of
+    // the later), under prior and bigger grown with r nearby (f may be the earlier's radius).
+    const bool rejected = tree_.near_fresh(d.p, d.p, reach(d.p, d.p, r), [&](std::uint32_t leaf) {
         for (std::uint32_t k = tree_.first_dart(leaf); k < darts_.size() && darts_[k].leaf == leaf; ++k) {
             const Dart& o = darts_[k];
             if (!shared::arrives_before(o.key, k, d.key, j)) continue;

@@ -159,15 +159,14 @@ private:
     void write_fates(Cells& next, const std::vector<std::uint64_t>& first, Fate&& fate);
     void throw_darts(std::uint32_t round);
     // Decides the round's darts (field/resolve.cpp): as the textbook does, one dart at a time in
-    // arrival order, or (cpu backend on several threads; current and smaller) in parallel, with the
-    // same outcome.
+    // arrival order, or (cpu backend on several threads) in parallel, with the same outcome.
     void resolve();
     void resolve_in_arrival_order();
     void resolve_in_parallel();
-    // Dart j's state given the states decided so far (darts.h's DART_*), under current or
-    // smaller: rejected if an earlier dart in conflict is accepted, accepted if every earlier one
-    // in conflict is rejected, else undecided, with `wait` set to an undecided earlier dart in
-    // conflict. Each leaf marked fresh holds its first dart (FieldQuadtree::first_dart).
+    // Dart j's state given the states decided so far (darts.h's DART_*): rejected if an earlier
+    // dart in conflict is accepted, accepted if every earlier one in conflict is rejected, else
+    // undecided, with `wait` set to an undecided earlier dart in conflict. Each leaf marked fresh
+    // holds its first dart (FieldQuadtree::first_dart).
     std::uint32_t decide(std::uint32_t j, std::uint8_t* state, std::uint32_t& wait) const;
     // Appends point p (radius r) to the samples; returns its index.
     std::uint32_t add_sample(uvec2 p, std::uint32_t r) {
