@@ -167,13 +167,17 @@ TEST_CASE("min_over and max_over (and extremes_over, both) bound r over a block,
     }
 }
 
-TEST_CASE("each rule on a ramp, a rectified sine and an image: conflict-free and maximal under it", "[field]") {
+// The steep sine (L 1.91, past every rule's bound) has searches whose reach passes 4 r, so they
+// test the largest r over a subtree before entering it (FieldSampler::within).
+TEST_CASE("each rule on a ramp, rectified sines and an image: conflict-free and maximal under it", "[field]") {
     const std::string image = write_gradient_pgm("gradient.pgm", 64, 48);
     struct Field {
         Sizing sizing;
         Boundary boundary;
     };
-    std::vector<Field> fields(3);
+    std::vector<Field> fields(4);
+    fields[3].sizing.expression = "0.06 + (0.006-0.06)*abs(sin(8*pi*d))";
+    fields[3].boundary = Boundary::Periodic;
     fields[0].sizing.expression = "0.004 + 0.06*x";
     fields[0].boundary = Boundary::Free;
     fields[1].sizing.expression = "0.02 + (0.004-0.02)*abs(sin(4*pi*d))";

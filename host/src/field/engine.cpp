@@ -78,15 +78,28 @@ bool FieldSampler::conflicts_with(std::uint32_t s, uvec2 p, std::uint32_t r) con
 }
 
 bool FieldSampler::conflicts(uvec2 p, std::uint32_t r) const {
-    return tree_.near_samples(p, p, reach(p, p, r),
-                              [&](std::uint32_t leaf) { return conflicts_with(tree_.sample(leaf), p, r); });
+    const std::uint64_t f = reach(p, p, r);
+    if (steep(f, r)) [[unlikely]]
+        return steep_conflicts(p, r, f);
+    return tree_.near_samples(p, p, f, [&](std::uint32_t leaf) { return conflicts_with(tree_.sample(leaf), p, r); });
+}
+
+bool FieldSampler::steep_conflicts(uvec2 p, std::uint32_t r, std::uint64_t f) const {
+    // An earlier sample in a block conflicts with p only within f(r over the block, r).
+    return tree_.near_samples(
+        p, p, f, [&](std::uint32_t leaf) { return conflicts_with(tree_.sample(leaf), p, r); },
+        within(p, p, [&](std::uint32_t hi) { return shared::rule_f(rule_, hi, r); }));
 }
 
 bool FieldSampler::conflicts_fresh(uvec2 p, std::uint32_t r, std::uint32_t leaf) const {
     if (!stamped(leaf)) return false;
     if (const std::uint32_t s = stamp(leaf); s != FieldQuadtree::kNone) return conflicts_with(s, p, r);
-    return tree_.near_fresh(p, p, reach(p, p, r),
-                            [&](std::uint32_t l) { return conflicts_with(tree_.sample(l), p, r); });
+    const std::uint64_t f = reach(p, p, r);
+    auto test = [&](std::uint32_t l) { return conflicts_with(tree_.sample(l), p, r); };
+    if (steep(f, r))
+        return tree_.near_fresh(p, p, f, test,
+                                within(p, p, [&](std::uint32_t hi) { return shared::rule_f(rule_, hi, r); }));
+    return tree_.near_fresh(p, p, f, test);
 }
 
 void FieldSampler::gather(const Cell& c, std::vector<std::uint32_t>& out) const {
@@ -98,8 +111,17 @@ void FieldSampler::gather(const Cell& c, std::vector<std::uint32_t>& out) const 
         out.push_back(tree_.sample(leaf));
         return false;
     };
+    // A sample in a block covers a child only within f(r over the block, hi) of the cell.
+    const bool prune = steep(f, hi);
+    auto search = [&](uvec2 from, uvec2 to, std::uint64_t reach) {
+        if (prune)
+            tree_.near_samples(from, to, reach, keep,
+                               within(a, b, [&](std::uint32_t top) { return shared::rule_f(rule_, top, hi); }));
+        else
+            tree_.near_samples(from, to, reach, keep);
+    };
     if (wraps(a, b, f)) {
-        tree_.near_samples(a, b, f, keep);
+        search(a, b, f);
         return;
     }
     // A cover of child k lies within f - 1 - ceil(w / 2) of the child's middle points
@@ -118,7 +140,7 @@ void FieldSampler::gather(const Cell& c, std::vector<std::uint32_t>& out) const 
         half = std::min({half, mx.half, my.half});
     }
     if (half >= f) return;
-    tree_.near_samples(from, to, f - 1 - half, keep);
+    search(from, to, f - 1 - half);
 }
 
 bool FieldSampler::covered_by_fresh(uvec2 a, uvec2 b, std::uint32_t leaf) const {
@@ -141,14 +163,22 @@ bool FieldSampler::covered_by_fresh(uvec2 a, uvec2 b, std::uint32_t leaf) const 
     // most the reach, which bounds r(x) for each x within it (the largest r over its square, or
     // the Lipschitz growth).
     const std::uint64_t f = own ? lo : reach(a, b, hi);
-    if (wraps(a, b, f)) return tree_.near_fresh(a, b, f, test);
+    // A sample in a block covers [a, b] only within f(r over the block, lo) of it.
+    const bool prune = !own && steep(f, hi);
+    auto find = [&](uvec2 from, uvec2 to, std::uint64_t reach) {
+        if (prune)
+            return tree_.near_fresh(from, to, reach, test,
+                                    within(a, b, [&](std::uint32_t top) { return shared::rule_f(rule_, top, lo); }));
+        return tree_.near_fresh(from, to, reach, test);
+    };
+    if (wraps(a, b, f)) return find(a, b, f);
     // Along each axis the farther end of [a, b] lies ceil(w / 2) beyond a sample's gap to the
     // middle lattice points (on a torus too: the block and the reach are under half of it, a line
     // there). So a cover's gap to them is below f - ceil(w / 2), and none covers a block whose
     // half-width reaches f.
     const Middle mx = middle(a.x, b.x), my = middle(a.y, b.y);
     if (std::max(mx.half, my.half) >= f) return false;
-    return tree_.near_fresh({mx.from, my.from}, {mx.to, my.to}, f - 1 - std::min(mx.half, my.half), test);
+    return find({mx.from, my.from}, {mx.to, my.to}, f - 1 - std::min(mx.half, my.half));
 }
 
 bool FieldSampler::covers(std::uint32_t s, std::uint32_t lo, uvec2 a, uvec2 b) const {

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cstdint>
+#include <type_traits>
 #include <vector>
 
 #include "table.h"
@@ -65,22 +66,28 @@ public:
     std::uint64_t build_bytes() const { return build_bytes_; }
     std::uint64_t bytes() const { return nodes_.capacity() * 4 + sample_.capacity() * 4 + roots_.capacity() * 4; }
 
+    // A search's test before it enters a subtree (see near): this one enters every subtree.
+    struct EnterAll {
+        bool operator()(glm::i64vec2, glm::uvec2, std::uint32_t) const { return true; }
+    };
     // Calls visit(leaf) for each leaf that meets the square `reach` around [a, b] (inclusive), so
     // every leaf holding a point within `reach` of a point of [a, b]; on a torus, of any of its
-    // images. Stops at a call that returns true and returns true.
-    template <typename Visit>
-    bool near(glm::uvec2 a, glm::uvec2 b, std::uint64_t reach, Visit&& visit) const {
-        return search<0>(a, b, reach, visit);
+    // images. Stops at a call that returns true and returns true. `enter`, where given, is asked before a subtree is
+    // entered: enter(image, corner, bits) for the block of side 2^bits at lattice corner `corner`, met at `image` (the
+    // corner's place in the query's unwrapped coordinates, on a torus one period off where the query crosses).
+    template <typename Visit, typename Enter = EnterAll>
+    bool near(glm::uvec2 a, glm::uvec2 b, std::uint64_t reach, Visit&& visit, Enter enter = {}) const {
+        return search<0>(a, b, reach, visit, enter);
     }
     // The same over the leaves that hold a sample only: subtrees without one are not entered.
-    template <typename Visit>
-    bool near_samples(glm::uvec2 a, glm::uvec2 b, std::uint64_t reach, Visit&& visit) const {
-        return search<kOccupied>(a, b, reach, visit);
+    template <typename Visit, typename Enter = EnterAll>
+    bool near_samples(glm::uvec2 a, glm::uvec2 b, std::uint64_t reach, Visit&& visit, Enter enter = {}) const {
+        return search<kOccupied>(a, b, reach, visit, enter);
     }
     // The same over the fresh leaves (marked, not yet settled).
-    template <typename Visit>
-    bool near_fresh(glm::uvec2 a, glm::uvec2 b, std::uint64_t reach, Visit&& visit) const {
-        return search<kFresh>(a, b, reach, visit);
+    template <typename Visit, typename Enter = EnterAll>
+    bool near_fresh(glm::uvec2 a, glm::uvec2 b, std::uint64_t reach, Visit&& visit, Enter enter = {}) const {
+        return search<kFresh>(a, b, reach, visit, enter);
     }
 
 private:
@@ -119,11 +126,12 @@ private:
         bool all[2];
     };
     // kNeed: the flag a subtree must carry to be entered (0: every subtree).
-    template <std::uint32_t kNeed, typename Visit>
-    bool search(glm::uvec2 a, glm::uvec2 b, std::uint64_t reach, Visit& visit) const;
-    template <std::uint32_t kNeed, typename Visit>
-    bool descend(std::uint32_t node, std::int64_t ox, std::int64_t oy, std::uint32_t bits, const Query& q,
-                 Visit& visit) const;
+    template <std::uint32_t kNeed, typename Visit, typename Enter>
+    bool search(glm::uvec2 a, glm::uvec2 b, std::uint64_t reach, Visit& visit, Enter& enter) const;
+    // `tile`: the root's lattice corner (ox, oy: its image).
+    template <std::uint32_t kNeed, typename Visit, typename Enter>
+    bool descend(std::uint32_t node, std::int64_t ox, std::int64_t oy, std::uint32_t bits, const Query& q, Visit& visit,
+                 Enter& enter, glm::uvec2 tile) const;
 };
 
 template <typename Visit>
@@ -152,13 +160,14 @@ void FieldQuadtree::each_leaf(std::size_t first, std::size_t end, Visit&& visit)
     }
 }
 
-template <std::uint32_t kNeed, typename Visit>
+template <std::uint32_t kNeed, typename Visit, typename Enter>
 bool FieldQuadtree::descend(std::uint32_t root, std::int64_t root_x, std::int64_t root_y, std::uint32_t root_bits,
-                            const Query& q, Visit& visit) const {
+                            const Query& q, Visit& visit, Enter& enter, glm::uvec2 tile) const {
     const std::int64_t root_side = std::int64_t(1) << root_bits;
     if (root == kOutside || (kNeed != 0 && !(root & kNeed)) ||
         (!q.all[0] && (root_x > q.hi[0] || root_x + root_side <= q.lo[0])) ||
-        (!q.all[1] && (root_y > q.hi[1] || root_y + root_side <= q.lo[1])))
+        (!q.all[1] && (root_y > q.hi[1] || root_y + root_side <= q.lo[1])) ||
+        !enter(glm::i64vec2(root_x, root_y), tile, root_bits))
         return false;
     // Below the root, coordinates are offsets from its corner, and the query is clipped to it
     // (the whole root where it spans the axis): what meets a node is unchanged, and so is which
@@ -196,15 +205,19 @@ bool FieldQuadtree::descend(std::uint32_t root, std::int64_t root_x, std::int64_
         const std::uint32_t first = std::uint32_t(mid_x >= mx) | std::uint32_t(mid_y >= my) << 1;
         for (std::uint32_t k = 4; k-- > 0;) {
             const std::uint32_t c = first ^ k, child = children[c];
-            if ((meets >> c & 1u) && child != kOutside && (kNeed == 0 || (child & kNeed)))
-                stack[top++] = {child, it.bits - 1, it.x + (c & 1) * half, it.y + (c >> 1) * half};
+            if (!(meets >> c & 1u) || child == kOutside || (kNeed != 0 && !(child & kNeed))) continue;
+            const Item kid{child, it.bits - 1, it.x + (c & 1) * half, it.y + (c >> 1) * half};
+            if constexpr (!std::is_same_v<Enter, EnterAll>)
+                if (!enter(glm::i64vec2(root_x + kid.x, root_y + kid.y), tile + glm::uvec2(kid.x, kid.y), kid.bits))
+                    continue;
+            stack[top++] = kid;
         }
     }
     return false;
 }
 
-template <std::uint32_t kNeed, typename Visit>
-bool FieldQuadtree::search(glm::uvec2 a, glm::uvec2 b, std::uint64_t reach, Visit& visit) const {
+template <std::uint32_t kNeed, typename Visit, typename Enter>
+bool FieldQuadtree::search(glm::uvec2 a, glm::uvec2 b, std::uint64_t reach, Visit& visit, Enter& enter) const {
     const std::int64_t tile = std::int64_t(1) << t_.tile_bits;
     const std::int64_t q[4] = {a.x, a.y, b.x, b.y};
     const bool periodic = t_.lattice.periodic != 0;
@@ -237,7 +250,8 @@ bool FieldQuadtree::search(glm::uvec2 a, glm::uvec2 b, std::uint64_t reach, Visi
         const std::int64_t wx = tx < 0 ? tx + tiles[0] : tx >= tiles[0] ? tx - tiles[0] : tx,
                            wy = ty < 0 ? ty + tiles[1] : ty >= tiles[1] ? ty - tiles[1] : ty;
         const std::uint32_t root = roots_[std::size_t(wy * tiles[0] + wx)];
-        return descend<kNeed>(root, tx * tile, ty * tile, t_.tile_bits, query, visit);
+        return descend<kNeed>(root, tx * tile, ty * tile, t_.tile_bits, query, visit, enter,
+                              glm::uvec2(std::uint32_t(wx * tile), std::uint32_t(wy * tile)));
     };
     // The tile holding the query's middle first: a search for one hit mostly ends there.
     std::int64_t mid[2];

@@ -28,7 +28,8 @@ void FieldSampler::resolve() {
 void FieldSampler::touch(std::uint32_t s) {
     const uvec2 p = lattice_[s];
     const std::uint32_t many = kStampedMany | round_;
-    tree_.near(p, p, cover_reach(p, radii_[s]), [&](std::uint32_t leaf) {
+    const std::uint64_t f = cover_reach(p, radii_[s]);
+    auto stamp = [&](std::uint32_t leaf) {
         std::atomic_ref<std::uint32_t> word(touched_[leaf]);
         std::uint32_t old = word.load(std::memory_order_relaxed);
         // A leaf may be met twice by one search (two images of it on a torus).
@@ -36,7 +37,13 @@ void FieldSampler::touch(std::uint32_t s) {
                !word.compare_exchange_weak(old, this_round(old) ? many : s, std::memory_order_relaxed)) {
         }
         return false;
-    });
+    };
+    // The sample may cover a point of a block only within f(its r, r over the block).
+    if (steep(f, radii_[s]))
+        tree_.near(p, p, f, stamp,
+                   within(p, p, [&](std::uint32_t hi) { return shared::rule_f(rule_, radii_[s], hi); }));
+    else
+        tree_.near(p, p, f, stamp);
 }
 
 void FieldSampler::resolve_in_arrival_order() {
@@ -67,7 +74,7 @@ std::uint32_t FieldSampler::decide(std::uint32_t j, std::uint8_t* state, std::ui
     wait = FieldQuadtree::kNone;
     // An earlier dart in conflict lies within the reach: r under current and smaller (f <= r of
     // the later), under prior and bigger grown with r nearby (f may be the earlier's radius).
-    const bool rejected = tree_.near_fresh(d.p, d.p, reach(d.p, d.p, r), [&](std::uint32_t leaf) {
+    auto test = [&](std::uint32_t leaf) {
         for (std::uint32_t k = tree_.first_dart(leaf); k < darts_.size() && darts_[k].leaf == leaf; ++k) {
             const Dart& o = darts_[k];
             if (!shared::arrives_before(o.key, k, d.key, j)) continue;
@@ -82,7 +89,12 @@ std::uint32_t FieldSampler::decide(std::uint32_t j, std::uint8_t* state, std::ui
             wait = k;
         }
         return false;
-    });
+    };
+    const std::uint64_t f = reach(d.p, d.p, r);
+    const bool rejected =
+        steep(f, r) ? tree_.near_fresh(d.p, d.p, f, test,
+                                       within(d.p, d.p, [&](std::uint32_t hi) { return shared::rule_f(rule_, hi, r); }))
+                    : tree_.near_fresh(d.p, d.p, f, test);
     if (rejected) return shared::DART_REJECTED;
     return wait == FieldQuadtree::kNone ? shared::DART_ACCEPTED : shared::DART_UNDECIDED;
 }

@@ -1,6 +1,7 @@
 // The sizing-field sampler's state and steps (field/engine.cpp; resolution in field/resolve.cpp).
 #pragma once
 
+#include <algorithm>
 #include <bit>
 #include <cstdint>
 #include <optional>
@@ -98,10 +99,40 @@ private:
     // step (a second costs more than its narrower square saves); a sample's stamps take up to
     // four (each leaf stamped costs a re-test of its cells).
     std::uint64_t grown_reach(uvec2 a, uvec2 b, std::uint32_t r_hi, int steps) const;
+    // Is the reach of a search for point p (radius r) so much wider than r (a steep field) that
+    // subtrees are worth testing before they are entered (within)?
+    static bool steep(std::uint64_t reach, std::uint32_t r) { return reach > 4 * std::uint64_t(r) + 4; }
+    // The test a steep search asks before it enters a subtree: may a point of the block lie
+    // within f of [a, b], where f = bound(the largest r over the block)? On a torus the nearest
+    // image of the block counts.
+    template <typename Bound>
+    auto within(uvec2 a, uvec2 b, Bound bound) const {
+        return [this, a, b, bound](glm::i64vec2 image, uvec2 corner, std::uint32_t bits) {
+            const shared::Lattice& l = t_.lattice;
+            const std::int64_t side = std::int64_t(1) << bits;
+            auto gap = [&](std::int64_t at, std::int64_t from, std::int64_t to, std::int64_t extent) {
+                std::int64_t g = INT64_MAX;
+                for (const std::int64_t shift : {std::int64_t(0), extent, -extent}) {
+                    if (shift != 0 && !l.periodic) break;
+                    const std::int64_t lo = at + shift, hi = lo + side - 1;
+                    g = std::min(g, to < lo ? lo - to : from > hi ? from - hi : 0);
+                }
+                return std::uint64_t(g);
+            };
+            const std::uint64_t gx = gap(image.x, a.x, b.x, l.extent_x), gy = gap(image.y, a.y, b.y, l.extent_y);
+            const uvec2 far(std::uint32_t(std::min<std::uint64_t>(corner.x + side - 1, l.extent_x - 1)),
+                            std::uint32_t(std::min<std::uint64_t>(corner.y + side - 1, l.extent_y - 1)));
+            // A gap of f or more is out along one axis (and the squares below stay below 2^63).
+            const std::uint32_t f = bound(t_.max_over(corner, far));
+            return gx < f && gy < f && shared::field_conflict(f, gx * gx + gy * gy);
+        };
+    }
     // Does sample s conflict with a later point p of radius r?
     bool conflicts_with(std::uint32_t s, uvec2 p, std::uint32_t r) const;
-    // Does a sample conflict with point p of radius r?
+    // Does a sample conflict with point p of radius r? (steep_conflicts: the search of a steep
+    // reach f, kept out of line.)
     bool conflicts(uvec2 p, std::uint32_t r) const;
+    bool steep_conflicts(uvec2 p, std::uint32_t r, std::uint64_t f) const;
     // Does one of this round's samples conflict with point p (radius r) of leaf `leaf`?
     bool conflicts_fresh(uvec2 p, std::uint32_t r, std::uint32_t leaf) const;
     // The samples that may cover one of the children of cell c wholly (c.bits >= 1).
