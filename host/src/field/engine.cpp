@@ -8,7 +8,6 @@
 #include <bit>
 #include <chrono>
 #include <cmath>
-#include <cstring>
 #include <optional>
 #include <tuple>
 
@@ -345,7 +344,8 @@ void FieldSampler::throw_darts(std::uint32_t round) {
     // Worker w's chunk precedes worker w + 1's (thread_pool.cpp): in worker order is cell order.
     std::uint64_t size = 0;
     for (std::size_t w = 0; w < kept.size(); ++w) {
-        std::memmove(darts_.data() + size, darts_.data() + first[w], kept[w] * sizeof(Dart));
+        if (size != first[w])  // a run moves down, so a forward copy never reads what it wrote
+            std::copy_n(darts_.begin() + std::ptrdiff_t(first[w]), kept[w], darts_.begin() + std::ptrdiff_t(size));
         size += kept[w];
     }
     darts_.resize(size);
