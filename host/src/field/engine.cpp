@@ -424,7 +424,7 @@ Sampling FieldSampler::run() {
         phase("refine", [&] { refine(); });
         ++round;
         for (std::size_t s = round_first_; s < lattice_.size(); ++s) tree_.settle(lattice_[s]);
-        for (std::size_t i = 0; i < cells_.size(); ++i) deepest = std::max(deepest, t_.tile_bits - cells_[i].bits);
+        for (std::size_t i = 0; i < cells_.size(); ++i) deepest = std::max(deepest, t_.tile_bits - cells_.bits(i));
     }
     Sampling s;
     s.lattice.reserve(lattice_.size());
