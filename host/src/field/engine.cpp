@@ -86,8 +86,7 @@ bool FieldSampler::conflicts(uvec2 p, std::uint32_t r) const {
 bool FieldSampler::steep_conflicts(uvec2 p, std::uint32_t r, std::uint64_t f) const {
     // An earlier sample in a block conflicts with p only within f(r over the block, r).
     return tree_.near_samples(
-        p, p, f, [&](std::uint32_t leaf) { return conflicts_with(tree_.sample(leaf), p, r); },
-        within(p, p, [&](std::uint32_t hi) { return shared::rule_f(rule_, hi, r); }));
+        p, p, f, [&](std::uint32_t leaf) { return conflicts_with(tree_.sample(leaf), p, r); }, within(p, p, r, true));
 }
 
 bool FieldSampler::conflicts_fresh(uvec2 p, std::uint32_t r, std::uint32_t leaf) const {
@@ -95,10 +94,8 @@ bool FieldSampler::conflicts_fresh(uvec2 p, std::uint32_t r, std::uint32_t leaf)
     if (const std::uint32_t s = stamp(leaf); s != FieldQuadtree::kNone) return conflicts_with(s, p, r);
     const std::uint64_t f = reach(p, p, r);
     auto test = [&](std::uint32_t l) { return conflicts_with(tree_.sample(l), p, r); };
-    if (steep(f, r))
-        return tree_.near_fresh(p, p, f, test,
-                                within(p, p, [&](std::uint32_t hi) { return shared::rule_f(rule_, hi, r); }));
-    return tree_.near_fresh(p, p, f, test);
+    return search_within(steep(f, r), p, p, r, true,
+                         [&](auto enter) { return tree_.near_fresh(p, p, f, test, enter); });
 }
 
 void FieldSampler::gather(const Cell& c, std::vector<std::uint32_t>& out) const {
@@ -113,11 +110,8 @@ void FieldSampler::gather(const Cell& c, std::vector<std::uint32_t>& out) const 
     // A sample in a block covers a child only within f(r over the block, hi) of the cell.
     const bool prune = steep(f, hi);
     auto search = [&](uvec2 from, uvec2 to, std::uint64_t reach) {
-        if (prune)
-            tree_.near_samples(from, to, reach, keep,
-                               within(a, b, [&](std::uint32_t top) { return shared::rule_f(rule_, top, hi); }));
-        else
-            tree_.near_samples(from, to, reach, keep);
+        search_within(prune, a, b, hi, true,
+                      [&](auto enter) { return tree_.near_samples(from, to, reach, keep, enter); });
     };
     if (wraps(a, b, f)) {
         search(a, b, f);
@@ -165,10 +159,8 @@ bool FieldSampler::covered_by_fresh(uvec2 a, uvec2 b, std::uint32_t leaf) const 
     // A sample in a block covers [a, b] only within f(r over the block, lo) of it.
     const bool prune = !own && steep(f, hi);
     auto find = [&](uvec2 from, uvec2 to, std::uint64_t reach) {
-        if (prune)
-            return tree_.near_fresh(from, to, reach, test,
-                                    within(a, b, [&](std::uint32_t top) { return shared::rule_f(rule_, top, lo); }));
-        return tree_.near_fresh(from, to, reach, test);
+        return search_within(prune, a, b, lo, true,
+                             [&](auto enter) { return tree_.near_fresh(from, to, reach, test, enter); });
     };
     if (wraps(a, b, f)) return find(a, b, f);
     // Along each axis the farther end of [a, b] lies ceil(w / 2) beyond a sample's gap to the

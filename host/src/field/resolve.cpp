@@ -39,11 +39,8 @@ void FieldSampler::touch(std::uint32_t s) {
         return false;
     };
     // The sample may cover a point of a block only within f(its r, r over the block).
-    if (steep(f, radii_[s]))
-        tree_.near(p, p, f, stamp,
-                   within(p, p, [&](std::uint32_t hi) { return shared::rule_f(rule_, radii_[s], hi); }));
-    else
-        tree_.near(p, p, f, stamp);
+    search_within(steep(f, radii_[s]), p, p, radii_[s], false,
+                  [&](auto enter) { return tree_.near(p, p, f, stamp, enter); });
 }
 
 void FieldSampler::resolve_in_arrival_order() {
@@ -91,10 +88,8 @@ std::uint32_t FieldSampler::decide(std::uint32_t j, std::uint8_t* state, std::ui
         return false;
     };
     const std::uint64_t f = reach(d.p, d.p, r);
-    const bool rejected =
-        steep(f, r) ? tree_.near_fresh(d.p, d.p, f, test,
-                                       within(d.p, d.p, [&](std::uint32_t hi) { return shared::rule_f(rule_, hi, r); }))
-                    : tree_.near_fresh(d.p, d.p, f, test);
+    const bool rejected = search_within(steep(f, r), d.p, d.p, r, true,
+                                        [&](auto enter) { return tree_.near_fresh(d.p, d.p, f, test, enter); });
     if (rejected) return shared::DART_REJECTED;
     return wait == FieldQuadtree::kNone ? shared::DART_ACCEPTED : shared::DART_UNDECIDED;
 }

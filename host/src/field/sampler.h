@@ -103,11 +103,11 @@ private:
     // subtrees are worth testing before they are entered (within)?
     static bool steep(std::uint64_t reach, std::uint32_t r) { return reach > 4 * std::uint64_t(r) + 4; }
     // The test a steep search asks before it enters a subtree: may a point of the block lie
-    // within f of [a, b], where f = bound(the largest r over the block)? On a torus the nearest
-    // image of the block counts.
-    template <typename Bound>
-    auto within(uvec2 a, uvec2 b, Bound bound) const {
-        return [this, a, b, bound](glm::i64vec2 image, uvec2 corner, std::uint32_t bits) {
+    // within f of [a, b]? f is the rule's f between the largest r over the block and r, the
+    // block's taken as the earlier point's where `block_earlier`, else as the later one's. On a
+    // torus the nearest image of the block counts.
+    auto within(uvec2 a, uvec2 b, std::uint32_t r, bool block_earlier) const {
+        return [this, a, b, r, block_earlier](glm::i64vec2 image, uvec2 corner, std::uint32_t bits) {
             const shared::Lattice& l = t_.lattice;
             const std::int64_t side = std::int64_t(1) << bits;
             auto gap = [&](std::int64_t at, std::int64_t from, std::int64_t to, std::int64_t extent) {
@@ -122,10 +122,19 @@ private:
             const std::uint64_t gx = gap(image.x, a.x, b.x, l.extent_x), gy = gap(image.y, a.y, b.y, l.extent_y);
             const uvec2 far(std::uint32_t(std::min<std::uint64_t>(corner.x + side - 1, l.extent_x - 1)),
                             std::uint32_t(std::min<std::uint64_t>(corner.y + side - 1, l.extent_y - 1)));
+            const std::uint32_t hi = t_.max_over(corner, far);
             // A gap of f or more is out along one axis (and the squares below stay below 2^63).
-            const std::uint32_t f = bound(t_.max_over(corner, far));
+            const std::uint32_t f = block_earlier ? shared::rule_f(rule_, hi, r) : shared::rule_f(rule_, r, hi);
             return gx < f && gy < f && shared::field_conflict(f, gx * gx + gy * gy);
         };
+    }
+    // search(enter) with within(a, b, r, block_earlier) as `enter` where `steep`, else the plain
+    // search (FieldQuadtree::EnterAll).
+    template <typename Search>
+    auto search_within(bool steep, uvec2 a, uvec2 b, std::uint32_t r, bool block_earlier, Search search) const {
+        if (steep) [[unlikely]]
+            return search(within(a, b, r, block_earlier));
+        return search(FieldQuadtree::EnterAll{});
     }
     // Does sample s conflict with a later point p of radius r?
     bool conflicts_with(std::uint32_t s, uvec2 p, std::uint32_t r) const;
