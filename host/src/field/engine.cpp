@@ -183,12 +183,39 @@ bool FieldSampler::covers(std::uint32_t s, std::uint32_t lo, uvec2 a, uvec2 b) c
     return shared::field_conflict(shared::rule_f(rule_, radii_[s], lo), gx * gx + gy * gy);
 }
 
-bool FieldSampler::covered_by(const std::vector<std::uint32_t>& near, uvec2 a, uvec2 b) const {
-    // Under prior f is the sample's own radius: the block's least r goes unread.
-    const std::uint32_t lo = rule_ == shared::RULE_PRIOR ? 0 : t_.min_over(a, b);
-    for (std::uint32_t s : near)
-        if (covers(s, lo, a, b)) return true;
-    return false;
+std::uint8_t FieldSampler::open_children(const std::vector<std::uint32_t>& near, const Cell& c) const {
+    // The children split each axis of [a, b] at m = a + half: [a, min(m - 1, b)] and, where m <= b,
+    // [m, b]. A sample's farther gap to either part is taken once per axis, for the two children
+    // on that side. Under prior f is the sample's own radius: the children's least r goes unread.
+    const shared::Lattice& l = t_.lattice;
+    const uvec2 a = c.corner, b = far_corner(c);
+    const uvec2 m = a + uvec2(1u << (c.bits - 1));
+    const uvec2 e = glm::min(m - uvec2(1), b);  // the first parts' last points
+    std::uint8_t open = 0;
+    for (std::uint32_t k = 0; k < 4; ++k)
+        if (((k & 1) == 0 || m.x <= b.x) && ((k >> 1) == 0 || m.y <= b.y)) open |= std::uint8_t(1u << k);
+    if (near.empty()) return open;
+    std::uint32_t lo[4] = {};
+    if (rule_ != shared::RULE_PRIOR)
+        for (std::uint32_t k = 0; k < 4; ++k)
+            if (open >> k & 1)
+                lo[k] = t_.min_over({(k & 1) ? m.x : a.x, (k >> 1) ? m.y : a.y},
+                                    {(k & 1) ? b.x : e.x, (k >> 1) ? b.y : e.y});
+    for (std::uint32_t s : near) {
+        const uvec2 x = lattice_[s];
+        auto gap = [&](std::uint32_t v, std::uint32_t from, std::uint32_t to, std::uint32_t extent) {
+            return std::uint64_t(
+                std::max(shared::axis_gap(v, from, extent, l.periodic), shared::axis_gap(v, to, extent, l.periodic)));
+        };
+        const std::uint64_t gx[2] = {gap(x.x, a.x, e.x, l.extent_x), gap(x.x, m.x, b.x, l.extent_x)};
+        const std::uint64_t gy[2] = {gap(x.y, a.y, e.y, l.extent_y), gap(x.y, m.y, b.y, l.extent_y)};
+        for (std::uint32_t k = 0; k < 4; ++k)
+            if (open >> k & 1 && shared::field_conflict(shared::rule_f(rule_, radii_[s], lo[k]),
+                                                        gx[k & 1] * gx[k & 1] + gy[k >> 1] * gy[k >> 1]))
+                open &= std::uint8_t(~(1u << k));
+        if (open == 0) break;
+    }
+    return open;
 }
 
 Cell FieldSampler::make_cell(uvec2 corner, std::uint32_t bits) const {
@@ -242,13 +269,11 @@ double FieldSampler::balance() {
         auto fate_of = [&](std::size_t i, std::vector<std::uint32_t>& near) {
             if (!splits(i)) return kKeep;
             const Cell c = cells_[i];
-            if (store) gather(c, near);
-            std::uint8_t fate = kSplit;
-            for (std::uint32_t k = 0; k < 4; ++k)
-                if (const auto kid = child(c, k);
-                    kid && (!store || near.empty() || !covered_by(near, kid->corner, far_corner(*kid))))
-                    fate |= std::uint8_t(1u << k);
-            return fate;
+            if (store)
+                gather(c, near);
+            else
+                near.clear();
+            return std::uint8_t(kSplit | open_children(near, c));
         };
         if (store) got_.resize(cells_.size());
         std::vector<std::uint64_t> first(pool_.size() + 1, 0);
@@ -372,10 +397,7 @@ void FieldSampler::refine() {
                 // Split: the children are tested against every sample that may cover part of the
                 // cell, found by one search (an earlier round's sample may cover a child).
                 gather(c, near);
-                fate = kSplit;
-                for (std::uint32_t k = 0; k < 4; ++k)
-                    if (const auto kid = child(c, k); kid && !covered_by(near, kid->corner, far_corner(*kid)))
-                        fate |= std::uint8_t(1u << k);
+                fate = std::uint8_t(kSplit | open_children(near, c));
             }
             got_[i] = fate;
             count += cells_of(fate);

@@ -161,8 +161,9 @@ private:
         const std::uint32_t w = hi - lo;
         return {lo + w / 2, lo + (w + 1) / 2, (w + 1) / 2};
     }
-    // Does one of `near` cover every point of [a, b] under the rule?
-    bool covered_by(const std::vector<std::uint32_t>& near, uvec2 a, uvec2 b) const;
+    // The mask of cell c's children (bit k: child k) that lie in the lattice and that none of
+    // `near` covers wholly under the rule.
+    std::uint8_t open_children(const std::vector<std::uint32_t>& near, const Cell& c) const;
     // Does one of this round's samples (fresh in the tree) cover every point of [a, b], a block
     // of leaf `leaf`? For a cell of the active list this is whether any sample does: each cell
     // was made, or last kept, by a test against every sample of its time, so none of the earlier
