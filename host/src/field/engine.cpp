@@ -347,12 +347,12 @@ void FieldSampler::throw_darts(std::uint32_t round) {
                     !shared::keep_weighted(shared::hash_mix(shared::hash_mix(stream, 0xD1B54A35u), j), bound, r))
                     continue;
                 if (tree_.sample(leaf) != FieldQuadtree::kNone) continue;
-                // The one sample that last stamped the leaf (an earlier round's, near it), if one
-                // did, is the likeliest conflict: tested before the search (kUnstamped carries
-                // kStampedMany).
+                // A sample in conflict with a point of the leaf has stamped it: none has if it is
+                // unstamped. Else the one sample that last stamped it (an earlier round's, near
+                // it), if one did, is the likeliest conflict: tested before the search.
                 const std::uint32_t near = touched_[leaf];
-                if (!(near & kStampedMany) && conflicts_with(near, p, r)) continue;
-                if (conflicts(p, r)) continue;
+                if (near != kUnstamped && ((!(near & kStampedMany) && conflicts_with(near, p, r)) || conflicts(p, r)))
+                    continue;
                 *out++ = {p, d.z, leaf};
             }
         }
