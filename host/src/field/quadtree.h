@@ -200,9 +200,13 @@ bool FieldQuadtree::descend(std::uint32_t root, std::int64_t root_x, std::int64_
         const std::uint32_t in_y = (lo_y < my ? 0x3u : 0u) | (hi_y >= my ? 0xCu : 0u);
         const std::uint32_t meets = in_x & in_y;
         const std::uint32_t* children = &nodes_[it.node & kIndex];
-        // The child holding the query's middle is searched first, then its row neighbour,
-        // column neighbour and diagonal: a search for any one hit ends early.
-        const std::uint32_t first = std::uint32_t(mid_x >= mx) | std::uint32_t(mid_y >= my) << 1;
+        // A plain search takes the children in a fixed order, so the loop unrolls with each
+        // child's offsets known: that saves more than taking first the child that holds the
+        // query's middle, where a search for one hit mostly ends. A steep search (one with an
+        // `enter` test) takes that child first, then its row neighbour, column neighbour and
+        // diagonal: its square is wide, and a hit near its middle ends it early.
+        constexpr bool kMiddleFirst = !std::is_same_v<Enter, EnterAll>;
+        const std::uint32_t first = kMiddleFirst ? std::uint32_t(mid_x >= mx) | std::uint32_t(mid_y >= my) << 1 : 0;
         for (std::uint32_t k = 4; k-- > 0;) {
             const std::uint32_t c = first ^ k, child = children[c];
             if (!(meets >> c & 1u) || child == kOutside || (kNeed != 0 && !(child & kNeed))) continue;
