@@ -193,7 +193,7 @@ std::uint8_t FieldSampler::open_children(const std::vector<std::uint32_t>& near,
     const uvec2 e = glm::min(m - uvec2(1), b);  // the first parts' last points
     std::uint8_t open = 0;
     for (std::uint32_t k = 0; k < 4; ++k)
-        if (((k & 1) == 0 || m.x <= b.x) && ((k >> 1) == 0 || m.y <= b.y)) open |= std::uint8_t(1u << k);
+        if (child_corner(c, k)) open |= std::uint8_t(1u << k);
     if (near.empty()) return open;
     std::uint32_t lo[4] = {};
     if (rule_ != shared::RULE_PRIOR)

@@ -120,9 +120,7 @@ private:
                 return std::uint64_t(g);
             };
             const std::uint64_t gx = gap(image.x, a.x, b.x, l.extent_x), gy = gap(image.y, a.y, b.y, l.extent_y);
-            const uvec2 far(std::uint32_t(std::min<std::uint64_t>(corner.x + side - 1, l.extent_x - 1)),
-                            std::uint32_t(std::min<std::uint64_t>(corner.y + side - 1, l.extent_y - 1)));
-            const std::uint32_t hi = t_.max_over(corner, far);
+            const std::uint32_t hi = t_.max_over(corner, far_corner(corner, bits));
             // A gap of f or more is out along one axis (and the squares below stay below 2^63).
             const std::uint32_t f = block_earlier ? shared::rule_f(rule_, hi, r) : shared::rule_f(rule_, r, hi);
             return gx < f && gy < f && shared::field_conflict(f, gx * gx + gy * gy);
@@ -173,18 +171,24 @@ private:
     // within f(r(s), lo), f's least value over the block?
     bool covers(std::uint32_t s, std::uint32_t lo, uvec2 a, uvec2 b) const;
     Cell make_cell(uvec2 corner, std::uint32_t bits) const;
-    // Child k of c (x, then y, low first), unless it lies outside the lattice.
-    std::optional<Cell> child(const Cell& c, std::uint32_t k) const {
+    // The corner of child k of c (x, then y, low first), unless it lies outside the lattice.
+    std::optional<uvec2> child_corner(const Cell& c, std::uint32_t k) const {
         const std::uint32_t half = 1u << (c.bits - 1);
         const uvec2 corner(c.corner.x + (k & 1) * half, c.corner.y + (k >> 1) * half);
         if (corner.x >= t_.lattice.extent_x || corner.y >= t_.lattice.extent_y) return std::nullopt;
-        return make_cell(corner, c.bits - 1);
+        return corner;
     }
-    uvec2 far_corner(const Cell& c) const {
-        const std::uint64_t s = (std::uint64_t(1) << c.bits) - 1;
-        return {std::uint32_t(std::min<std::uint64_t>(c.corner.x + s, t_.lattice.extent_x - 1)),
-                std::uint32_t(std::min<std::uint64_t>(c.corner.y + s, t_.lattice.extent_y - 1))};
+    std::optional<Cell> child(const Cell& c, std::uint32_t k) const {
+        if (const auto corner = child_corner(c, k)) return make_cell(*corner, c.bits - 1);
+        return std::nullopt;
     }
+    // The last lattice point of the block of side 2^bits at `corner` (clipped to the lattice).
+    uvec2 far_corner(uvec2 corner, std::uint32_t bits) const {
+        const std::uint64_t s = (std::uint64_t(1) << bits) - 1;
+        return {std::uint32_t(std::min<std::uint64_t>(corner.x + s, t_.lattice.extent_x - 1)),
+                std::uint32_t(std::min<std::uint64_t>(corner.y + s, t_.lattice.extent_y - 1))};
+    }
+    uvec2 far_corner(const Cell& c) const { return far_corner(c.corner, c.bits); }
     // The exponent of cell i's weighted area: 2 bits, less 2 weight under Eq. 12.
     int exponent(std::size_t i) const { return 2 * int(cells_.bits(i)) - (density_ ? 2 * int(cells_.weight(i)) : 0); }
     // 2^e, exactly, for |e| < 1023 (std::ldexp's value without its call).
