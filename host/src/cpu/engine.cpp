@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <queue>
 #include <type_traits>
 #include <utility>
 
@@ -63,7 +64,7 @@ public:
         // The list leaves out the base cells that hold a sample, as mask mode does: a round's
         // darts word would replace the sample's. Each chunk of base cells counts its free ones,
         // then lists them from the sum of the counts before it.
-        std::vector<std::uint64_t> first(pool_.size() + 1, 0);
+        std::vector<std::uint64_t> first(pool_.chunks(bases) + 1, 0);
         pool_.parallel_for(bases, [&](std::size_t b, std::size_t e, unsigned w) {
             first[w + 1] = std::uint64_t(
                 std::count_if(grid_.begin() + b, grid_.begin() + e, [](uvec2 v) { return !grid_is_sample(v); }));
@@ -175,7 +176,7 @@ private:
         const uint bases = uint(plan_.base_cells);
         const CellArgs args{dom, 0, 0, 0, 0, 0, 0, 0, 0, bases, round_key(plan_.seed, spec.round), spec.side,
                             spec.exp_neg_lambda};
-        std::vector<std::uint64_t> first(pool_.size() + 1, 0);
+        std::vector<std::uint64_t> first(pool_.chunks(bases) + 1, 0);
         std::atomic<bool> crowded = false;
         pool_.parallel_for(bases, [&](std::size_t b, std::size_t e, unsigned w) {
             std::uint64_t sum = 0;
@@ -238,11 +239,11 @@ private:
     }
 
     // Appends the round's accepted darts to the samples in arrival order: by (key, dart index),
-    // dart index being spatial order, both in one 64-bit word. Each thread sorts its part; their
-    // merge goes to out_. A dart left DART_TOO_COMPLEX (two radii) fails the run.
+    // dart index being spatial order, both in one 64-bit word. Each chunk of the darts is sorted
+    // on the threads; their merge goes to out_. A dart left DART_TOO_COMPLEX (two radii) fails the run.
     void emit() {
         const std::size_t total = dart_count_;
-        std::vector<std::vector<std::uint64_t>> accepted(pool_.size());
+        std::vector<std::vector<std::uint64_t>> accepted(pool_.chunks(total));
         std::atomic<bool> too_complex = false;
         pool_.parallel_for(total, [&](std::size_t b, std::size_t e, unsigned w) {
             std::size_t count = 0;
@@ -262,15 +263,17 @@ private:
         std::uint64_t lists_bytes = 0;
         for (auto& a : accepted) lists_bytes += bytes(a);
         note_peak(lists_bytes);
+        // The merge: a heap of each chunk's next word (the words are distinct: the dart index).
+        using Head = std::pair<std::uint64_t, std::size_t>;  // a word and its chunk
+        std::priority_queue<Head, std::vector<Head>, std::greater<>> heads;
         std::vector<std::size_t> next(accepted.size(), 0);
-        for (;;) {
-            std::size_t best = accepted.size();
-            for (std::size_t w = 0; w < accepted.size(); ++w)
-                if (next[w] < accepted[w].size() &&
-                    (best == accepted.size() || accepted[w][next[w]] < accepted[best][next[best]]))
-                    best = w;
-            if (best == accepted.size()) break;
-            const uvec4 dart = dart_at(darts(), std::uint32_t(accepted[best][next[best]++]));
+        for (std::size_t c = 0; c < accepted.size(); ++c)
+            if (!accepted[c].empty()) heads.emplace(accepted[c][next[c]++], c);
+        while (!heads.empty()) {
+            const auto [word, c] = heads.top();
+            heads.pop();
+            if (next[c] < accepted[c].size()) heads.emplace(accepted[c][next[c]++], c);
+            const uvec4 dart = dart_at(darts(), std::uint32_t(word));
             out_.emplace_back(dart.x, dart.y);
         }
     }
@@ -283,7 +286,7 @@ private:
         const uint fanout = spec.refine ? 4u : 1u;
         const uint side = spec.refine ? spec.side / 2u : spec.side;
         const CellArgs args{dom, 0, 0, 0, 0, 0, 0, 0, 0, bases, round_key(plan_.seed, spec.round), side, fanout};
-        std::vector<std::uint64_t> first(pool_.size() + 1, 0);
+        std::vector<std::uint64_t> first(pool_.chunks(bases) + 1, 0);
         if (!cover_tested(dom, fanout, side)) {
             // Every cell stays (surviving_children: active cells lie on the lattice), so the words
             // already hold the masks, and only their cells are counted.
@@ -314,8 +317,8 @@ private:
             std::vector<uint>().swap(masks_);
             return chunk_offsets(first);
         }
-        // Each thread keeps its base cells' nonzero masks, in order, then writes their children.
-        std::vector<std::vector<std::pair<uint, uvec2>>> kept(pool_.size());
+        // Each chunk of base cells keeps its nonzero masks, in order, then writes their children.
+        std::vector<std::vector<std::pair<uint, uvec2>>> kept(pool_.chunks(bases));
         pool_.parallel_for(bases, [&](std::size_t b, std::size_t e, unsigned w) {
             std::uint64_t sum = 0;
             for (std::size_t i = b; i < e; ++i) {

@@ -37,24 +37,34 @@ void ThreadPool::stop() {
     workers_.clear();
 }
 
-void ThreadPool::run_chunk(std::size_t n, unsigned id,
-                           const std::function<void(std::size_t, std::size_t, unsigned)>& body) {
+void ThreadPool::run_chunks(unsigned id) {
+    const auto& body = *job_;
     try {
-        auto [b, e] = chunk(n, size(), id);
-        body(b, e, id);
+        if (job_per_thread_) {
+            auto [b, e] = chunk(job_size_, unsigned(job_chunks_), id);
+            body(b, e, id);
+            return;
+        }
+        for (std::size_t c; (c = next_chunk_.fetch_add(1, std::memory_order_relaxed)) < job_chunks_;) {
+            auto [b, e] = chunk(job_size_, unsigned(job_chunks_), unsigned(c));
+            body(b, e, unsigned(c));
+        }
     } catch (...) {
+        next_chunk_.store(job_chunks_, std::memory_order_relaxed);  // the chunks not begun are skipped
         std::lock_guard lock(mutex_);
         if (!error_) error_ = std::current_exception();
     }
 }
 
-void ThreadPool::parallel_for(std::size_t n, const std::function<void(std::size_t, std::size_t, unsigned)>& body) {
+void ThreadPool::parallel_for(std::size_t n, const std::function<void(std::size_t, std::size_t, unsigned)>& body,
+                              std::size_t grain) {
     if (n == 0) return;
-    if (workers_.empty() || n < 2048) {
+    const std::size_t parts = chunks(n, grain);
+    if (parts == 1) {
         body(0, n, 0);
         return;
     }
-    dispatch(n, body);
+    dispatch(n, parts, false, body);
 }
 
 void ThreadPool::each_worker(const std::function<void(unsigned)>& body) {
@@ -62,20 +72,24 @@ void ThreadPool::each_worker(const std::function<void(unsigned)>& body) {
         body(0);
         return;
     }
-    dispatch(size(), [&](std::size_t, std::size_t, unsigned w) { body(w); });
+    dispatch(size(), size(), true, [&](std::size_t, std::size_t, unsigned w) { body(w); });
 }
 
-void ThreadPool::dispatch(std::size_t n, const std::function<void(std::size_t, std::size_t, unsigned)>& body) {
+void ThreadPool::dispatch(std::size_t n, std::size_t chunks, bool per_thread,
+                          const std::function<void(std::size_t, std::size_t, unsigned)>& body) {
     {
         std::lock_guard lock(mutex_);
         job_ = &body;
         job_size_ = n;
+        job_chunks_ = chunks;
+        job_per_thread_ = per_thread;
+        next_chunk_.store(0, std::memory_order_relaxed);
         pending_ = unsigned(workers_.size());
         error_ = nullptr;
         ++generation_;
     }
     wake_.notify_all();
-    run_chunk(n, 0, body);
+    run_chunks(0);
     std::unique_lock lock(mutex_);
     done_.wait(lock, [this] { return pending_ == 0; });  // no chunk may outlive the data it uses
     job_ = nullptr;
@@ -85,17 +99,13 @@ void ThreadPool::dispatch(std::size_t n, const std::function<void(std::size_t, s
 void ThreadPool::work(unsigned id) {
     std::size_t seen = 0;
     for (;;) {
-        const std::function<void(std::size_t, std::size_t, unsigned)>* job;
-        std::size_t n;
         {
             std::unique_lock lock(mutex_);
             wake_.wait(lock, [&] { return stop_ || generation_ != seen; });
             if (stop_) return;
             seen = generation_;
-            job = job_;
-            n = job_size_;
         }
-        run_chunk(n, id, *job);
+        run_chunks(id);
         {
             std::lock_guard lock(mutex_);
             --pending_;

@@ -229,8 +229,8 @@ Cell FieldSampler::make_cell(uvec2 corner, std::uint32_t bits) const {
 
 double FieldSampler::weighted_area() {
     // The cells per exponent, counted on the threads; their exact sum is the serial sum's value.
-    std::vector<std::array<std::uint64_t, kExponents>> counts(pool_.size());
-    pool_.parallel_for(cells_.size(), [&](std::size_t begin, std::size_t end, unsigned w) {
+    std::vector<std::array<std::uint64_t, kExponents>> counts(cell_chunks());
+    for_cells([&](std::size_t begin, std::size_t end, unsigned w) {
         std::array<std::uint64_t, kExponents> count{};
         for (std::size_t i = begin; i < end; ++i) ++count[std::size_t(exponent(i) + kExpBias)];
         counts[w] = count;
@@ -246,7 +246,7 @@ double FieldSampler::weighted_area() {
 
 template <typename Fate>
 void FieldSampler::write_fates(Cells& next, const std::vector<std::uint64_t>& first, Fate&& fate) {
-    pool_.parallel_for(cells_.size(), [&](std::size_t begin, std::size_t end, unsigned w) {
+    for_cells([&](std::size_t begin, std::size_t end, unsigned w) {
         std::size_t at = first[w];
         for (std::size_t i = begin; i < end; ++i) {
             const std::uint8_t f = fate(i);
@@ -276,9 +276,9 @@ double FieldSampler::balance() {
             return std::uint8_t(kSplit | open_children(near, c));
         };
         if (store) got_.resize(cells_.size());
-        std::vector<std::uint64_t> first(pool_.size() + 1, 0);
-        std::vector<char> split(pool_.size(), 0);
-        pool_.parallel_for(cells_.size(), [&](std::size_t begin, std::size_t end, unsigned w) {
+        std::vector<std::uint64_t> first(cell_chunks() + 1, 0);
+        std::vector<char> split(first.size() - 1, 0);
+        for_cells([&](std::size_t begin, std::size_t end, unsigned w) {
             std::vector<std::uint32_t> near;
             std::uint64_t count = 0;
             for (std::size_t i = begin; i < end; ++i) {
@@ -306,14 +306,14 @@ void FieldSampler::throw_darts(std::uint32_t round) {
     // First each cell's count of darts, kept in got_ (kRecount: count again) and summed per chunk.
     // The dart list is then allocated once, at the darts thrown, and each chunk writes the darts
     // its conflict tests leave from its chunk's offset; the chunks' runs are then moved together.
-    // A list per worker would hold the round's darts twice while they are joined.
+    // A list per chunk would hold the round's darts twice while they are joined.
     constexpr std::uint8_t kRecount = 255;
     got_.resize(cells_.size());
-    std::vector<std::uint64_t> first(pool_.size() + 1, 0);
+    std::vector<std::uint64_t> first(cell_chunks() + 1, 0);
     auto count_of = [&](std::size_t i, std::uint32_t stream) {
         return shared::dart_count(stream, exp_neg_[exponent(i) + kExpBias]);
     };
-    pool_.parallel_for(cells_.size(), [&](std::size_t begin, std::size_t end, unsigned w) {
+    for_cells([&](std::size_t begin, std::size_t end, unsigned w) {
         std::uint64_t count = 0;
         for (std::size_t i = begin; i < end; ++i) {
             const std::uint32_t n = count_of(i, shared::cell_stream(key, cells_.corner(i)));
@@ -325,8 +325,8 @@ void FieldSampler::throw_darts(std::uint32_t round) {
     const std::uint64_t thrown = chunk_offsets(first);
     darts_.resize(thrown);
     note_bytes(0);
-    std::vector<std::uint64_t> kept(pool_.size(), 0);
-    pool_.parallel_for(cells_.size(), [&](std::size_t begin, std::size_t end, unsigned w) {
+    std::vector<std::uint64_t> kept(first.size() - 1, 0);
+    for_cells([&](std::size_t begin, std::size_t end, unsigned w) {
         Dart* const start = darts_.data() + first[w];
         Dart* out = start;
         for (std::size_t i = begin; i < end; ++i) {
@@ -358,7 +358,7 @@ void FieldSampler::throw_darts(std::uint32_t round) {
         }
         kept[w] = std::uint64_t(out - start);
     });
-    // Worker w's chunk precedes worker w + 1's (thread_pool.cpp): in worker order is cell order.
+    // Chunk c precedes chunk c + 1 (thread_pool.h): in chunk order is cell order.
     std::uint64_t size = 0;
     for (std::size_t w = 0; w < kept.size(); ++w) {
         if (size != first[w])  // a run moves down, so a forward copy never reads what it wrote
@@ -372,8 +372,8 @@ void FieldSampler::throw_darts(std::uint32_t round) {
 void FieldSampler::refine() {
     // First each cell's fate, written over its got_ entry once read. Then each chunk writes its
     // cells to the next list from its offset: every cell is copied once, and no third list is held.
-    std::vector<std::uint64_t> first(pool_.size() + 1, 0);
-    pool_.parallel_for(cells_.size(), [&](std::size_t begin, std::size_t end, unsigned w) {
+    std::vector<std::uint64_t> first(cell_chunks() + 1, 0);
+    for_cells([&](std::size_t begin, std::size_t end, unsigned w) {
         std::vector<std::uint32_t> near;
         std::uint64_t count = 0;
         FieldQuadtree::Leaf at{};  // the last cell's leaf: a leaf's cells are consecutive
@@ -414,12 +414,15 @@ Sampling FieldSampler::run() {
     // Every leaf an active cell, unstamped; a run of tiles is a run of leaves, written by one thread.
     cells_.resize(tree_.leaves());
     touched_.resize(tree_.leaves());
-    pool_.parallel_for(tree_.tiles(), [&](std::size_t begin, std::size_t end, unsigned) {
-        tree_.each_leaf(begin, end, [&](std::uint32_t leaf, uvec2 corner, std::uint32_t bits) {
-            cells_.set(leaf, make_cell(corner, bits));
-            touched_[leaf] = kUnstamped;
-        });
-    });
+    pool_.parallel_for(
+        tree_.tiles(),
+        [&](std::size_t begin, std::size_t end, unsigned) {
+            tree_.each_leaf(begin, end, [&](std::uint32_t leaf, uvec2 corner, std::uint32_t bits) {
+                cells_.set(leaf, make_cell(corner, bits));
+                touched_[leaf] = kUnstamped;
+            });
+        },
+        2);
     std::uint32_t round = 0;
     std::uint32_t deepest = 0;
     // Runs one phase, timed when the run is profiled.

@@ -62,7 +62,7 @@ public:
     // leaf, it ends their freshness.
     void settle(glm::uvec2 p) { mark(p, kFresh, false); }
     std::uint32_t depth() const { return depth_; }
-    // The most the build held at once (the workers' arrays and the tree they are copied into).
+    // The most the build held at once (the chunks' arrays and the tree they are copied into).
     std::uint64_t build_bytes() const { return build_bytes_; }
     std::uint64_t bytes() const { return nodes_.capacity() * 4 + sample_.capacity() * 4 + roots_.capacity() * 4; }
 
@@ -101,7 +101,7 @@ private:
         std::uint64_t leaves, memory;  // the leaves allowed, and those the memory allows
     };
     // Builds the subtree of the block at `corner` (side 2^bits) into `out`; returns its node word.
-    // `floor` is at most the least r over the block; `leaves` counts every worker's leaves.
+    // `floor` is at most the least r over the block; `leaves` counts every chunk's leaves.
     std::uint32_t build(Arrays& out, glm::uvec2 corner, std::uint32_t bits, std::uint32_t floor, const Limits& limits,
                         std::atomic<std::uint64_t>& leaves) const;
     // Sets or clears `flag` on the nodes from the tile root down to the leaf holding point p.

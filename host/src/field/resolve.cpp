@@ -112,27 +112,30 @@ void FieldSampler::resolve_in_parallel() {
     // undecided waits for an earlier one, decided first (depth first; each wait is for an earlier
     // arrival, so the chains end). Threads may decide the same dart near their parts' border:
     // both reach the same final state.
-    pool_.parallel_for(n, [&](std::size_t begin, std::size_t end, unsigned) {
-        std::vector<std::uint32_t> stack;
-        for (std::size_t j = begin; j < end; ++j) {
-            stack.push_back(std::uint32_t(j));
-            while (!stack.empty()) {
-                const std::uint32_t t = stack.back();
-                if (load_state(state.data(), t) != shared::DART_UNDECIDED) {
+    pool_.parallel_for(
+        n,
+        [&](std::size_t begin, std::size_t end, unsigned) {
+            std::vector<std::uint32_t> stack;
+            for (std::size_t j = begin; j < end; ++j) {
+                stack.push_back(std::uint32_t(j));
+                while (!stack.empty()) {
+                    const std::uint32_t t = stack.back();
+                    if (load_state(state.data(), t) != shared::DART_UNDECIDED) {
+                        stack.pop_back();
+                        continue;
+                    }
+                    std::uint32_t wait = 0;
+                    const std::uint32_t s = decide(t, state.data(), wait);
+                    if (s == shared::DART_UNDECIDED) {
+                        stack.push_back(wait);
+                        continue;
+                    }
+                    std::atomic_ref<std::uint8_t>(state[t]).store(std::uint8_t(s), std::memory_order_relaxed);
                     stack.pop_back();
-                    continue;
                 }
-                std::uint32_t wait = 0;
-                const std::uint32_t s = decide(t, state.data(), wait);
-                if (s == shared::DART_UNDECIDED) {
-                    stack.push_back(wait);
-                    continue;
-                }
-                std::atomic_ref<std::uint8_t>(state[t]).store(std::uint8_t(s), std::memory_order_relaxed);
-                stack.pop_back();
             }
-        }
-    });
+        },
+        kCellGrain);
     // The darts' marks and first darts end before the samples' begin.
     for (std::size_t j = 0; j < n; ++j) {
         if (j > 0 && darts_[j].leaf == darts_[j - 1].leaf) continue;
@@ -152,9 +155,12 @@ void FieldSampler::resolve_in_parallel() {
     note_bytes(n * 4 + accepted.size() * 8);
     for (std::uint32_t j : arrival) sample_of[j] = add_sample(darts_[j].p, t_.radius(darts_[j].p));
     for (std::uint32_t j : accepted) tree_.set_sample(darts_[j].leaf, darts_[j].p, sample_of[j]);
-    pool_.parallel_for(accepted.size(), [&](std::size_t begin, std::size_t end, unsigned) {
-        for (std::size_t i = begin; i < end; ++i) touch(sample_of[accepted[i]]);
-    });
+    pool_.parallel_for(
+        accepted.size(),
+        [&](std::size_t begin, std::size_t end, unsigned) {
+            for (std::size_t i = begin; i < end; ++i) touch(sample_of[accepted[i]]);
+        },
+        kCellGrain);
 }
 
 }  // namespace vrpd::detail::field

@@ -189,6 +189,15 @@ private:
                 std::uint32_t(std::min<std::uint64_t>(corner.y + s, t_.lattice.extent_y - 1))};
     }
     uvec2 far_corner(const Cell& c) const { return far_corner(c.corner, c.bits); }
+    // The chunks of the loops over the active cells, and such a loop: body(begin, end, chunk).
+    // Cells (and darts) go to the threads from kCellGrain on: a search costs thousands of
+    // instructions, and the late rounds hold a few hundred cells.
+    static constexpr std::size_t kCellGrain = 128;
+    std::size_t cell_chunks() const { return pool_.chunks(cells_.size(), kCellGrain); }
+    template <typename Body>
+    void for_cells(Body&& body) {
+        pool_.parallel_for(cells_.size(), body, kCellGrain);
+    }
     // The exponent of cell i's weighted area: 2 bits, less 2 weight under Eq. 12.
     int exponent(std::size_t i) const { return 2 * int(cells_.bits(i)) - (density_ ? 2 * int(cells_.weight(i)) : 0); }
     // 2^e, exactly, for |e| < 1023 (std::ldexp's value without its call).
@@ -198,8 +207,8 @@ private:
     // The cells' weighted area: the sum of 2^exponent over the list, in list order.
     double weighted_area();
     // Writes each cell's fate, fate(i) (engine.cpp's kKeep, or kSplit with its surviving
-    // children's mask), to `next`: itself, or those children; chunk w of the pool from
-    // next[first[w]].
+    // children's mask), to `next`: itself, or those children; chunk c of the pool from
+    // next[first[c]].
     template <typename Fate>
     void write_fates(Cells& next, const std::vector<std::uint64_t>& first, Fate&& fate);
     void throw_darts(std::uint32_t round);
