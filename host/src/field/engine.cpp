@@ -369,13 +369,15 @@ void FieldSampler::throw_darts(std::uint32_t round) {
     darts_thrown_ += thrown;
 }
 
-void FieldSampler::refine() {
+std::uint32_t FieldSampler::refine() {
     // First each cell's fate, written over its got_ entry once read. Then each chunk writes its
     // cells to the next list from its offset: every cell is copied once, and no third list is held.
     std::vector<std::uint64_t> first(cell_chunks() + 1, 0);
+    std::vector<std::uint32_t> least(first.size() - 1, UINT32_MAX);  // per chunk, the next list's least bits
     for_cells([&](std::size_t begin, std::size_t end, unsigned w) {
         std::vector<std::uint32_t> near;
         std::uint64_t count = 0;
+        std::uint32_t least_bits = UINT32_MAX;
         FieldQuadtree::Leaf at{};  // the last cell's leaf: a leaf's cells are consecutive
         for (std::size_t i = begin; i < end; ++i) {
             const uvec2 corner = cells_.corner(i);
@@ -385,6 +387,7 @@ void FieldSampler::refine() {
             if (!got && !stamped(leaf)) {  // no dart and no sample of this round near: kept
                 got_[i] = kKeep;
                 ++count;
+                least_bits = std::min(least_bits, cells_.bits(i));
                 continue;
             }
             const Cell c = cells_[i];
@@ -401,13 +404,17 @@ void FieldSampler::refine() {
             }
             got_[i] = fate;
             count += cells_of(fate);
+            if (cells_of(fate) > 0)
+                least_bits = std::min<std::uint32_t>(least_bits, fate == kKeep ? c.bits : c.bits - 1);
         }
         first[w + 1] = count;
+        least[w] = least_bits;
     });
     Cells next(density_, chunk_offsets(first));
     note_bytes(next.bytes());
     write_fates(next, first, [&](std::size_t i) { return got_[i]; });
     std::swap(cells_, next);
+    return *std::min_element(least.begin(), least.end());
 }
 
 Sampling FieldSampler::run() {
@@ -438,10 +445,16 @@ Sampling FieldSampler::run() {
         phase("throw", [&] { throw_darts(round); });
         phase("resolve", [&] { resolve(); });
         decltype(darts_)().swap(darts_);
-        phase("refine", [&] { refine(); });
+        std::uint32_t least_bits = UINT32_MAX;
+        phase("refine", [&] { least_bits = refine(); });
         ++round;
-        for (std::size_t s = round_first_; s < lattice_.size(); ++s) tree_.settle(lattice_[s]);
-        for (std::size_t i = 0; i < cells_.size(); ++i) deepest = std::max(deepest, t_.tile_bits - cells_.bits(i));
+        if (!cells_.empty()) deepest = std::max(deepest, t_.tile_bits - least_bits);
+        pool_.parallel_for(
+            lattice_.size() - round_first_,
+            [&](std::size_t begin, std::size_t end, unsigned) {
+                for (std::size_t s = begin; s < end; ++s) tree_.settle(lattice_[round_first_ + s]);
+            },
+            kCellGrain);
     }
     Sampling s;
     s.lattice.reserve(lattice_.size());

@@ -105,12 +105,17 @@ FieldQuadtree::Leaf FieldQuadtree::leaf_at(glm::uvec2 p) const {
 }
 
 void FieldQuadtree::mark(glm::uvec2 c, std::uint32_t flag, bool on) {
+    // A node's flags change by atomic or and and, written only where they change (the nodes near
+    // the root are on most paths); its index never changes.
     std::uint32_t* node = &roots_[std::size_t(c.y >> t_.tile_bits) * t_.tiles_x + (c.x >> t_.tile_bits)];
     for (std::uint32_t bits = t_.tile_bits;; --bits) {
-        *node = on ? *node | flag : *node & ~flag;
-        if (*node & kLeaf) return;
+        std::atomic_ref<std::uint32_t> word(*node);
+        const std::uint32_t w = word.load(std::memory_order_relaxed);
+        if (on && (w & flag) != flag) word.fetch_or(flag, std::memory_order_relaxed);
+        if (!on && (w & flag) != 0) word.fetch_and(~flag, std::memory_order_relaxed);
+        if (w & kLeaf) return;
         const std::uint32_t k = ((c.x >> (bits - 1)) & 1) | ((c.y >> (bits - 1)) & 1) << 1;
-        node = &nodes_[(*node & kIndex) + k];
+        node = &nodes_[(w & kIndex) + k];
     }
 }
 

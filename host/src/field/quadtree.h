@@ -52,6 +52,8 @@ public:
     std::uint32_t first_dart(std::uint32_t leaf) const { return sample_[leaf]; }
     void clear_first_dart(std::uint32_t leaf) { sample_[leaf] = kNone; }
     void prefetch(std::uint32_t leaf) const { __builtin_prefetch(&sample_[leaf]); }
+    // The marks below (set_sample, mark_fresh, settle) may run on several threads at once, for
+    // distinct leaves, while no search runs.
     // Gives the leaf holding point p its sample s, and marks the nodes above it as holding one,
     // and a fresh one.
     void set_sample(std::uint32_t leaf, glm::uvec2 p, std::uint32_t s);
@@ -104,7 +106,8 @@ private:
     // `floor` is at most the least r over the block; `leaves` counts every chunk's leaves.
     std::uint32_t build(Arrays& out, glm::uvec2 corner, std::uint32_t bits, std::uint32_t floor, const Limits& limits,
                         std::atomic<std::uint64_t>& leaves) const;
-    // Sets or clears `flag` on the nodes from the tile root down to the leaf holding point p.
+    // Sets or clears `flag` on the nodes from the tile root down to the leaf holding point p. Safe
+    // from several threads at once (and not beside a search).
     void mark(glm::uvec2 p, std::uint32_t flag, bool on);
 
     const FieldTable& t_;

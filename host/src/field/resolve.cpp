@@ -102,12 +102,21 @@ void FieldSampler::resolve_in_parallel() {
     // rejected when thrown), so that a search meets only the leaves with darts.
     std::vector<std::uint8_t> state(n, std::uint8_t(shared::DART_UNDECIDED));
     note_bytes(n);
-    for (std::size_t j = 0; j < n; ++j) {
-        if (j > 0 && darts_[j].leaf == darts_[j - 1].leaf) continue;
+    // Calls at(j) for each leaf's first dart j, on the threads.
+    auto each_first_dart = [&](auto&& at) {
+        pool_.parallel_for(
+            n,
+            [&](std::size_t begin, std::size_t end, unsigned) {
+                for (std::size_t j = begin; j < end; ++j)
+                    if (j == 0 || darts_[j].leaf != darts_[j - 1].leaf) at(j);
+            },
+            kCellGrain);
+    };
+    each_first_dart([&](std::size_t j) {
         if (j > 0 && darts_[j].leaf < darts_[j - 1].leaf) throw Error("internal: a leaf's darts are not consecutive");
         tree_.set_first_dart(darts_[j].leaf, std::uint32_t(j));
         tree_.mark_fresh(darts_[j].p);
-    }
+    });
     // Each thread decides the darts of its part (spatial order), one at a time: a dart left
     // undecided waits for an earlier one, decided first (depth first; each wait is for an earlier
     // arrival, so the chains end). Threads may decide the same dart near their parts' border:
@@ -137,11 +146,10 @@ void FieldSampler::resolve_in_parallel() {
         },
         kCellGrain);
     // The darts' marks and first darts end before the samples' begin.
-    for (std::size_t j = 0; j < n; ++j) {
-        if (j > 0 && darts_[j].leaf == darts_[j - 1].leaf) continue;
+    each_first_dart([&](std::size_t j) {
         tree_.settle(darts_[j].p);
         tree_.clear_first_dart(darts_[j].leaf);
-    }
+    });
     // The accepted darts become samples in arrival order; the tree's marks and the stamps are
     // then set in throwing order, which is spatial: neighbouring searches share cached nodes.
     std::vector<std::uint32_t> accepted;
@@ -154,7 +162,15 @@ void FieldSampler::resolve_in_parallel() {
     std::vector<std::uint32_t> sample_of(n);  // dart j's sample, for the accepted ones
     note_bytes(n * 4 + accepted.size() * 8);
     for (std::uint32_t j : arrival) sample_of[j] = add_sample(darts_[j].p, t_.radius(darts_[j].p));
-    for (std::uint32_t j : accepted) tree_.set_sample(darts_[j].leaf, darts_[j].p, sample_of[j]);
+    pool_.parallel_for(
+        accepted.size(),
+        [&](std::size_t begin, std::size_t end, unsigned) {
+            for (std::size_t i = begin; i < end; ++i) {
+                const std::uint32_t j = accepted[i];
+                tree_.set_sample(darts_[j].leaf, darts_[j].p, sample_of[j]);
+            }
+        },
+        kCellGrain);
     pool_.parallel_for(
         accepted.size(),
         [&](std::size_t begin, std::size_t end, unsigned) {

@@ -244,7 +244,9 @@ private:
         const std::uint32_t v = touched_[leaf];
         return (v & kStampedMany) || v < round_first_ ? FieldQuadtree::kNone : v;
     }
-    void refine();
+    // Drops, keeps or splits each active cell (the next list); returns the least side exponent
+    // in it (UINT32_MAX when it is empty).
+    std::uint32_t refine();
     // Notes the arrays' bytes now, with `extra` held outside them, for the peak.
     void note_bytes(std::uint64_t extra) {
         bytes_ = std::max<std::uint64_t>(bytes_, tree_.bytes() + cells_.bytes() + darts_.capacity() * sizeof(Dart) +
