@@ -135,7 +135,10 @@ TEST_CASE("a tabulated ramp is within 0.1 % of its source, with its L measured",
     }
 }
 
-TEST_CASE("min_over and max_over (and extremes_over, both) bound r over a block, exactly inside one table cell", "[field]") {
+TEST_CASE(
+    "min_over and max_over (and extremes_over, both) bound r over a block, exactly inside one table cell, and "
+    "children_min is min_over of each child",
+    "[field]") {
     Sizing s;
     s.expression = "0.02 + 0.01*sin(9*x)*cos(7*y)";
     const detail::FieldTable t = detail::tabulate(s, {1, 1, Boundary::Periodic});
@@ -164,6 +167,20 @@ TEST_CASE("min_over and max_over (and extremes_over, both) bound r over a block,
             REQUIRE(lo == seen_lo);
             REQUIRE(hi == seen_hi);
         }
+        // children_min: min_over of each child of the block split at its middle (or, cut short
+        // by the lattice's edge, with no second part along an axis).
+        if (side < 2) continue;
+        const glm::uvec2 m = a + glm::uvec2(side / 2);
+        const glm::uvec2 cut(rng() % 4 == 0 ? m.x - 1 : b.x, rng() % 4 == 0 ? m.y - 1 : b.y);  // the block's far corner
+        const glm::uvec2 e = glm::min(m - glm::uvec2(1), cut);
+        std::uint32_t open = 0;
+        for (std::uint32_t k = 0; k < 4; ++k)
+            if (((k & 1) == 0 || m.x <= cut.x) && ((k >> 1) == 0 || m.y <= cut.y)) open |= 1u << k;
+        const std::array<std::uint32_t, 4> least = t.children_min(a, e, m, cut, open);
+        for (std::uint32_t k = 0; k < 4; ++k)
+            if (open >> k & 1)
+                REQUIRE(least[k] == t.min_over({(k & 1) ? m.x : a.x, (k >> 1) ? m.y : a.y},
+                                               {(k & 1) ? cut.x : e.x, (k >> 1) ? cut.y : e.y}));
     }
 }
 

@@ -195,12 +195,8 @@ std::uint8_t FieldSampler::open_children(const std::vector<std::uint32_t>& near,
     for (std::uint32_t k = 0; k < 4; ++k)
         if (child_corner(c, k)) open |= std::uint8_t(1u << k);
     if (near.empty()) return open;
-    std::uint32_t lo[4] = {};
-    if (rule_ != shared::RULE_PRIOR)
-        for (std::uint32_t k = 0; k < 4; ++k)
-            if (open >> k & 1)
-                lo[k] = t_.min_over({(k & 1) ? m.x : a.x, (k >> 1) ? m.y : a.y},
-                                    {(k & 1) ? b.x : e.x, (k >> 1) ? b.y : e.y});
+    const std::array<std::uint32_t, 4> lo =
+        rule_ == shared::RULE_PRIOR ? std::array<std::uint32_t, 4>{} : t_.children_min(a, e, m, b, open);
     for (std::uint32_t s : near) {
         const uvec2 x = lattice_[s];
         auto gap = [&](std::uint32_t v, std::uint32_t from, std::uint32_t to, std::uint32_t extent) {

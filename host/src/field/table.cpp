@@ -232,6 +232,36 @@ std::uint32_t FieldTable::max_over(glm::uvec2 a, glm::uvec2 b) const {
     return over_blocks(*this, hi, a, b, 0u, [](std::uint32_t x, std::uint32_t y) { return std::max(x, y); });
 }
 
+std::array<std::uint32_t, 4> FieldTable::children_min(glm::uvec2 a, glm::uvec2 e, glm::uvec2 m, glm::uvec2 b,
+                                                      std::uint32_t open) const {
+    std::array<std::uint32_t, 4> least{};
+    if (!in_one_cell(*this, a, b)) {
+        for (std::uint32_t k = 0; k < 4; ++k)
+            if (open >> k & 1)
+                least[k] =
+                    min_over({(k & 1) ? m.x : a.x, (k >> 1) ? m.y : a.y}, {(k & 1) ? b.x : e.x, (k >> 1) ? b.y : e.y});
+        return least;
+    }
+    // field_interpolate at the corners x in {a, e, m, b} (m clipped to b where no child starts
+    // there) by y alike: the two rows' interpolants along x once for each x.
+    const glm::uvec4 v = cell_nodes(a.x >> cell_bits, a.y >> cell_bits);
+    const std::uint32_t mask = (1u << cell_bits) - 1u;
+    const std::uint64_t c = std::uint64_t(1) << cell_bits;
+    const std::uint32_t xs[4] = {a.x & mask, e.x & mask, std::min(m.x, b.x) & mask, b.x & mask};
+    const std::uint32_t ys[4] = {a.y & mask, e.y & mask, std::min(m.y, b.y) & mask, b.y & mask};
+    std::uint64_t row0[4], row1[4];
+    for (int i = 0; i < 4; ++i) {
+        row0[i] = std::uint64_t(v.x) * (c - xs[i]) + std::uint64_t(v.y) * xs[i];
+        row1[i] = std::uint64_t(v.z) * (c - xs[i]) + std::uint64_t(v.w) * xs[i];
+    }
+    auto r = [&](int i, int j) { return std::uint32_t((row0[i] * (c - ys[j]) + row1[i] * ys[j]) >> (2 * cell_bits)); };
+    for (std::uint32_t k = 0; k < 4; ++k) {
+        const int i = 2 * int(k & 1), j = 2 * int(k >> 1);
+        least[k] = std::min({r(i, j), r(i + 1, j), r(i, j + 1), r(i + 1, j + 1)});
+    }
+    return least;
+}
+
 std::pair<std::uint32_t, std::uint32_t> FieldTable::extremes_over(glm::uvec2 a, glm::uvec2 b) const {
     return in_one_cell(*this, a, b) ? corner_extremes(*this, a, b) : std::pair{min_over(a, b), max_over(a, b)};
 }

@@ -2,6 +2,7 @@
 // radii in lattice units (shared/field.h), and min/max pyramids that bound r over any block.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -62,6 +63,12 @@ struct FieldTable {
     // the lattice): exact inside one table cell, else a bound from the pyramid.
     std::uint32_t min_over(glm::uvec2 a, glm::uvec2 b) const;
     std::uint32_t max_over(glm::uvec2 a, glm::uvec2 b) const;
+    // min_over for the children of a block [a, b] split at m along each axis: child k spans
+    // [a.x, e.x] or [m.x, b.x] by bit 0 of k, [a.y, e.y] or [m.y, b.y] by bit 1 (e = min(m - 1, b)).
+    // Asked only for the children in `open` (bit k: child k, inside [a, b]); inside one table cell
+    // the 16 corners share their reads and their interpolation along x.
+    std::array<std::uint32_t, 4> children_min(glm::uvec2 a, glm::uvec2 e, glm::uvec2 m, glm::uvec2 b,
+                                              std::uint32_t open) const;
     // Both, {min_over, max_over}, with one read of the table inside one table cell.
     std::pair<std::uint32_t, std::uint32_t> extremes_over(glm::uvec2 a, glm::uvec2 b) const;
     // The same over a square of half-width `reach` around p (wrapping on a torus, clipped to a free box).
