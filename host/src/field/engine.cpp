@@ -425,7 +425,7 @@ Sampling FieldSampler::run() {
                 touched_[leaf] = kUnstamped;
             });
         },
-        2);
+        FieldQuadtree::kTileGrain);
     std::uint32_t round = 0;
     std::uint32_t deepest = 0;
     // Runs one phase, timed when the run is profiled.

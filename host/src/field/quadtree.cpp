@@ -11,8 +11,7 @@ namespace vrpd::detail {
 
 FieldQuadtree::FieldQuadtree(const FieldTable& t, std::uint64_t max_leaves, ThreadPool& pool) : t_(t) {
     // Each chunk of tiles is built into arrays of its own, indexed from 0; appended in chunk
-    // order, then offset, they are the arrays one thread would build tile by tile. A tile holds
-    // many leaves: a chunk may be a single tile.
+    // order, then offset, they are the arrays one thread would build tile by tile.
     struct Part {
         std::size_t first_tile = 0, end_tile = 0;
         Arrays arrays;
@@ -21,7 +20,7 @@ FieldQuadtree::FieldQuadtree(const FieldTable& t, std::uint64_t max_leaves, Thre
     roots_.resize(tiles);
     const Limits limits{std::min<std::uint64_t>(max_leaves, kIndex), max_leaves};
     std::atomic<std::uint64_t> leaves = 0;
-    std::vector<Part> parts(pool.chunks(tiles, 2));
+    std::vector<Part> parts(pool.chunks(tiles, kTileGrain));
     pool.parallel_for(
         tiles,
         [&](std::size_t begin, std::size_t end, unsigned c) {
@@ -33,7 +32,7 @@ FieldQuadtree::FieldQuadtree(const FieldTable& t, std::uint64_t max_leaves, Thre
                           t.tile_bits, 0, limits, leaves);
             parts[c] = std::move(part);
         },
-        2);
+        kTileGrain);
     std::size_t nodes = 0, leaf_count = 0;
     for (const Part& part : parts) nodes += part.arrays.nodes.size(), leaf_count += part.arrays.leaves;
     if (nodes > kIndex) throw Error("the field needs more quadtree nodes than the quadtree's 29-bit node index holds");

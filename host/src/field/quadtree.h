@@ -17,6 +17,8 @@ namespace vrpd::detail {
 class FieldQuadtree {
 public:
     static constexpr std::uint32_t kNone = UINT32_MAX;
+    // A tile holds many leaves: the loops over tiles go to the threads from two tiles on.
+    static constexpr std::size_t kTileGrain = 2;
 
     // Builds the tiles' trees on the pool's threads. Throws Error if the leaves would pass
     // `max_leaves` or the node words' index.
