@@ -1,0 +1,128 @@
+// The bounds of r over blocks of the lattice (field/table.h): exact inside one table cell, where
+// the bilinear interpolant's extremes lie at a block's corners, and from the min/max pyramids
+// beyond it.
+#include "table.h"
+
+#include <algorithm>
+
+namespace vrpd::detail {
+
+namespace {
+// The pyramid level and block range holding table cells [i0, i1] x [j0, j1] in at most 2 x 2 blocks.
+template <typename Pick>
+std::uint32_t over_blocks(const FieldTable& t, const std::vector<std::vector<std::uint32_t>>& pyr, glm::uvec2 a,
+                          glm::uvec2 b, std::uint32_t init, Pick pick) {
+    std::uint32_t i0 = a.x >> t.cell_bits, i1 = b.x >> t.cell_bits, j0 = a.y >> t.cell_bits, j1 = b.y >> t.cell_bits;
+    std::uint32_t k = 0;
+    while ((i1 >> k) - (i0 >> k) > 1 || (j1 >> k) - (j0 >> k) > 1) ++k;
+    const std::uint32_t w = (t.cells_x + (1u << k) - 1) >> k;
+    std::uint32_t v = init;
+    for (std::uint32_t j = j0 >> k; j <= j1 >> k; ++j)
+        for (std::uint32_t i = i0 >> k; i <= i1 >> k; ++i) {
+            if (k > 0) {
+                v = pick(v, pyr[k][std::size_t(j) * w + i]);
+                continue;
+            }
+            const glm::uvec4 n = t.cell_nodes(i, j);
+            v = pick(pick(v, n.x), pick(pick(n.y, n.z), n.w));
+        }
+    return v;
+}
+
+// Does [a, b] lie in one table cell? Then the interpolant's extremes over it are at its corners,
+// since it is linear along each axis.
+bool in_one_cell(const FieldTable& t, glm::uvec2 a, glm::uvec2 b) {
+    return (a.x >> t.cell_bits) == (b.x >> t.cell_bits) && (a.y >> t.cell_bits) == (b.y >> t.cell_bits);
+}
+
+// The least and largest of r at the four corners of [a, b], which lies in one table cell.
+std::pair<std::uint32_t, std::uint32_t> corner_extremes(const FieldTable& t, glm::uvec2 a, glm::uvec2 b) {
+    const glm::uvec4 v = t.cell_nodes(a.x >> t.cell_bits, a.y >> t.cell_bits);
+    const std::uint32_t mask = (1u << t.cell_bits) - 1u;
+    const glm::uvec2 fa(a.x & mask, a.y & mask), fb(b.x & mask, b.y & mask);
+    const auto [lo, hi] =
+        std::minmax({shared::field_interpolate(v, fa, t.cell_bits), shared::field_interpolate(v, fb, t.cell_bits),
+                     shared::field_interpolate(v, {fa.x, fb.y}, t.cell_bits),
+                     shared::field_interpolate(v, {fb.x, fa.y}, t.cell_bits)});
+    return {lo, hi};
+}
+}  // namespace
+
+std::uint32_t FieldTable::min_over(glm::uvec2 a, glm::uvec2 b) const {
+    if (in_one_cell(*this, a, b)) return corner_extremes(*this, a, b).first;
+    return over_blocks(*this, lo, a, b, UINT32_MAX, [](std::uint32_t x, std::uint32_t y) { return std::min(x, y); });
+}
+
+std::uint32_t FieldTable::max_over(glm::uvec2 a, glm::uvec2 b) const {
+    if (in_one_cell(*this, a, b)) return corner_extremes(*this, a, b).second;
+    return over_blocks(*this, hi, a, b, 0u, [](std::uint32_t x, std::uint32_t y) { return std::max(x, y); });
+}
+
+std::array<std::uint32_t, 4> FieldTable::children_min(glm::uvec2 a, glm::uvec2 e, glm::uvec2 m, glm::uvec2 b,
+                                                      std::uint32_t open) const {
+    std::array<std::uint32_t, 4> least{};
+    if (!in_one_cell(*this, a, b)) {
+        for (std::uint32_t k = 0; k < 4; ++k)
+            if (open >> k & 1)
+                least[k] =
+                    min_over({(k & 1) ? m.x : a.x, (k >> 1) ? m.y : a.y}, {(k & 1) ? b.x : e.x, (k >> 1) ? b.y : e.y});
+        return least;
+    }
+    // field_interpolate at the corners x in {a, e, m, b} (m clipped to b where no child starts
+    // there) by y alike: the two rows' interpolants along x once for each x.
+    const glm::uvec4 v = cell_nodes(a.x >> cell_bits, a.y >> cell_bits);
+    const std::uint32_t mask = (1u << cell_bits) - 1u;
+    const std::uint64_t c = std::uint64_t(1) << cell_bits;
+    const std::uint32_t xs[4] = {a.x & mask, e.x & mask, std::min(m.x, b.x) & mask, b.x & mask};
+    const std::uint32_t ys[4] = {a.y & mask, e.y & mask, std::min(m.y, b.y) & mask, b.y & mask};
+    std::uint64_t row0[4], row1[4];
+    for (int i = 0; i < 4; ++i) {
+        row0[i] = std::uint64_t(v.x) * (c - xs[i]) + std::uint64_t(v.y) * xs[i];
+        row1[i] = std::uint64_t(v.z) * (c - xs[i]) + std::uint64_t(v.w) * xs[i];
+    }
+    auto r = [&](int i, int j) { return std::uint32_t((row0[i] * (c - ys[j]) + row1[i] * ys[j]) >> (2 * cell_bits)); };
+    for (std::uint32_t k = 0; k < 4; ++k) {
+        const int i = 2 * int(k & 1), j = 2 * int(k >> 1);
+        least[k] = std::min({r(i, j), r(i + 1, j), r(i, j + 1), r(i + 1, j + 1)});
+    }
+    return least;
+}
+
+std::pair<std::uint32_t, std::uint32_t> FieldTable::extremes_over(glm::uvec2 a, glm::uvec2 b) const {
+    return in_one_cell(*this, a, b) ? corner_extremes(*this, a, b) : std::pair{min_over(a, b), max_over(a, b)};
+}
+
+std::uint32_t FieldTable::max_near(glm::uvec2 p, std::uint64_t reach) const {
+    // Each axis as one or two inclusive ranges of the lattice.
+    auto ranges = [&](std::uint32_t c, std::uint32_t extent, std::uint64_t lo_r[2], std::uint64_t hi_r[2]) {
+        const std::int64_t a = std::int64_t(c) - std::int64_t(reach), b = std::int64_t(c) + std::int64_t(reach);
+        if (!lattice.periodic || b - a + 1 >= std::int64_t(extent)) {
+            lo_r[0] = std::uint64_t(std::max<std::int64_t>(a, 0));
+            hi_r[0] = std::uint64_t(std::min<std::int64_t>(b, std::int64_t(extent) - 1));
+            if (lattice.periodic) lo_r[0] = 0, hi_r[0] = extent - 1;
+            return 1;
+        }
+        if (a < 0) {
+            lo_r[0] = 0, hi_r[0] = std::uint64_t(b);
+            lo_r[1] = std::uint64_t(a + std::int64_t(extent)), hi_r[1] = extent - 1;
+            return 2;
+        }
+        if (b >= std::int64_t(extent)) {
+            lo_r[0] = std::uint64_t(a), hi_r[0] = extent - 1;
+            lo_r[1] = 0, hi_r[1] = std::uint64_t(b - std::int64_t(extent));
+            return 2;
+        }
+        lo_r[0] = std::uint64_t(a), hi_r[0] = std::uint64_t(b);
+        return 1;
+    };
+    std::uint64_t xl[2], xh[2], yl[2], yh[2];
+    const int nx = ranges(p.x, lattice.extent_x, xl, xh), ny = ranges(p.y, lattice.extent_y, yl, yh);
+    std::uint32_t m = 0;
+    for (int j = 0; j < ny; ++j)
+        for (int i = 0; i < nx; ++i)
+            m = std::max(m, max_over({std::uint32_t(xl[i]), std::uint32_t(yl[j])},
+                                     {std::uint32_t(xh[i]), std::uint32_t(yh[j])}));
+    return m;
+}
+
+}  // namespace vrpd::detail

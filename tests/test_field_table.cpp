@@ -1,0 +1,97 @@
+// The tabulated sizing field (field/table.h): the fixed-point interpolant, a ramp's table within
+// its tolerance and with its L, and the bounds of r over blocks the sampler's tests rely on.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <random>
+
+#include "field/table.h"
+#include "vrpd/sizing.h"
+
+using namespace vrpd;
+
+TEST_CASE("field_interpolate is the floor of the exact bilinear interpolant", "[field]") {
+    std::mt19937_64 rng(7);
+    for (int i = 0; i < 20000; ++i) {
+        const std::uint32_t bits = std::uint32_t(rng() % (shared::MAX_FIELD_CELL_BITS + 1));
+        const std::uint64_t c = std::uint64_t(1) << bits;
+        const glm::uvec4 v{std::uint32_t(rng()), std::uint32_t(rng()), std::uint32_t(rng()), std::uint32_t(rng())};
+        const glm::uvec2 f{std::uint32_t(rng() % c), std::uint32_t(rng() % c)};
+        const unsigned __int128 s = (unsigned __int128)v.x * (c - f.x) * (c - f.y) +
+                                    (unsigned __int128)v.y * f.x * (c - f.y) +
+                                    (unsigned __int128)v.z * (c - f.x) * f.y + (unsigned __int128)v.w * f.x * f.y;
+        const std::uint32_t r = shared::field_interpolate(v, f, bits);
+        REQUIRE(r == std::uint32_t(s / ((unsigned __int128)c * c)));
+        REQUIRE(r >= std::min({v.x, v.y, v.z, v.w}));
+        REQUIRE(r <= std::max({v.x, v.y, v.z, v.w}));
+    }
+}
+
+TEST_CASE("a tabulated ramp is within 0.1 % of its source, with its L measured", "[field]") {
+    Sizing s;
+    s.expression = "0.001 + 0.3*x";
+    const Box box{1, 1, Boundary::Free};
+    const SizingField field(s, box);
+    const FieldStats f = field.stats();
+    CHECK(f.tabulation_error <= 0.001);
+    CHECK(f.r_min == Approx(0.001).epsilon(1e-3));
+    CHECK(f.r_max == Approx(0.301).epsilon(1e-3));
+    CHECK(f.lipschitz == Approx(0.3).epsilon(1e-3));
+    std::mt19937_64 rng(3);
+    std::uniform_real_distribution<double> u(0, 1);
+    for (int i = 0; i < 2000; ++i) {
+        const glm::dvec2 p(u(rng), u(rng));
+        REQUIRE(field(p) == Approx(0.001 + 0.3 * p.x).epsilon(1e-3));
+    }
+}
+
+TEST_CASE(
+    "min_over and max_over (and extremes_over, both) bound r over a block, exactly inside one table cell, and "
+    "children_min is min_over of each child",
+    "[field]") {
+    Sizing s;
+    s.expression = "0.02 + 0.01*sin(9*x)*cos(7*y)";
+    const detail::FieldTable t = detail::tabulate(s, {1, 1, Boundary::Periodic});
+    std::mt19937_64 rng(5);
+    for (int i = 0; i < 3000; ++i) {
+        const std::uint32_t side = 1u << (rng() % 20);
+        const glm::uvec2 a(std::uint32_t(rng() % (t.lattice.extent_x - side)),
+                           std::uint32_t(rng() % (t.lattice.extent_y - side)));
+        const glm::uvec2 b(a.x + side - 1, a.y + side - 1);
+        const std::uint32_t lo = t.min_over(a, b), hi = t.max_over(a, b);
+        REQUIRE(t.extremes_over(a, b) == std::pair{lo, hi});
+        std::uint32_t seen_lo = UINT32_MAX, seen_hi = 0;
+        for (int k = 0; k < 64; ++k) {
+            const glm::uvec2 p(a.x + std::uint32_t(rng() % side), a.y + std::uint32_t(rng() % side));
+            seen_lo = std::min(seen_lo, t.radius(p));
+            seen_hi = std::max(seen_hi, t.radius(p));
+        }
+        for (glm::uvec2 p : {a, b, glm::uvec2(a.x, b.y), glm::uvec2(b.x, a.y)}) {
+            seen_lo = std::min(seen_lo, t.radius(p));
+            seen_hi = std::max(seen_hi, t.radius(p));
+        }
+        REQUIRE(lo <= seen_lo);
+        REQUIRE(hi >= seen_hi);
+        if ((a.x >> t.cell_bits) == (b.x >> t.cell_bits) && (a.y >> t.cell_bits) == (b.y >> t.cell_bits)) {
+            // The interpolant is bilinear there: its extremes are at the corners.
+            REQUIRE(lo == seen_lo);
+            REQUIRE(hi == seen_hi);
+        }
+        // children_min: min_over of each child of the block split at its middle (or, cut short
+        // by the lattice's edge, with no second part along an axis).
+        if (side < 2) continue;
+        const glm::uvec2 m = a + glm::uvec2(side / 2);
+        const glm::uvec2 cut(rng() % 4 == 0 ? m.x - 1 : b.x, rng() % 4 == 0 ? m.y - 1 : b.y);  // the block's far corner
+        const glm::uvec2 e = glm::min(m - glm::uvec2(1), cut);
+        std::uint32_t open = 0;
+        for (std::uint32_t k = 0; k < 4; ++k)
+            if (((k & 1) == 0 || m.x <= cut.x) && ((k >> 1) == 0 || m.y <= cut.y)) open |= 1u << k;
+        const std::array<std::uint32_t, 4> least = t.children_min(a, e, m, cut, open);
+        for (std::uint32_t k = 0; k < 4; ++k)
+            if (open >> k & 1)
+                REQUIRE(least[k] == t.min_over({(k & 1) ? m.x : a.x, (k >> 1) ? m.y : a.y},
+                                               {(k & 1) ? cut.x : e.x, (k >> 1) ? cut.y : e.y}));
+    }
+}
