@@ -1,12 +1,12 @@
 // The host engines: `cpu` runs the GPU's kernel bodies (shaders/shared/sampler.h) over a thread
-// pool, in mask mode at levels 0-2 as the GPU does, and decides each dart once (see resolve; on
-// few threads in arrival order, arrival_order.h);
-// `serial` accepts the same darts one at a time in arrival order (serial_oracle.h), the textbook
-// definition of the process, over explicit active lists at every level: kept simple as the oracle.
+// pool, in mask mode at levels 0-2 as the GPU does, deciding each dart once (see resolve; on few
+// threads in arrival order, arrival_order.h); `serial` accepts the same darts one at a time in
+// arrival order (serial_oracle.h): the textbook process over explicit lists, kept simple as the oracle.
 #include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <queue>
+#include <tuple>
 #include <type_traits>
 #include <utility>
 
@@ -21,7 +21,6 @@
 
 namespace vrpd::detail {
 namespace {
-
 using namespace shared;
 
 // The grid and cell lists: a resize leaves them unwritten, for the pool to fill.
@@ -263,18 +262,16 @@ private:
         std::uint64_t lists_bytes = 0;
         for (auto& a : accepted) lists_bytes += bytes(a);
         note_peak(lists_bytes);
-        // The merge: a heap of each chunk's next word (the words are distinct: the dart index).
-        using Head = std::pair<std::uint64_t, std::size_t>;  // a word and its chunk
+        // The merge: a heap of each chunk's next word (distinct: it holds the dart index).
+        using Head = std::tuple<std::uint64_t, std::size_t, std::size_t>;  // the word, its chunk and place
         std::priority_queue<Head, std::vector<Head>, std::greater<>> heads;
-        std::vector<std::size_t> next(accepted.size(), 0);
         for (std::size_t c = 0; c < accepted.size(); ++c)
-            if (!accepted[c].empty()) heads.emplace(accepted[c][next[c]++], c);
+            if (!accepted[c].empty()) heads.emplace(accepted[c][0], c, 0);
         while (!heads.empty()) {
-            const auto [word, c] = heads.top();
+            const auto [word, c, at] = heads.top();
             heads.pop();
-            if (next[c] < accepted[c].size()) heads.emplace(accepted[c][next[c]++], c);
-            const uvec4 dart = dart_at(darts(), std::uint32_t(word));
-            out_.emplace_back(dart.x, dart.y);
+            if (at + 1 < accepted[c].size()) heads.emplace(accepted[c][at + 1], c, at + 1);
+            out_.emplace_back(dart_at(darts(), std::uint32_t(word)));
         }
     }
 
