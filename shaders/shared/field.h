@@ -19,14 +19,19 @@ const uint RULE_CURRENT = 1u;
 const uint RULE_BIGGER = 2u;
 const uint RULE_SMALLER = 3u;
 
+// The interpolant's two steps: along x between nodes v0 and v1 at offset f (times 2^bits), then
+// along y between two such rows at offset f, floored.
+VRPD_FN uint64_t field_row(uint v0, uint v1, uint f, uint bits) {
+    return uint64_t(v0) * ((uint64_t(1) << bits) - uint64_t(f)) + uint64_t(v1) * uint64_t(f);
+}
+VRPD_FN uint field_blend(uint64_t row0, uint64_t row1, uint f, uint bits) {
+    return uint((row0 * ((uint64_t(1) << bits) - uint64_t(f)) + row1 * uint64_t(f)) >> (2u * bits));
+}
+
 // r at offset f (0 <= f < 2^bits on each axis) inside a table cell with nodes
 // v = (v00, v10, v01, v11) (x first): floor of the bilinear interpolant.
 VRPD_FN uint field_interpolate(uvec4 v, uvec2 f, uint bits) {
-    uint64_t c = uint64_t(1) << bits;
-    uint64_t a0 = uint64_t(v.x) * (c - uint64_t(f.x)) + uint64_t(v.y) * uint64_t(f.x);
-    uint64_t a1 = uint64_t(v.z) * (c - uint64_t(f.x)) + uint64_t(v.w) * uint64_t(f.x);
-    uint64_t s = a0 * (c - uint64_t(f.y)) + a1 * uint64_t(f.y);
-    return uint(s >> (2u * bits));
+    return field_blend(field_row(v.x, v.y, f.x, bits), field_row(v.z, v.w, f.x, bits), f.y, bits);
 }
 
 // f(x, y) from r(x) of the earlier sample and r(y) of the later point. Non-decreasing in both,

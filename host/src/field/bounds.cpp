@@ -72,15 +72,14 @@ std::array<std::uint32_t, 4> FieldTable::children_min(glm::uvec2 a, glm::uvec2 e
     // there) by y alike: the two rows' interpolants along x once for each x.
     const glm::uvec4 v = cell_nodes(a.x >> cell_bits, a.y >> cell_bits);
     const std::uint32_t mask = (1u << cell_bits) - 1u;
-    const std::uint64_t c = std::uint64_t(1) << cell_bits;
     const std::uint32_t xs[4] = {a.x & mask, e.x & mask, std::min(m.x, b.x) & mask, b.x & mask};
     const std::uint32_t ys[4] = {a.y & mask, e.y & mask, std::min(m.y, b.y) & mask, b.y & mask};
     std::uint64_t row0[4], row1[4];
     for (int i = 0; i < 4; ++i) {
-        row0[i] = std::uint64_t(v.x) * (c - xs[i]) + std::uint64_t(v.y) * xs[i];
-        row1[i] = std::uint64_t(v.z) * (c - xs[i]) + std::uint64_t(v.w) * xs[i];
+        row0[i] = shared::field_row(v.x, v.y, xs[i], cell_bits);
+        row1[i] = shared::field_row(v.z, v.w, xs[i], cell_bits);
     }
-    auto r = [&](int i, int j) { return std::uint32_t((row0[i] * (c - ys[j]) + row1[i] * ys[j]) >> (2 * cell_bits)); };
+    auto r = [&](int i, int j) { return shared::field_blend(row0[i], row1[i], ys[j], cell_bits); };
     for (std::uint32_t k = 0; k < 4; ++k) {
         const int i = 2 * int(k & 1), j = 2 * int(k >> 1);
         least[k] = std::min({r(i, j), r(i + 1, j), r(i, j + 1), r(i + 1, j + 1)});
