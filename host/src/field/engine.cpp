@@ -5,6 +5,7 @@
 // bounds: docs/design.md, "Sizing fields".
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <bit>
 #include <chrono>
 #include <cmath>
@@ -41,7 +42,6 @@ std::uint64_t cells_of(std::uint8_t fate) { return fate == kKeep ? 1 : std::uint
 
 }  // namespace
 
-
 std::uint64_t FieldSampler::reach(uvec2 a, uvec2 b, std::uint32_t r_hi) const {
     // current, smaller: f <= r(y) <= r_hi.
     if (rule_ == shared::RULE_CURRENT || rule_ == shared::RULE_SMALLER) return r_hi;
@@ -76,17 +76,20 @@ bool FieldSampler::conflicts_with(std::uint32_t s, uvec2 p, std::uint32_t r) con
     return shared::field_conflict(shared::rule_f(rule_, radii_[s], r), shared::distance2(t_.lattice, lattice_[s], p));
 }
 
-bool FieldSampler::conflicts(uvec2 p, std::uint32_t r) const {
+std::uint32_t FieldSampler::conflicting(uvec2 p, std::uint32_t r) const {
     const std::uint64_t f = reach(p, p, r);
     if (steep(f, r)) [[unlikely]]
-        return steep_conflicts(p, r, f);
-    return tree_.near_samples(p, p, f, [&](std::uint32_t leaf) { return conflicts_with(tree_.sample(leaf), p, r); });
+        return steep_conflicting(p, r, f);
+    std::uint32_t found = FieldQuadtree::kNone;
+    auto test = [&](std::uint32_t leaf) { return conflicts_with(found = tree_.sample(leaf), p, r); };
+    return tree_.near_samples(p, p, f, test) ? found : FieldQuadtree::kNone;
 }
 
-bool FieldSampler::steep_conflicts(uvec2 p, std::uint32_t r, std::uint64_t f) const {
+std::uint32_t FieldSampler::steep_conflicting(uvec2 p, std::uint32_t r, std::uint64_t f) const {
     // An earlier sample in a block conflicts with p only within f(r over the block, r).
-    return tree_.near_samples(
-        p, p, f, [&](std::uint32_t leaf) { return conflicts_with(tree_.sample(leaf), p, r); }, within(p, p, r, true));
+    std::uint32_t found = FieldQuadtree::kNone;
+    auto test = [&](std::uint32_t leaf) { return conflicts_with(found = tree_.sample(leaf), p, r); };
+    return tree_.near_samples(p, p, f, test, within(p, p, r, true)) ? found : FieldQuadtree::kNone;
 }
 
 bool FieldSampler::conflicts_fresh(uvec2 p, std::uint32_t r, std::uint32_t leaf) const {
@@ -344,11 +347,18 @@ void FieldSampler::throw_darts(std::uint32_t round) {
                     continue;
                 if (tree_.sample(leaf) != FieldQuadtree::kNone) continue;
                 // A sample in conflict with a point of the leaf has stamped it: none has if it is
-                // unstamped. Else the one sample that last stamped it (an earlier round's, near
-                // it), if one did, is the likeliest conflict: tested before the search.
-                const std::uint32_t near = touched_[leaf];
-                if (near != kUnstamped && ((!(near & kStampedMany) && conflicts_with(near, p, r)) || conflicts(p, r)))
-                    continue;
+                // unstamped. Else the one sample that last stamped it or last rejected a dart in
+                // it (an earlier round's, near it), if there is one, is the likeliest conflict:
+                // tested before the search, and replaced by the sample a search finds.
+                std::atomic_ref<std::uint32_t> hint(touched_[leaf]);
+                const std::uint32_t near = hint.load(std::memory_order_relaxed);
+                if (near != kUnstamped) {
+                    if (!(near & kStampedMany) && conflicts_with(near, p, r)) continue;
+                    if (const std::uint32_t s = conflicting(p, r); s != FieldQuadtree::kNone) {
+                        hint.store(s, std::memory_order_relaxed);
+                        continue;
+                    }
+                }
                 *out++ = {p, d.z, leaf};
             }
         }

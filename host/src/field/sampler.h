@@ -136,10 +136,10 @@ private:
     }
     // Does sample s conflict with a later point p of radius r?
     bool conflicts_with(std::uint32_t s, uvec2 p, std::uint32_t r) const;
-    // Does a sample conflict with point p of radius r? (steep_conflicts: the search of a steep
-    // reach f, kept out of line.)
-    bool conflicts(uvec2 p, std::uint32_t r) const;
-    bool steep_conflicts(uvec2 p, std::uint32_t r, std::uint64_t f) const;
+    // A sample in conflict with point p of radius r, or kNone. (steep_conflicting: the search of a
+    // steep reach f, kept out of line.)
+    std::uint32_t conflicting(uvec2 p, std::uint32_t r) const;
+    std::uint32_t steep_conflicting(uvec2 p, std::uint32_t r, std::uint64_t f) const;
     // Does one of this round's samples conflict with point p (radius r) of leaf `leaf`?
     bool conflicts_fresh(uvec2 p, std::uint32_t r, std::uint32_t leaf) const;
     // The samples that may cover one of the children of cell c wholly (c.bits >= 1).
@@ -263,10 +263,12 @@ private:
     Cells cells_;
     std::vector<std::uint8_t> got_;  // per cell: its fate (balance, refine); in between, it took darts
     // Per leaf, the samples that may cover part of it (touch): the one sample of this round, or
-    // kStampedMany | round when several of this round may; older stamps are stale. Only cells of
-    // a stamped leaf (and cells that took darts) can have become covered, and with one stamp
-    // only that sample can cover or conflict with a point of the leaf. Sample indices stay below
-    // 2^29 (one per leaf, kIndex), so they never carry kStampedMany.
+    // kStampedMany | round when several of this round may; older stamps are stale, and a throw
+    // may replace one by an earlier sample that rejected a dart in the leaf (a hint for the next
+    // dart there; kUnstamped, no sample near, stays). Only cells of a stamped leaf (and cells
+    // that took darts) can have become covered, and with one stamp only that sample can cover or
+    // conflict with a point of the leaf. Sample indices stay below 2^29 (one per leaf, kIndex),
+    // so they never carry kStampedMany.
     static constexpr std::uint32_t kStampedMany = 0x80000000u;
     static constexpr std::uint32_t kUnstamped = 0xFFFFFFFFu;  // many in a round that never comes
     std::vector<std::uint32_t, Uninitialised<std::uint32_t>> touched_;
