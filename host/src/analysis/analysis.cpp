@@ -18,6 +18,9 @@ namespace {
 
 constexpr int kMaxHalfWidth = 1024;     // the kernel's dispatch stays within 65 535 workgroups
 constexpr std::size_t kPointBlock = 1024;  // points whose phase tables the host holds at once
+// A point's phase tables take about 3 half_width turns, a row of S a block of points' sums: both
+// go to the threads from a few items (the pool's default grain suits loops of a few instructions).
+constexpr std::size_t kPointGrain = 16, kRowGrain = 2;
 
 using shared::uvec2;
 
@@ -61,22 +64,28 @@ void host_periodogram(const std::vector<uvec2>& pts, int half_width, detail::Thr
     std::vector<double> ar(kPointBlock * w), ai(kPointBlock * w), br(kPointBlock * rows), bi(kPointBlock * rows);
     for (std::size_t first = 0; first < pts.size(); first += kPointBlock) {
         const std::size_t block = std::min(kPointBlock, pts.size() - first);
-        pool.parallel_for(block, [&](std::size_t begin, std::size_t end, unsigned) {
-            for (std::size_t j = begin; j < end; ++j) {
-                const uvec2 u = pts[first + j];
-                for (int k = -half_width; k <= half_width; ++k)
-                    turn(std::uint32_t(k) * u.x, ar[j * w + std::size_t(k + half_width)],
-                         ai[j * w + std::size_t(k + half_width)]);
-                for (int k = 0; k <= half_width; ++k)
-                    turn(std::uint32_t(k) * u.y, br[j * rows + std::size_t(k)], bi[j * rows + std::size_t(k)]);
-            }
-        });
-        pool.parallel_for(rows, [&](std::size_t begin, std::size_t end, unsigned) {
-            for (std::size_t ky = begin; ky < end; ++ky)
-                for (std::size_t j = 0; j < block; ++j)
-                    multiply_add(&re[ky * w], &im[ky * w], &ar[j * w], &ai[j * w], br[j * rows + ky], bi[j * rows + ky],
-                                 w);
-        });
+        pool.parallel_for(
+            block,
+            [&](std::size_t begin, std::size_t end, unsigned) {
+                for (std::size_t j = begin; j < end; ++j) {
+                    const uvec2 u = pts[first + j];
+                    for (int k = -half_width; k <= half_width; ++k)
+                        turn(std::uint32_t(k) * u.x, ar[j * w + std::size_t(k + half_width)],
+                             ai[j * w + std::size_t(k + half_width)]);
+                    for (int k = 0; k <= half_width; ++k)
+                        turn(std::uint32_t(k) * u.y, br[j * rows + std::size_t(k)], bi[j * rows + std::size_t(k)]);
+                }
+            },
+            kPointGrain);
+        pool.parallel_for(
+            rows,
+            [&](std::size_t begin, std::size_t end, unsigned) {
+                for (std::size_t ky = begin; ky < end; ++ky)
+                    for (std::size_t j = 0; j < block; ++j)
+                        multiply_add(&re[ky * w], &im[ky * w], &ar[j * w], &ai[j * w], br[j * rows + ky],
+                                     bi[j * rows + ky], w);
+            },
+            kRowGrain);
     }
     // The half plane in shared/spectrum.h's order: row ky = 0 from kx = 1, then whole rows.
     const double n = double(pts.size());
