@@ -47,6 +47,20 @@ TEST_CASE("a tabulated ramp is within 0.1 % of its source, with its L measured",
     }
 }
 
+TEST_CASE("the table and its bounds do not depend on the tabulation's thread count", "[field]") {
+    Sizing s;
+    s.expression = "0.004 + 0.03*abs(sin(5*pi*d))";
+    s.lipschitz = 0.4;  // the Lipschitz limit runs on the threads too
+    const Box box{1, 1, Boundary::Periodic};
+    const detail::FieldTable one = detail::tabulate(s, box, 1), three = detail::tabulate(s, box, 3);
+    CHECK(one.nodes.size() > 10000);
+    CHECK(one.nodes == three.nodes);
+    CHECK(one.lo == three.lo);
+    CHECK(one.hi == three.hi);
+    CHECK(one.tabulation_error == three.tabulation_error);
+    CHECK(one.lipschitz == three.lipschitz);
+}
+
 TEST_CASE(
     "min_over and max_over (and extremes_over, both) bound r over a block, exactly inside one table cell, and "
     "children_min is min_over of each child",

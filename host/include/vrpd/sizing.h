@@ -55,9 +55,11 @@ private:
 
 // The field a run of `sizing` over `box` samples (vrpd.h, Sizing): its source tabulated in fixed
 // point, r at a lattice point the table's integer interpolant. Throws Error as sample would.
+// The source is evaluated on `threads` threads (0: one per hardware thread); the table does not
+// depend on the count.
 class SizingField {
 public:
-    SizingField(const Sizing& sizing, const Box& box);
+    SizingField(const Sizing& sizing, const Box& box, unsigned threads = 0);
     // r at the lattice point nearest p (clamped into the box), in box units.
     double operator()(glm::dvec2 p) const;
     FieldStats stats() const;

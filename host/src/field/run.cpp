@@ -9,8 +9,8 @@
 
 namespace vrpd {
 
-SizingField::SizingField(const Sizing& sizing, const Box& box)
-    : table_(std::make_shared<const detail::FieldTable>(detail::tabulate(sizing, box))) {}
+SizingField::SizingField(const Sizing& sizing, const Box& box, unsigned threads)
+    : table_(std::make_shared<const detail::FieldTable>(detail::tabulate(sizing, box, threads))) {}
 
 double SizingField::operator()(glm::dvec2 p) const {
     const detail::FieldTable& t = *table_;
@@ -29,7 +29,8 @@ namespace detail {
 Sampling sample_sized(const SampleOptions& o) {
     validate(o);
     const auto start = std::chrono::steady_clock::now();
-    const SizingField field(*o.sizing, o.box);
+    // The tabulation runs on the threads the sampler will (one for the serial backend).
+    const SizingField field(*o.sizing, o.box, o.backend == Backend::Serial ? 1 : o.threads);
     const FieldTable& t = field.table();
     const double tabulation = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (t.constant > 0) {

@@ -17,6 +17,7 @@
 #include <functional>
 #include <mutex>
 #include <string>
+#include <thread>
 
 #include <fmt/format.h>
 
@@ -60,24 +61,31 @@ struct Draft {
     double error = 0;
 };
 
-// Calls row(j) for j in [0, n) on the host's threads. A row that throws Error stops its own
-// work; the error of the lowest such row is rethrown, so the message does not depend on timing.
-void for_rows(std::size_t n, const std::function<void(std::size_t)>& row) {
-    ThreadPool pool;
+// A pool of `threads` threads, 0 meaning one per hardware thread.
+unsigned pool_size(unsigned threads) { return threads ? threads : std::thread::hardware_concurrency(); }
+
+// Calls row(j) for j in [0, n) on the pool's threads, from two rows on (a row holds hundreds of
+// nodes or more). A row that throws Error stops its chunk's work; the error of the lowest such
+// row is rethrown, so the message does not depend on timing.
+void for_rows(ThreadPool& pool, std::size_t n, const std::function<void(std::size_t)>& row) {
     std::mutex mutex;
     std::size_t failed = SIZE_MAX;
     std::string message;
-    pool.parallel_for(n, [&](std::size_t begin, std::size_t end, unsigned) {
-        for (std::size_t j = begin; j < end; ++j) {
-            try {
-                row(j);
-            } catch (const Error& e) {
-                const std::lock_guard lock(mutex);
-                if (j < failed) failed = j, message = e.what();
-                return;
+    constexpr std::size_t kRowGrain = 2;
+    pool.parallel_for(
+        n,
+        [&](std::size_t begin, std::size_t end, unsigned) {
+            for (std::size_t j = begin; j < end; ++j) {
+                try {
+                    row(j);
+                } catch (const Error& e) {
+                    const std::lock_guard lock(mutex);
+                    if (j < failed) failed = j, message = e.what();
+                    return;
+                }
             }
-        }
-    });
+        },
+        kRowGrain);
     if (failed != SIZE_MAX) throw Error(message);
 }
 
@@ -104,21 +112,21 @@ void fill_nodes(const FieldSource& f, const Box& box, bool periodic, std::uint32
 }
 
 // The draft of n_x x n_y cells of side h, from its nodes if the last draft's `fine` holds them.
-Draft draft(const FieldSource& f, const Box& box, std::uint32_t cells_x, std::uint32_t cells_y, double h,
-            Doubles nodes) {
+Draft draft(ThreadPool& pool, const FieldSource& f, const Box& box, std::uint32_t cells_x, std::uint32_t cells_y,
+            double h, Doubles nodes) {
     Draft d{cells_x, cells_y, h, std::move(nodes), {}, 0};
     const bool periodic = box.boundary == Boundary::Periodic;
     const std::size_t row = std::size_t(cells_x) + 1;
     if (d.values.empty()) {
         d.values.resize(row * (std::size_t(cells_y) + 1));
-        for_rows(std::size_t(cells_y) + 1, [&](std::size_t j) {
+        for_rows(pool, std::size_t(cells_y) + 1, [&](std::size_t j) {
             fill_nodes(f, box, periodic, cells_x, cells_y, h, j, 0, 1, &d.values[j * row]);
         });
     }
     // The halfway points: the nodes' rows with every other entry new, and the rows between them.
     const std::size_t fine_row = 2 * row - 1;
     d.fine.resize(fine_row * (2 * std::size_t(cells_y) + 1));
-    for_rows(2 * std::size_t(cells_y) + 1, [&](std::size_t j) {
+    for_rows(pool, 2 * std::size_t(cells_y) + 1, [&](std::size_t j) {
         double* out = &d.fine[j * fine_row];
         const bool even = j % 2 == 0;
         if (even)
@@ -130,7 +138,7 @@ Draft draft(const FieldSource& f, const Box& box, std::uint32_t cells_x, std::ui
         return (v[0] * (1 - tx) + v[1] * tx) * (1 - ty) + (v[row] * (1 - tx) + v[row + 1] * tx) * ty;
     };
     std::vector<double> error(cells_y, 0.0);  // per row, so that threads never share one
-    for_rows(cells_y, [&](std::size_t j) {
+    for_rows(pool, cells_y, [&](std::size_t j) {
         if (double(j) * h >= box.height) return;
         for (std::uint32_t i = 0; i < cells_x && i * h < box.width; ++i)
             for (auto [tx, ty] : {std::pair{0.5, 0.5}, {0.5, 0.0}, {0.0, 0.5}}) {
@@ -185,7 +193,7 @@ FieldStats FieldTable::stats() const {
     return {box_lo * quantum, box_hi * quantum, lipschitz, tabulation_error, std::uint64_t(nodes.size())};
 }
 
-FieldTable tabulate(const Sizing& s, const Box& box) {
+FieldTable tabulate(const Sizing& s, const Box& box, unsigned threads) {
     if (s.lipschitz != -1 && !(std::isfinite(s.lipschitz) && s.lipschitz >= 0))
         throw Error(fmt::format("the Lipschitz bound must be a finite number >= 0 (got {})", s.lipschitz));
     const FieldSource f = field_source(s, box);
@@ -254,8 +262,10 @@ FieldTable tabulate(const Sizing& s, const Box& box) {
                         lo, hi, kMaxTableNodes));
     Draft d;
     Doubles nodes;
+    ThreadPool pool(pool_size(threads));
     for (;;) {
-        d = draft(f, box, std::uint32_t(tx << a), std::uint32_t(ty << a), tile / double(1u << a), std::move(nodes));
+        d = draft(pool, f, box, std::uint32_t(tx << a), std::uint32_t(ty << a), tile / double(1u << a),
+                  std::move(nodes));
         const double quantum = d.h / double(1u << shared::MAX_FIELD_CELL_BITS);
         const double least = *std::min_element(d.values.begin(), d.values.end());
         const bool fine = d.error <= kTargetError && least / quantum >= kMinLatticeRadius;
@@ -270,7 +280,7 @@ FieldTable tabulate(const Sizing& s, const Box& box) {
     }
     Doubles().swap(d.fine);
     if (lo == hi && std::all_of(d.values.begin(), d.values.end(), [&](double v) { return v == lo; })) t.constant = lo;
-    if (s.lipschitz >= 0) limit_lipschitz(d.values, d.cells_x, d.cells_y, d.h, s.lipschitz, periodic);
+    if (s.lipschitz >= 0) limit_lipschitz(d.values, d.cells_x, d.cells_y, d.h, s.lipschitz, periodic, threads);
 
     t.cell_bits = shared::MAX_FIELD_CELL_BITS;
     t.quantum = d.h / double(1u << t.cell_bits);
@@ -328,7 +338,7 @@ FieldTable tabulate(const Sizing& s, const Box& box) {
 }
 
 void limit_lipschitz(std::span<double> values, std::uint32_t cells_x, std::uint32_t cells_y, double h, double L,
-                     bool periodic) {
+                     bool periodic, unsigned threads) {
     // The distinct nodes (on a torus the last row and column repeat the first), and min pyramids
     // over blocks of 2^k x 2^k of them.
     const std::size_t nx = std::size_t(cells_x) + 1, ny = std::size_t(cells_y) + 1;
@@ -357,7 +367,8 @@ void limit_lipschitz(std::span<double> values, std::uint32_t cells_x, std::uint3
     };
     const double slope = L * h;
     std::vector<double> out(w * hgt);
-    for_rows(hgt, [&](std::size_t j) {
+    ThreadPool pool(pool_size(threads));
+    for_rows(pool, hgt, [&](std::size_t j) {
         struct Block {
             std::size_t level, bx, by;
             double bound;  // its least node raised by L times its distance

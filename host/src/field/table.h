@@ -85,11 +85,13 @@ struct FieldTable {
 // Replaces the nodes of `cells_x` x `cells_y` table cells of side h (row by row; on a torus the
 // last row and column repeat the first) by the largest L-Lipschitz function at or below them:
 // each node's least v(y) + L |x - y| over the nodes y (on a torus, the nearest image of y).
+// Runs on `threads` threads (0: one per hardware thread).
 void limit_lipschitz(std::span<double> values, std::uint32_t cells_x, std::uint32_t cells_y, double h, double L,
-                     bool periodic);
+                     bool periodic, unsigned threads = 0);
 
 // Tabulates the field of `sizing` over `box`. Throws Error with the reason for a field that is
 // not a finite number > 0 somewhere, an image that cannot be read, or radii the lattice cannot hold.
-FieldTable tabulate(const Sizing& sizing, const Box& box);
+// The source is evaluated on `threads` threads (0: one per hardware thread).
+FieldTable tabulate(const Sizing& sizing, const Box& box, unsigned threads = 0);
 
 }  // namespace vrpd::detail
