@@ -1,0 +1,188 @@
+// The sizing-field sampler's tests against the samples (sampler.h): the rule's reaches, a point's
+// conflicts, whether a block is covered, and which children of a split cell stay open. Each
+// bound is derived in docs/design.md, "Sizing fields".
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <tuple>
+
+#include "sampler.h"
+
+namespace vrpd::detail::field {
+
+std::uint64_t FieldSampler::reach(uvec2 a, uvec2 b, std::uint32_t r_hi) const {
+    // current, smaller: f <= r(y) <= r_hi.
+    if (rule_ == shared::RULE_CURRENT || rule_ == shared::RULE_SMALLER) return r_hi;
+    return grown_reach(a, b, r_hi, 1);
+}
+
+std::uint64_t FieldSampler::cover_reach(uvec2 x, std::uint32_t r) const {
+    // prior, smaller: f <= r(x); current, bigger: f <= max(r(x), r(y)), with y within the reach.
+    if (rule_ == shared::RULE_PRIOR || rule_ == shared::RULE_SMALLER) return r;
+    return grown_reach(x, x, r, 4);
+}
+
+std::uint64_t FieldSampler::grown_reach(uvec2 a, uvec2 b, std::uint32_t r_hi, int steps) const {
+    // A point z within the reach of [a, b] with |z - [a, b]| < max(r(z), r_hi): start from the
+    // field's largest radius, or r_hi grown by the Lipschitz bound (r(z) <= r(y) + L |z - y| + 1,
+    // the 1 for the floor), and shrink to the largest r over the square around [a, b] while it
+    // does, at most `steps` times.
+    std::uint64_t rho = t_.r_hi;
+    if (t_.lipschitz < 1)
+        rho = std::min<std::uint64_t>(rho, std::uint64_t(std::ceil((r_hi + 1.0) / (1 - t_.lipschitz))) + 1);
+    const uvec2 centre((a.x + b.x) / 2, (a.y + b.y) / 2);
+    const std::uint64_t half = std::max(b.x - a.x, b.y - a.y) / 2 + 1;
+    for (int i = 0; i < steps; ++i) {
+        const std::uint64_t m = std::max<std::uint64_t>(t_.max_near(centre, rho + half), r_hi);
+        if (m >= rho) break;
+        rho = m;
+    }
+    return rho;
+}
+
+bool FieldSampler::conflicts_with(std::uint32_t s, uvec2 p, std::uint32_t r) const {
+    return shared::field_conflict(shared::rule_f(rule_, radii_[s], r), shared::distance2(t_.lattice, lattice_[s], p));
+}
+
+std::uint32_t FieldSampler::conflicting(uvec2 p, std::uint32_t r) const {
+    const std::uint64_t f = reach(p, p, r);
+    if (steep(f, r)) [[unlikely]]
+        return steep_conflicting(p, r, f);
+    std::uint32_t found = FieldQuadtree::kNone;
+    auto test = [&](std::uint32_t leaf) { return conflicts_with(found = tree_.sample(leaf), p, r); };
+    return tree_.near_samples(p, p, f, test) ? found : FieldQuadtree::kNone;
+}
+
+std::uint32_t FieldSampler::steep_conflicting(uvec2 p, std::uint32_t r, std::uint64_t f) const {
+    // An earlier sample in a block conflicts with p only within f(r over the block, r).
+    std::uint32_t found = FieldQuadtree::kNone;
+    auto test = [&](std::uint32_t leaf) { return conflicts_with(found = tree_.sample(leaf), p, r); };
+    return tree_.near_samples(p, p, f, test, within(p, p, r, true)) ? found : FieldQuadtree::kNone;
+}
+
+bool FieldSampler::conflicts_fresh(uvec2 p, std::uint32_t r, std::uint32_t leaf) const {
+    if (!stamped(leaf)) return false;
+    if (const std::uint32_t s = stamp(leaf); s != FieldQuadtree::kNone) return conflicts_with(s, p, r);
+    const std::uint64_t f = reach(p, p, r);
+    auto test = [&](std::uint32_t l) { return conflicts_with(tree_.sample(l), p, r); };
+    return search_within(steep(f, r), p, p, r, true,
+                         [&](auto enter) { return tree_.near_fresh(p, p, f, test, enter); });
+}
+
+void FieldSampler::gather(const Cell& c, std::vector<std::uint32_t>& out) const {
+    out.clear();
+    const uvec2 a = c.corner, b = far_corner(c);
+    const std::uint32_t hi = t_.max_over(a, b);
+    const std::uint64_t f = reach(a, b, hi);  // bounds the f of any sample covering a child
+    auto keep = [&](std::uint32_t leaf) {
+        out.push_back(tree_.sample(leaf));
+        return false;
+    };
+    // A sample in a block covers a child only within f(r over the block, hi) of the cell.
+    const bool prune = steep(f, hi);
+    auto search = [&](uvec2 from, uvec2 to, std::uint64_t reach) {
+        search_within(prune, a, b, hi, true,
+                      [&](auto enter) { return tree_.near_samples(from, to, reach, keep, enter); });
+    };
+    if (wraps(a, b, f)) {
+        search(a, b, f);
+        return;
+    }
+    // A cover of child k lies within f - 1 - ceil(w / 2) of the child's middle points
+    // (covered_by_fresh): search around the box of the children's middles. The children split
+    // each axis of the cell at a + side, the second part clipped to the cell.
+    const std::uint32_t side = 1u << (c.bits - 1);
+    uvec2 from(UINT32_MAX), to(0);
+    std::uint32_t half = UINT32_MAX;
+    for (std::uint32_t k = 0; k < 4; ++k) {
+        const uvec2 ka(a.x + (k & 1) * side, a.y + (k >> 1) * side);
+        if (ka.x > b.x || ka.y > b.y) continue;
+        const Middle mx = middle(ka.x, std::min(ka.x + side - 1, b.x)),
+                     my = middle(ka.y, std::min(ka.y + side - 1, b.y));
+        from = glm::min(from, uvec2(mx.from, my.from));
+        to = glm::max(to, uvec2(mx.to, my.to));
+        half = std::min({half, mx.half, my.half});
+    }
+    if (half >= f) return;
+    search(from, to, f - 1 - half);
+}
+
+bool FieldSampler::covered_by_fresh(uvec2 a, uvec2 b, std::uint32_t leaf) const {
+    if (!stamped(leaf)) return false;
+    // r's least value over the block (unread under prior, whose f is the sample's own radius)
+    // and, for a search under prior and bigger, its largest.
+    const std::uint32_t one = stamp(leaf);
+    const bool own = rule_ == shared::RULE_CURRENT || rule_ == shared::RULE_SMALLER;
+    const bool search = one == FieldQuadtree::kNone;
+    std::uint32_t lo = 0, hi = 0;
+    if (rule_ == shared::RULE_PRIOR)
+        hi = search ? t_.max_over(a, b) : 0;
+    else if (search && !own)
+        std::tie(lo, hi) = t_.extremes_over(a, b);
+    else
+        lo = t_.min_over(a, b);
+    if (!search) return covers(one, lo, a, b);
+    auto test = [&](std::uint32_t leaf) { return covers(tree_.sample(leaf), lo, a, b); };
+    // A covering sample's f: at most lo under current and smaller; under prior and bigger at
+    // most the reach, which bounds r(x) for each x within it (the largest r over its square, or
+    // the Lipschitz growth).
+    const std::uint64_t f = own ? lo : reach(a, b, hi);
+    // A sample in a block covers [a, b] only within f(r over the block, lo) of it.
+    const bool prune = !own && steep(f, hi);
+    auto find = [&](uvec2 from, uvec2 to, std::uint64_t reach) {
+        return search_within(prune, a, b, lo, true,
+                             [&](auto enter) { return tree_.near_fresh(from, to, reach, test, enter); });
+    };
+    if (wraps(a, b, f)) return find(a, b, f);
+    // Along each axis the farther end of [a, b] lies ceil(w / 2) beyond a sample's gap to the
+    // middle lattice points (on a torus too: the block and the reach are under half of it, a line
+    // there). So a cover's gap to them is below f - ceil(w / 2), and none covers a block whose
+    // half-width reaches f.
+    const Middle mx = middle(a.x, b.x), my = middle(a.y, b.y);
+    if (std::max(mx.half, my.half) >= f) return false;
+    return find({mx.from, my.from}, {mx.to, my.to}, f - 1 - std::min(mx.half, my.half));
+}
+
+bool FieldSampler::covers(std::uint32_t s, std::uint32_t lo, uvec2 a, uvec2 b) const {
+    // The farthest corner's squared distance: the larger gap along each axis, squared and added.
+    const uvec2 x = lattice_[s];
+    const shared::Lattice& l = t_.lattice;
+    const std::uint64_t gx = std::max(shared::axis_gap(x.x, a.x, l.extent_x, l.periodic),
+                                      shared::axis_gap(x.x, b.x, l.extent_x, l.periodic)),
+                        gy = std::max(shared::axis_gap(x.y, a.y, l.extent_y, l.periodic),
+                                      shared::axis_gap(x.y, b.y, l.extent_y, l.periodic));
+    return shared::field_conflict(shared::rule_f(rule_, radii_[s], lo), gx * gx + gy * gy);
+}
+
+std::uint8_t FieldSampler::open_children(const std::vector<std::uint32_t>& near, const Cell& c) const {
+    // The children split each axis of [a, b] at m = a + half: [a, min(m - 1, b)] and, where m <= b,
+    // [m, b]. A sample's farther gap to either part is taken once per axis, for the two children
+    // on that side. Under prior f is the sample's own radius: the children's least r goes unread.
+    const shared::Lattice& l = t_.lattice;
+    const uvec2 a = c.corner, b = far_corner(c);
+    const uvec2 m = a + uvec2(1u << (c.bits - 1));
+    const uvec2 e = glm::min(m - uvec2(1), b);  // the first parts' last points
+    std::uint8_t open = 0;
+    for (std::uint32_t k = 0; k < 4; ++k)
+        if (child_corner(c, k)) open |= std::uint8_t(1u << k);
+    if (near.empty()) return open;
+    const std::array<std::uint32_t, 4> lo =
+        rule_ == shared::RULE_PRIOR ? std::array<std::uint32_t, 4>{} : t_.children_min(a, e, m, b, open);
+    for (std::uint32_t s : near) {
+        const uvec2 x = lattice_[s];
+        auto gap = [&](std::uint32_t v, std::uint32_t from, std::uint32_t to, std::uint32_t extent) {
+            return std::uint64_t(
+                std::max(shared::axis_gap(v, from, extent, l.periodic), shared::axis_gap(v, to, extent, l.periodic)));
+        };
+        const std::uint64_t gx[2] = {gap(x.x, a.x, e.x, l.extent_x), gap(x.x, m.x, b.x, l.extent_x)};
+        const std::uint64_t gy[2] = {gap(x.y, a.y, e.y, l.extent_y), gap(x.y, m.y, b.y, l.extent_y)};
+        for (std::uint32_t k = 0; k < 4; ++k)
+            if (open >> k & 1 && shared::field_conflict(shared::rule_f(rule_, radii_[s], lo[k]),
+                                                        gx[k & 1] * gx[k & 1] + gy[k >> 1] * gy[k >> 1]))
+                open &= std::uint8_t(~(1u << k));
+        if (open == 0) break;
+    }
+    return open;
+}
+
+}  // namespace vrpd::detail::field
