@@ -168,19 +168,57 @@ std::uint8_t FieldSampler::open_children(const std::vector<std::uint32_t>& near,
     if (near.empty()) return open;
     const std::array<std::uint32_t, 4> lo =
         rule_ == shared::RULE_PRIOR ? std::array<std::uint32_t, 4>{} : t_.children_min(a, e, m, b, open);
-    for (std::uint32_t s : near) {
-        const uvec2 x = lattice_[s];
-        auto gap = [&](std::uint32_t v, std::uint32_t from, std::uint32_t to, std::uint32_t extent) {
-            return std::uint64_t(
-                std::max(shared::axis_gap(v, from, extent, l.periodic), shared::axis_gap(v, to, extent, l.periodic)));
+    // A sample's farther gap to each part along one axis. Off a torus, or on one where o, the
+    // offset from a to the image of v nearest a (o <= extent / 2), is at least w - extent / 2 so
+    // that the image lies within half the torus of every end of the cell, the gaps to [from, to]
+    // are max(o - from, to - o) in that image; else the shorter way to each end.
+    auto gaps = [&](std::uint32_t v, std::uint32_t a, std::uint32_t e, std::uint32_t m, std::uint32_t b,
+                    std::uint32_t extent, std::uint64_t out[2]) {
+        const std::int64_t o = l.periodic ? shared::axis_offset(a, v, extent, 1u) : std::int64_t(v) - std::int64_t(a);
+        const std::int64_t w = std::int64_t(b) - std::int64_t(a), half = std::int64_t(extent / 2);
+        if (!l.periodic || o - w >= -half) {
+            const std::int64_t ea = std::int64_t(e) - std::int64_t(a), ma = std::int64_t(m) - std::int64_t(a);
+            out[0] = std::uint64_t(std::max(o, ea - o));
+            out[1] = std::uint64_t(std::max(o - ma, w - o));
+            return;
+        }
+        auto gap = [&](std::uint32_t from, std::uint32_t to) {
+            return std::uint64_t(std::max(shared::axis_gap(v, from, extent, 1u), shared::axis_gap(v, to, extent, 1u)));
         };
-        const std::uint64_t gx[2] = {gap(x.x, a.x, e.x, l.extent_x), gap(x.x, m.x, b.x, l.extent_x)};
-        const std::uint64_t gy[2] = {gap(x.y, a.y, e.y, l.extent_y), gap(x.y, m.y, b.y, l.extent_y)};
-        for (std::uint32_t k = 0; k < 4; ++k)
-            if (open >> k & 1 && shared::field_conflict(shared::rule_f(rule_, radii_[s], lo[k]),
-                                                        gx[k & 1] * gx[k & 1] + gy[k >> 1] * gy[k >> 1]))
-                open &= std::uint8_t(~(1u << k));
-        if (open == 0) break;
+        out[0] = gap(a, e);
+        out[1] = gap(m, b);
+    };
+    // The rule is fixed for the run: each rule's loop has its f known, and tests the four children
+    // without a branch (a child already covered stays covered).
+    auto scan = [&](auto rule) {
+        for (std::uint32_t s : near) {
+            const uvec2 x = lattice_[s];
+            std::uint64_t gx[2], gy[2];
+            gaps(x.x, a.x, e.x, m.x, b.x, l.extent_x, gx);
+            gaps(x.y, a.y, e.y, m.y, b.y, l.extent_y, gy);
+            const std::uint32_t r = radii_[s];
+            std::uint32_t covered = 0;
+            for (std::uint32_t k = 0; k < 4; ++k)
+                covered |= std::uint32_t(shared::field_conflict(shared::rule_f(rule(), r, lo[k]),
+                                                                gx[k & 1] * gx[k & 1] + gy[k >> 1] * gy[k >> 1]))
+                           << k;
+            open &= std::uint8_t(~covered);
+            if (open == 0) break;
+        }
+    };
+    switch (rule_) {
+        case shared::RULE_PRIOR:
+            scan([] { return shared::RULE_PRIOR; });
+            break;
+        case shared::RULE_CURRENT:
+            scan([] { return shared::RULE_CURRENT; });
+            break;
+        case shared::RULE_BIGGER:
+            scan([] { return shared::RULE_BIGGER; });
+            break;
+        default:
+            scan([] { return shared::RULE_SMALLER; });
+            break;
     }
     return open;
 }
