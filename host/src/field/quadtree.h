@@ -124,7 +124,10 @@ private:
     static constexpr std::uint32_t kOccupied = 0x40000000u;
     static constexpr std::uint32_t kFresh = 0x20000000u;
     static constexpr std::uint32_t kIndex = 0x1FFFFFFFu;
-    static constexpr std::uint32_t kOutside = 0xFFFFFFFFu;
+    // A block outside the lattice: a leaf word no leaf has (indices stay below kIndex), without
+    // the flags, so a search for flagged subtrees passes over it by its flag test alone.
+    static constexpr std::uint32_t kOutside = kLeaf | kIndex;
+    static_assert((kOutside & (kOccupied | kFresh)) == 0);
     // Query bounds: the lattice square [lo, hi] per axis (unwrapped), or the whole axis.
     struct Query {
         std::int64_t lo[2], hi[2];
@@ -169,7 +172,7 @@ template <std::uint32_t kNeed, typename Visit, typename Enter>
 bool FieldQuadtree::descend(std::uint32_t root, std::int64_t root_x, std::int64_t root_y, std::uint32_t root_bits,
                             const Query& q, Visit& visit, Enter& enter, glm::uvec2 tile) const {
     const std::int64_t root_side = std::int64_t(1) << root_bits;
-    if (root == kOutside || (kNeed != 0 && !(root & kNeed)) ||
+    if ((kNeed != 0 ? !(root & kNeed) : root == kOutside) ||
         (!q.all[0] && (root_x > q.hi[0] || root_x + root_side <= q.lo[0])) ||
         (!q.all[1] && (root_y > q.hi[1] || root_y + root_side <= q.lo[1])) ||
         !enter(glm::i64vec2(root_x, root_y), tile, root_bits))
@@ -214,7 +217,7 @@ bool FieldQuadtree::descend(std::uint32_t root, std::int64_t root_x, std::int64_
         const std::uint32_t first = kMiddleFirst ? std::uint32_t(mid_x >= mx) | std::uint32_t(mid_y >= my) << 1 : 0;
         for (std::uint32_t k = 4; k-- > 0;) {
             const std::uint32_t c = first ^ k, child = children[c];
-            if (!(meets >> c & 1u) || child == kOutside || (kNeed != 0 && !(child & kNeed))) continue;
+            if (!(meets >> c & 1u) || (kNeed != 0 ? !(child & kNeed) : child == kOutside)) continue;
             const Item kid{child, it.bits - 1, it.x + (c & 1) * half, it.y + (c >> 1) * half};
             if constexpr (!std::is_same_v<Enter, EnterAll>)
                 if (!enter(glm::i64vec2(root_x + kid.x, root_y + kid.y), tile + glm::uvec2(kid.x, kid.y), kid.bits))
