@@ -130,7 +130,7 @@ Spectrum periodogram(const std::vector<std::vector<glm::dvec2>>& sets, const Box
     } else {
         out.backend = Backend::Cpu;
         out.device = "host";
-        detail::ThreadPool pool(options.threads == 0 ? std::thread::hardware_concurrency() : options.threads);
+        detail::ThreadPool pool(options.threads);
         for (const auto& set : fixed) host_periodogram(set, h, pool, half_plane);
     }
     out.half_width = h;

@@ -37,7 +37,7 @@ constexpr uint kMaxRetries = 1u << 20;
 class HostEngine final : public Engine {
 public:
     HostEngine(const Plan& plan, Resolution resolution, unsigned threads)
-        : plan_(plan), resolution_(resolution), pool_(threads ? threads : std::thread::hardware_concurrency()) {}
+        : plan_(plan), resolution_(resolution), pool_(threads) {}
 
     std::string device_name() const override {
         if (resolution_ == Resolution::Serial) return "serial (host, one dart at a time)";

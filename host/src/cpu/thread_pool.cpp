@@ -1,6 +1,8 @@
 // ThreadPool: see thread_pool.h.
 #include "thread_pool.h"
 
+#include <algorithm>
+
 #include <fmt/format.h>
 
 #include "vrpd/vrpd.h"
@@ -13,7 +15,7 @@ std::pair<std::size_t, std::size_t> chunk(std::size_t n, unsigned parts, unsigne
 }  // namespace
 
 ThreadPool::ThreadPool(unsigned threads) {
-    if (threads == 0) threads = 1;
+    if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
     try {
         workers_.reserve(threads - 1);
         for (unsigned i = 1; i < threads; ++i) workers_.emplace_back([this, i] { work(i); });

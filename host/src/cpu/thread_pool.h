@@ -20,9 +20,10 @@ namespace vrpd::detail {
 
 class ThreadPool {
 public:
-    // Throws Error naming the count if the threads cannot all be started (those that were are
-    // stopped first).
-    explicit ThreadPool(unsigned threads = std::thread::hardware_concurrency());
+    // `threads` threads, the caller's among them; 0: one per hardware thread (one where the count
+    // is unknown). Throws Error naming the count if the threads cannot all be started (those that
+    // were are stopped first).
+    explicit ThreadPool(unsigned threads = 0);
     ~ThreadPool();
     ThreadPool(const ThreadPool&) = delete;
     ThreadPool& operator=(const ThreadPool&) = delete;

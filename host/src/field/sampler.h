@@ -74,9 +74,7 @@ class FieldSampler {
 public:
     FieldSampler(const FieldTable& t, const SampleOptions& o, std::uint64_t max_leaves)
         : t_(t),
-          pool_(o.backend == Backend::Serial ? 1
-                : o.threads == 0             ? std::thread::hardware_concurrency()
-                                             : o.threads),
+          pool_(o.backend == Backend::Serial ? 1 : o.threads),
           tree_(t, max_leaves, pool_),
           rule_(t.rule),
           density_(o.sizing->weighting == Weighting::Density),

@@ -17,7 +17,6 @@
 #include <functional>
 #include <mutex>
 #include <string>
-#include <thread>
 
 #include <fmt/format.h>
 
@@ -60,9 +59,6 @@ struct Draft {
     Doubles fine;  // (2 cells_x + 1) x (2 cells_y + 1), at spacing h / 2
     double error = 0;
 };
-
-// A pool of `threads` threads, 0 meaning one per hardware thread.
-unsigned pool_size(unsigned threads) { return threads ? threads : std::thread::hardware_concurrency(); }
 
 // Calls row(j) for j in [0, n) on the pool's threads, from two rows on (a row holds hundreds of
 // nodes or more). A row that throws Error stops its chunk's work; the error of the lowest such
@@ -262,7 +258,7 @@ FieldTable tabulate(const Sizing& s, const Box& box, unsigned threads) {
                         lo, hi, kMaxTableNodes));
     Draft d;
     Doubles nodes;
-    ThreadPool pool(pool_size(threads));
+    ThreadPool pool(threads);
     for (;;) {
         d = draft(pool, f, box, std::uint32_t(tx << a), std::uint32_t(ty << a), tile / double(1u << a),
                   std::move(nodes));
@@ -367,7 +363,7 @@ void limit_lipschitz(std::span<double> values, std::uint32_t cells_x, std::uint3
     };
     const double slope = L * h;
     std::vector<double> out(w * hgt);
-    ThreadPool pool(pool_size(threads));
+    ThreadPool pool(threads);
     for_rows(pool, hgt, [&](std::size_t j) {
         struct Block {
             std::size_t level, bx, by;
