@@ -171,11 +171,9 @@ void FieldQuadtree::each_leaf(std::size_t first, std::size_t end, Visit&& visit)
 template <std::uint32_t kNeed, typename Visit, typename Enter>
 bool FieldQuadtree::descend(std::uint32_t root, std::int64_t root_x, std::int64_t root_y, std::uint32_t root_bits,
                             const Query& q, Visit& visit, Enter& enter, glm::uvec2 tile) const {
+    // search() passes only tiles that meet the query's square.
     const std::int64_t root_side = std::int64_t(1) << root_bits;
-    if ((kNeed != 0 ? !(root & kNeed) : root == kOutside) ||
-        (!q.all[0] && (root_x > q.hi[0] || root_x + root_side <= q.lo[0])) ||
-        (!q.all[1] && (root_y > q.hi[1] || root_y + root_side <= q.lo[1])) ||
-        !enter(glm::i64vec2(root_x, root_y), tile, root_bits))
+    if ((kNeed != 0 ? !(root & kNeed) : root == kOutside) || !enter(glm::i64vec2(root_x, root_y), tile, root_bits))
         return false;
     // Below the root, coordinates are offsets from its corner, and the query is clipped to it
     // (the whole root where it spans the axis): what meets a node is unchanged, and so is which
