@@ -10,6 +10,15 @@
 
 namespace vrpd::detail::field {
 
+namespace {
+// Coordinate v's gap to the farther end of [from, to] along one axis (on a torus, to each end the
+// shorter way round).
+std::uint64_t far_gap(std::uint32_t v, std::uint32_t from, std::uint32_t to, std::uint32_t extent,
+                      std::uint32_t periodic) {
+    return std::max(shared::axis_gap(v, from, extent, periodic), shared::axis_gap(v, to, extent, periodic));
+}
+}  // namespace
+
 std::uint64_t FieldSampler::reach(uvec2 a, uvec2 b, std::uint32_t r_hi) const {
     // current, smaller: f <= r(y) <= r_hi.
     if (rule_ == shared::RULE_CURRENT || rule_ == shared::RULE_SMALLER) return r_hi;
@@ -147,10 +156,8 @@ bool FieldSampler::covers(std::uint32_t s, std::uint32_t lo, uvec2 a, uvec2 b) c
     // The farthest corner's squared distance: the larger gap along each axis, squared and added.
     const uvec2 x = lattice_[s];
     const shared::Lattice& l = t_.lattice;
-    const std::uint64_t gx = std::max(shared::axis_gap(x.x, a.x, l.extent_x, l.periodic),
-                                      shared::axis_gap(x.x, b.x, l.extent_x, l.periodic)),
-                        gy = std::max(shared::axis_gap(x.y, a.y, l.extent_y, l.periodic),
-                                      shared::axis_gap(x.y, b.y, l.extent_y, l.periodic));
+    const std::uint64_t gx = far_gap(x.x, a.x, b.x, l.extent_x, l.periodic),
+                        gy = far_gap(x.y, a.y, b.y, l.extent_y, l.periodic);
     return shared::field_conflict(shared::rule_f(rule_, radii_[s], lo), gx * gx + gy * gy);
 }
 
@@ -182,11 +189,8 @@ std::uint8_t FieldSampler::open_children(const std::vector<std::uint32_t>& near,
             out[1] = std::uint64_t(std::max(o - ma, w - o));
             return;
         }
-        auto gap = [&](std::uint32_t from, std::uint32_t to) {
-            return std::uint64_t(std::max(shared::axis_gap(v, from, extent, 1u), shared::axis_gap(v, to, extent, 1u)));
-        };
-        out[0] = gap(a, e);
-        out[1] = gap(m, b);
+        out[0] = far_gap(v, a, e, extent, 1u);
+        out[1] = far_gap(v, m, b, extent, 1u);
     };
     // The rule is fixed for the run: each rule's loop has its f known, and tests the four children
     // without a branch (a child already covered stays covered).
