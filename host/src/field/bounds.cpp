@@ -40,10 +40,13 @@ std::pair<std::uint32_t, std::uint32_t> corner_extremes(const FieldTable& t, glm
     const glm::uvec4 v = t.cell_nodes(a.x >> t.cell_bits, a.y >> t.cell_bits);
     const std::uint32_t mask = (1u << t.cell_bits) - 1u;
     const glm::uvec2 fa(a.x & mask, a.y & mask), fb(b.x & mask, b.y & mask);
+    // field_interpolate at the four corners, each row's interpolant along x taken once per x.
+    const std::uint32_t bits = t.cell_bits;
+    const std::uint64_t a0 = shared::field_row(v.x, v.y, fa.x, bits), a1 = shared::field_row(v.z, v.w, fa.x, bits);
+    const std::uint64_t b0 = shared::field_row(v.x, v.y, fb.x, bits), b1 = shared::field_row(v.z, v.w, fb.x, bits);
     const auto [lo, hi] =
-        std::minmax({shared::field_interpolate(v, fa, t.cell_bits), shared::field_interpolate(v, fb, t.cell_bits),
-                     shared::field_interpolate(v, {fa.x, fb.y}, t.cell_bits),
-                     shared::field_interpolate(v, {fb.x, fa.y}, t.cell_bits)});
+        std::minmax({shared::field_blend(a0, a1, fa.y, bits), shared::field_blend(a0, a1, fb.y, bits),
+                     shared::field_blend(b0, b1, fa.y, bits), shared::field_blend(b0, b1, fb.y, bits)});
     return {lo, hi};
 }
 }  // namespace

@@ -118,19 +118,17 @@ void FieldSampler::gather(const Cell& c, std::vector<std::uint32_t>& out) const 
 
 bool FieldSampler::covered_by_fresh(uvec2 a, uvec2 b, std::uint32_t leaf) const {
     if (!stamped(leaf)) return false;
-    // r's least value over the block (unread under prior, whose f is the sample's own radius)
-    // and, for a search under prior and bigger, its largest.
-    const std::uint32_t one = stamp(leaf);
+    if (const std::uint32_t one = stamp(leaf); one != FieldQuadtree::kNone) return covers(one, a, b);
+    // For the search, r's least value over the block (unread under prior, whose f is the
+    // sample's own radius) and, under prior and bigger, its largest.
     const bool own = rule_ == shared::RULE_CURRENT || rule_ == shared::RULE_SMALLER;
-    const bool search = one == FieldQuadtree::kNone;
     std::uint32_t lo = 0, hi = 0;
     if (rule_ == shared::RULE_PRIOR)
-        hi = search ? t_.max_over(a, b) : 0;
-    else if (search && !own)
+        hi = t_.max_over(a, b);
+    else if (!own)
         std::tie(lo, hi) = t_.extremes_over(a, b);
     else
         lo = t_.min_over(a, b);
-    if (!search) return covers(one, lo, a, b);
     auto test = [&](std::uint32_t leaf) { return covers(tree_.sample(leaf), lo, a, b); };
     // A covering sample's f: at most lo under current and smaller; under prior and bigger at
     // most the reach, which bounds r(x) for each x within it (the largest r over its square, or
@@ -152,13 +150,27 @@ bool FieldSampler::covered_by_fresh(uvec2 a, uvec2 b, std::uint32_t leaf) const 
     return find({mx.from, my.from}, {mx.to, my.to}, f - 1 - std::min(mx.half, my.half));
 }
 
-bool FieldSampler::covers(std::uint32_t s, std::uint32_t lo, uvec2 a, uvec2 b) const {
-    // The farthest corner's squared distance: the larger gap along each axis, squared and added.
+std::uint64_t FieldSampler::far_distance2(std::uint32_t s, uvec2 a, uvec2 b) const {
+    // The larger gap along each axis, squared and added.
     const uvec2 x = lattice_[s];
     const shared::Lattice& l = t_.lattice;
     const std::uint64_t gx = far_gap(x.x, a.x, b.x, l.extent_x, l.periodic),
                         gy = far_gap(x.y, a.y, b.y, l.extent_y, l.periodic);
-    return shared::field_conflict(shared::rule_f(rule_, radii_[s], lo), gx * gx + gy * gy);
+    return gx * gx + gy * gy;
+}
+
+bool FieldSampler::covers(std::uint32_t s, std::uint32_t lo, uvec2 a, uvec2 b) const {
+    return shared::field_conflict(shared::rule_f(rule_, radii_[s], lo), far_distance2(s, a, b));
+}
+
+bool FieldSampler::covers(std::uint32_t s, uvec2 a, uvec2 b) const {
+    // f is min(r(s), lo) under smaller, max(r(s), lo) under bigger: the test with r(s) alone
+    // decides one way before lo is read. Under prior lo goes unread.
+    const std::uint64_t d2 = far_distance2(s, a, b);
+    const bool own = shared::field_conflict(radii_[s], d2);
+    if (rule_ == shared::RULE_PRIOR || (rule_ == shared::RULE_SMALLER && !own) || (rule_ == shared::RULE_BIGGER && own))
+        return own;
+    return shared::field_conflict(t_.min_over(a, b), d2);
 }
 
 std::uint8_t FieldSampler::open_children(const std::vector<std::uint32_t>& near, const Cell& c) const {
