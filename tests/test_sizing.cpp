@@ -167,6 +167,43 @@ TEST_CASE("check_sizing on uniform maximal sets: pass at their radius, fail eith
     }
 }
 
+// The coverage runs in bands of grid rows on the threads, joined in row order: the counts and the
+// worst node (the first of the largest ratio, rows then columns) are the one-thread report's.
+TEST_CASE("check_sizing gives one report on any number of threads", "[sizing]") {
+    for (const Boundary boundary : {Boundary::Periodic, Boundary::Free}) {
+        const Box box{1.5, 1, boundary};
+        Sizing sizing;
+        sizing.expression = "0.01 + 0.012*(1 + sin(2*pi*x/w))";
+        sizing.rule = SizingRule::Smaller;
+        SampleOptions o;
+        o.box = box;
+        o.seed = 7;
+        o.backend = Backend::Cpu;
+        o.sizing = sizing;
+        const Sampling s = sample(o);
+        std::vector<glm::dvec2> p(s.size());
+        for (std::size_t i = 0; i < s.size(); ++i) p[i] = s.point(i);
+        // The field 8 % larger than the sampled one (conflicts) and 8 % smaller (holes).
+        for (const char* scaled :
+             {"1.08*(0.01 + 0.012*(1 + sin(2*pi*x/w)))", "0.92*(0.01 + 0.012*(1 + sin(2*pi*x/w)))"})
+            for (const SizingRule rule : {SizingRule::Prior, SizingRule::Bigger}) {
+                const SizingExpression r(scaled);
+                const FieldSummary field = summarize_field(r, box);
+                auto judge = [&](unsigned threads) {
+                    return check_sizing(
+                        p, [&](glm::dvec2 q) { return r(q.x, q.y, box); }, rule, box, 1e-9, field, threads);
+                };
+                const SizingReport one = judge(1), three = judge(3);
+                INFO(scaled << " " << sizing_rule_name(rule) << (boundary == Boundary::Free ? " free" : " periodic"));
+                CHECK(one.conflicts + one.uncovered > 0);
+                CHECK(three.conflicts == one.conflicts);
+                CHECK(three.uncovered == one.uncovered);
+                CHECK(three.worst_ratio == one.worst_ratio);
+                CHECK(three.worst_point == one.worst_point);
+            }
+    }
+}
+
 TEST_CASE("check --sizing from the command line", "[sizing][cli]") {
     using test::cli;
     const auto dir = test::scratch();

@@ -110,8 +110,9 @@ struct SizingReport {
     glm::dvec2 worst_point{0, 0};
     bool passed() const { return conflicts == 0 && uncovered == 0; }
 };
+// The coverage runs on `threads` threads (0: one per hardware thread), which call r at once.
 SizingReport check_sizing(const std::vector<glm::dvec2>& points, const SizingFunction& r, SizingRule rule,
-                          const Box& box, double tolerance, const FieldSummary& field);
+                          const Box& box, double tolerance, const FieldSummary& field, unsigned threads = 0);
 inline SizingReport check_sizing(const std::vector<glm::dvec2>& points, const SizingExpression& r, SizingRule rule,
                                  const Box& box, double tolerance) {
     return check_sizing(points, [&](glm::dvec2 p) { return r(p.x, p.y, box); }, rule, box, tolerance,

@@ -2,7 +2,8 @@
 // the buckets within its own radius; since f <= max(r(x), r(y)) under every rule, each
 // conflicting pair is found from its larger-radius side. Coverage: each sample marks the grid
 // nodes it covers, within r(x) / (1 - L) of it, the farthest a node it covers can be when r is
-// L-Lipschitz with L < 1 (else within the field's largest radius).
+// L-Lipschitz with L < 1 (else within the field's largest radius), one band of grid rows at a
+// time on each thread, r read once per node.
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -10,17 +11,129 @@
 #include <fmt/format.h>
 
 #include "vrpd/sizing.h"
+#include "../cpu/thread_pool.h"
 
 namespace vrpd {
 namespace {
 
-constexpr double kMaxGridPoints = 16.0 * 1024 * 1024;  // coverage nodes, so memory stays near 64 MiB
+constexpr double kMaxGridPoints = 16.0 * 1024 * 1024;  // coverage nodes, which bound the work
 constexpr double kMaxBuckets = 4.0 * 1024 * 1024;
 
 // The shortest way from a to b along one axis.
 double gap(double a, double b, double extent, bool periodic) {
     const double d = std::abs(a - b);
     return periodic ? std::min(d, extent - d) : d;
+}
+
+// Coverage on a grid of nodes at cell centres: rep's resolution, grid_points, uncovered and worst
+// node, for samples `pts` of radii `radius` (at rep.field's r_min, r_max and L).
+void cover(const std::vector<glm::dvec2>& pts, const std::vector<double>& radius, const SizingFunction& r,
+           SizingRule rule, const Box& box, double tolerance, unsigned threads, SizingReport& rep) {
+    const bool periodic = box.boundary == Boundary::Periodic;
+    // Bands of rows go to the threads: a band holds its nodes' radii and the least ratio d / f
+    // found at each, and meets every sample whose reach crosses its rows; the bands' counts and
+    // worst nodes are joined in row order.
+    rep.resolution = std::max(rep.field.r_min / 4, std::sqrt(box.width * box.height / kMaxGridPoints));
+    const double res = rep.resolution;
+    const auto gx = std::int64_t(std::ceil(box.width / res)), gy = std::int64_t(std::ceil(box.height / res));
+    rep.grid_points = std::uint64_t(gx * gy);
+    const double L = rep.field.lipschitz * 1.01;
+    auto reach_of = [&](std::size_t i) {
+        return L < 1 ? radius[i] / (1 - L) + tolerance : rep.field.r_max + tolerance;
+    };
+    // The node indices [lo, hi] within `reach` of coordinate v along an axis of n nodes; on a
+    // torus unwrapped, at most n of them (each node once) from lo in [0, n). Their runs
+    // [first, last] inside [from, to]: one, or on a torus two (the second past the axis's end).
+    auto span = [&](double v, double reach, std::int64_t n) {
+        const std::int64_t lo = std::int64_t(std::floor((v - reach) / res - 0.5)),
+                           hi = std::int64_t(std::ceil((v + reach) / res - 0.5));
+        if (!periodic) return std::pair{lo, hi};
+        const std::int64_t from = (lo % n + n) % n;
+        return std::pair{from, from + std::min(hi - lo, n - 1)};
+    };
+    auto runs = [&](std::pair<std::int64_t, std::int64_t> s, std::int64_t n, std::int64_t from, std::int64_t to,
+                    std::int64_t out[2][2]) {
+        int count = 0;
+        for (const std::int64_t shift : {std::int64_t(0), -n}) {
+            if (shift != 0 && !periodic) break;
+            const std::int64_t first = std::max(s.first + shift, from), last = std::min(s.second + shift, to);
+            if (first <= last) out[count][0] = first, out[count][1] = last, ++count;
+        }
+        return count;
+    };
+    std::vector<std::pair<std::int64_t, std::int64_t>> rows(pts.size());
+    for (std::size_t i = 0; i < pts.size(); ++i) rows[i] = span(pts[i].y, reach_of(i), gy);
+    const bool reads_node = rule != SizingRule::Prior;  // under prior f is the sample's own radius
+    constexpr std::int64_t kBandRows = 64;
+    const std::int64_t bands = (gy + kBandRows - 1) / kBandRows;
+    struct Band {
+        std::uint64_t uncovered = 0;
+        double worst = 0;
+        glm::dvec2 at{0, 0};
+    };
+    std::vector<Band> found(static_cast<std::size_t>(bands));
+    detail::ThreadPool pool(threads);
+    pool.parallel_for(
+        std::size_t(bands),
+        [&](std::size_t begin, std::size_t end, unsigned) {
+            std::vector<float> best;
+            std::vector<double> node_r;
+            for (std::size_t band = begin; band < end; ++band) {
+                const std::int64_t y0 = std::int64_t(band) * kBandRows, y1 = std::min(gy, y0 + kBandRows);
+                const std::size_t cells = std::size_t((y1 - y0) * gx);
+                best.assign(cells, std::numeric_limits<float>::infinity());
+                if (reads_node) {
+                    node_r.assign(cells, 0.0);
+                    for (std::int64_t y = y0; y < y1; ++y)
+                        for (std::int64_t x = 0; x < gx; ++x) {
+                            const glm::dvec2 node{(double(x) + 0.5) * res, (double(y) + 0.5) * res};
+                            if (node.x < box.width && node.y < box.height)
+                                node_r[std::size_t((y - y0) * gx + x)] = r(node);
+                        }
+                }
+                for (std::size_t i = 0; i < pts.size(); ++i) {
+                    std::int64_t ys[2][2], xs[2][2];
+                    const int ny = runs(rows[i], gy, y0, y1 - 1, ys);
+                    if (ny == 0) continue;
+                    const double reach = reach_of(i);
+                    const int nx = runs(span(pts[i].x, reach, gx), gx, 0, gx - 1, xs);
+                    for (int a = 0; a < ny; ++a)
+                        for (std::int64_t y = ys[a][0]; y <= ys[a][1]; ++y) {
+                            const double node_y = (double(y) + 0.5) * res;
+                            if (node_y >= box.height) continue;
+                            const double dy = gap(pts[i].y, node_y, box.height, periodic);
+                            for (int b = 0; b < nx; ++b)
+                                for (std::int64_t x = xs[b][0]; x <= xs[b][1]; ++x) {
+                                    const double node_x = (double(x) + 0.5) * res;
+                                    if (node_x >= box.width) continue;
+                                    const double dx = gap(pts[i].x, node_x, box.width, periodic);
+                                    const double d = std::sqrt(dx * dx + dy * dy);
+                                    if (d > reach) continue;
+                                    const std::size_t k = std::size_t((y - y0) * gx + x);
+                                    // The node is a point that came after every sample: f(r(sample), r(node)).
+                                    const double f =
+                                        rule_radius(rule, radius[i], reads_node ? node_r[k] : radius[i]) + tolerance;
+                                    best[k] = std::min(best[k], float(d / f));
+                                }
+                        }
+                }
+                Band& out = found[band];
+                for (std::int64_t y = y0; y < y1; ++y)
+                    for (std::int64_t x = 0; x < gx; ++x) {
+                        const glm::dvec2 node{(double(x) + 0.5) * res, (double(y) + 0.5) * res};
+                        if (node.x >= box.width || node.y >= box.height) continue;
+                        const double b = best[std::size_t((y - y0) * gx + x)];
+                        if (b >= 1) ++out.uncovered;
+                        if (b > out.worst) out.worst = b, out.at = node;
+                    }
+            }
+        },
+        1);
+    rep.worst_ratio = 0;
+    for (const Band& b : found) {
+        rep.uncovered += b.uncovered;
+        if (b.worst > rep.worst_ratio) rep.worst_ratio = b.worst, rep.worst_point = b.at;
+    }
 }
 
 }  // namespace
@@ -60,8 +173,8 @@ FieldSummary summarize_field(const SizingFunction& r, const Box& box, std::size_
     return f;
 }
 
-SizingReport check_sizing(const std::vector<glm::dvec2>& pts, const SizingFunction& r, SizingRule rule,
-                          const Box& box, double tolerance, const FieldSummary& field) {
+SizingReport check_sizing(const std::vector<glm::dvec2>& pts, const SizingFunction& r, SizingRule rule, const Box& box,
+                          double tolerance, const FieldSummary& field, unsigned threads) {
     SizingReport rep;
     rep.field = field;
     rep.points = pts.size();
@@ -129,50 +242,7 @@ SizingReport check_sizing(const std::vector<glm::dvec2>& pts, const SizingFuncti
             }
         });
 
-    // Coverage on a grid of nodes at cell centres.
-    rep.resolution = std::max(rep.field.r_min / 4, std::sqrt(box.width * box.height / kMaxGridPoints));
-    const auto gx = std::size_t(std::ceil(box.width / rep.resolution)),
-               gy = std::size_t(std::ceil(box.height / rep.resolution));
-    rep.grid_points = gx * gy;
-    std::vector<float> best(rep.grid_points, std::numeric_limits<float>::infinity());
-    const double L = rep.field.lipschitz * 1.01;
-    for (std::size_t i = 0; i < pts.size(); ++i) {
-        const double reach = L < 1 ? radius[i] / (1 - L) + tolerance : rep.field.r_max + tolerance;
-        const auto lo_x = std::int64_t(std::floor((pts[i].x - reach) / rep.resolution - 0.5)),
-                   hi_x = std::int64_t(std::ceil((pts[i].x + reach) / rep.resolution - 0.5));
-        const auto lo_y = std::int64_t(std::floor((pts[i].y - reach) / rep.resolution - 0.5)),
-                   hi_y = std::int64_t(std::ceil((pts[i].y + reach) / rep.resolution - 0.5));
-        for (std::int64_t y = lo_y; y <= hi_y; ++y)
-            for (std::int64_t x = lo_x; x <= hi_x; ++x) {
-                std::int64_t ux = x, uy = y;
-                if (periodic) {
-                    ux = (x % std::int64_t(gx) + std::int64_t(gx)) % std::int64_t(gx);
-                    uy = (y % std::int64_t(gy) + std::int64_t(gy)) % std::int64_t(gy);
-                } else if (x < 0 || y < 0 || x >= std::int64_t(gx) || y >= std::int64_t(gy)) {
-                    continue;
-                }
-                const glm::dvec2 node{(double(ux) + 0.5) * rep.resolution, (double(uy) + 0.5) * rep.resolution};
-                if (node.x >= box.width || node.y >= box.height) continue;
-                const double d = distance(pts[i], node);
-                if (d > reach) continue;
-                // The node is a point that came after every sample: f(r(sample), r(node)).
-                const double f = rule_radius(rule, radius[i], r(node)) + tolerance;
-                float& b = best[std::size_t(uy) * gx + std::size_t(ux)];
-                b = std::min(b, float(d / f));
-            }
-    }
-    rep.worst_ratio = 0;
-    for (std::size_t y = 0; y < gy; ++y)
-        for (std::size_t x = 0; x < gx; ++x) {
-            const glm::dvec2 node{(double(x) + 0.5) * rep.resolution, (double(y) + 0.5) * rep.resolution};
-            if (node.x >= box.width || node.y >= box.height) continue;
-            const double b = best[y * gx + x];
-            if (b >= 1) ++rep.uncovered;
-            if (b > rep.worst_ratio) {
-                rep.worst_ratio = b;
-                rep.worst_point = node;
-            }
-        }
+    cover(pts, radius, r, rule, box, tolerance, threads, rep);
     return rep;
 }
 
