@@ -71,6 +71,35 @@ TEST_CASE("a planted conflict is counted", "[verify]") {
     CHECK_FALSE(r.passed());
 }
 
+// The buckets' neighbourhoods as runs of columns and rows, wrapped on a torus and taken once
+// each where an axis has fewer than three buckets: every pair closer than Rf, counted once.
+TEST_CASE("conflicts by buckets equal the pairs found by brute force", "[verify]") {
+    std::uint32_t state = 12345;
+    auto uniform = [&] {
+        state = state * 1664525u + 1013904223u;
+        return double(state >> 8) / double(1u << 24);
+    };
+    for (const Boundary boundary : {Boundary::Periodic, Boundary::Free})
+        for (const glm::dvec2 extent : {glm::dvec2(1, 1), glm::dvec2(3, 1)})
+            for (const double rf : {0.05, 0.3, 0.45}) {
+                const Box box{extent.x, extent.y, boundary};
+                std::vector<glm::dvec2> p(300);
+                for (glm::dvec2& q : p) q = {uniform() * extent.x, uniform() * extent.y};
+                std::uint64_t brute = 0;
+                for (std::size_t i = 0; i < p.size(); ++i)
+                    for (std::size_t j = i + 1; j < p.size(); ++j) {
+                        double gx = std::abs(p[i].x - p[j].x), gy = std::abs(p[i].y - p[j].y);
+                        if (boundary == Boundary::Periodic)
+                            gx = std::min(gx, extent.x - gx), gy = std::min(gy, extent.y - gy);
+                        brute += gx * gx + gy * gy < rf * rf;
+                    }
+                INFO("Rf " << rf << " box " << extent.x << " x " << extent.y
+                           << (boundary == Boundary::Free ? " free" : " periodic"));
+                CHECK(brute > 0);
+                CHECK(verify(p, {rf, rf}, box).conflicts == brute);
+            }
+}
+
 TEST_CASE("free boundary: empty circles centred on the sides and corners count", "[verify]") {
     // Three points near one corner of a 1 x 1 box: the far corner is the largest empty centre.
     const std::vector<glm::dvec2> p{{0.1, 0.1}, {0.2, 0.1}, {0.1, 0.2}};

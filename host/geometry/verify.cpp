@@ -7,7 +7,6 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
-#include <set>
 
 #include <CGAL/Delaunay_triangulation_2.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
@@ -79,32 +78,51 @@ std::uint64_t count_conflicts(const std::vector<glm::dvec2>& pts, double rf, con
         by_bucket[i] = {cy * nx + cx, i};
     }
     std::sort(by_bucket.begin(), by_bucket.end());
+    // A neighbourhood's buckets as runs of consecutive ids within a row: columns cx - 1 to
+    // cx + 1, split where they wrap on a torus (every column once where there are fewer than 3),
+    // and likewise the rows.
+    auto axis_runs = [&](std::int64_t c, std::int64_t n, std::int64_t out[2][2]) {
+        if (periodic && n < 3) {
+            out[0][0] = 0, out[0][1] = n - 1;
+            return 1;
+        }
+        const std::int64_t lo = c - 1, hi = c + 1;
+        if (!periodic) {
+            out[0][0] = std::max<std::int64_t>(lo, 0), out[0][1] = std::min(hi, n - 1);
+            return 1;
+        }
+        if (lo < 0) {
+            out[0][0] = 0, out[0][1] = hi, out[1][0] = lo + n, out[1][1] = n - 1;
+            return 2;
+        }
+        if (hi >= n) {
+            out[0][0] = lo, out[0][1] = n - 1, out[1][0] = 0, out[1][1] = hi - n;
+            return 2;
+        }
+        out[0][0] = lo, out[0][1] = hi;
+        return 1;
+    };
     std::uint64_t conflicts = 0;
     const double rf2 = rf * rf;
-    for (std::uint32_t i = 0; i < pts.size(); ++i) {
-        auto [cx, cy] = cell_of(pts[i]);
-        std::set<std::int64_t> seen;  // small tori: neighbour offsets may wrap onto one bucket
-        for (std::int64_t dy = -1; dy <= 1; ++dy) {
-            for (std::int64_t dx = -1; dx <= 1; ++dx) {
-                std::int64_t x = cx + dx, y = cy + dy;
-                if (periodic) {
-                    x = (x + nx) % nx;
-                    y = (y + ny) % ny;
-                } else if (x < 0 || y < 0 || x >= nx || y >= ny) {
-                    continue;
+    // Points in bucket order: a bucket's points search the same runs, near in memory.
+    for (const auto& [id, i] : by_bucket) {
+        const std::int64_t cx = id % nx, cy = id / nx;
+        std::int64_t xs[2][2], ys[2][2];
+        const int nxr = axis_runs(cx, nx, xs), nyr = axis_runs(cy, ny, ys);
+        for (int a = 0; a < nyr; ++a)
+            for (std::int64_t y = ys[a][0]; y <= ys[a][1]; ++y)
+                for (int b = 0; b < nxr; ++b) {
+                    const std::int64_t last = y * nx + xs[b][1];
+                    auto it = std::lower_bound(by_bucket.begin(), by_bucket.end(),
+                                               std::pair{y * nx + xs[b][0], std::uint32_t(0)});
+                    for (; it != by_bucket.end() && it->first <= last; ++it) {
+                        const std::uint32_t j = it->second;
+                        if (j <= i) continue;
+                        const double gx = axis_gap(pts[i].x, pts[j].x, box.width, periodic);
+                        const double gy = axis_gap(pts[i].y, pts[j].y, box.height, periodic);
+                        if (gx * gx + gy * gy < rf2) ++conflicts;
+                    }
                 }
-                const std::int64_t id = y * nx + x;
-                if (!seen.insert(id).second) continue;
-                auto it = std::lower_bound(by_bucket.begin(), by_bucket.end(), std::pair{id, std::uint32_t(0)});
-                for (; it != by_bucket.end() && it->first == id; ++it) {
-                    const std::uint32_t j = it->second;
-                    if (j <= i) continue;
-                    const double gx = axis_gap(pts[i].x, pts[j].x, box.width, periodic);
-                    const double gy = axis_gap(pts[i].y, pts[j].y, box.height, periodic);
-                    if (gx * gx + gy * gy < rf2) ++conflicts;
-                }
-            }
-        }
     }
     return conflicts;
 }
