@@ -31,13 +31,20 @@ using Clock = std::chrono::steady_clock;
 constexpr double kLambda = 0.3;
 constexpr double kSplitAbove = 4.0;
 constexpr std::uint32_t kMaxRounds = 1000000;  // a bug guard, far above any run
-constexpr int kExpBias = 64;  // exp_neg_'s index: the weighted area's exponent + 64
-constexpr std::size_t kExponents = 128;
+constexpr int kExpBias = kExponentBias;        // exp_neg_'s index: the weighted area's exponent + 64
+constexpr std::size_t kExponents = std::tuple_size_v<ExponentCounts>;
 // A cell's fate in got_ (balance, refine): dropped (0), kept whole, or split with the mask of its
 // surviving children in bits 0-3.
 constexpr std::uint8_t kKeep = 0x10, kSplit = 0x20;
 // The cells a fate leaves in the next list.
 std::uint64_t cells_of(std::uint8_t fate) { return fate == kKeep ? 1 : std::uint64_t(std::popcount(fate & 0xFu)); }
+// The chunks' counts of cells per exponent, added.
+ExponentCounts summed(const std::vector<ExponentCounts>& counts) {
+    ExponentCounts total{};
+    for (const auto& count : counts)
+        for (std::size_t e = 0; e < kExponents; ++e) total[e] += count[e];
+    return total;
+}
 
 }  // namespace
 
@@ -51,17 +58,18 @@ Cell FieldSampler::make_cell(uvec2 corner, std::uint32_t bits) const {
 }
 
 double FieldSampler::weighted_area() {
-    // The cells per exponent, counted on the threads; their exact sum is the serial sum's value.
-    std::vector<std::array<std::uint64_t, kExponents>> counts(cell_chunks());
-    for_cells([&](std::size_t begin, std::size_t end, unsigned w) {
-        std::array<std::uint64_t, kExponents> count{};
-        for (std::size_t i = begin; i < end; ++i) ++count[std::size_t(exponent(i) + kExpBias)];
-        counts[w] = count;
-    });
-    std::array<std::uint64_t, kExponents> total{};
-    for (const auto& count : counts)
-        for (std::size_t e = 0; e < kExponents; ++e) total[e] += count[e];
-    if (const auto sum = exact_power_sum(total, kExpBias)) return *sum;
+    // The cells per exponent (as the last list written counted them, else counted on the
+    // threads); their exact sum is the serial sum's value.
+    if (!exponents_) {
+        std::vector<ExponentCounts> counts(cell_chunks());
+        for_cells([&](std::size_t begin, std::size_t end, unsigned w) {
+            ExponentCounts count{};
+            for (std::size_t i = begin; i < end; ++i) ++count[std::size_t(exponent(i) + kExpBias)];
+            counts[w] = count;
+        });
+        exponents_ = summed(counts);
+    }
+    if (const auto sum = exact_power_sum(*exponents_, kExpBias)) return *sum;
     double area = 0;
     for (std::size_t i = 0; i < cells_.size(); ++i) area += pow2(exponent(i));
     return area;
@@ -69,21 +77,35 @@ double FieldSampler::weighted_area() {
 
 template <typename Fate>
 void FieldSampler::write_fates(Cells& next, const std::vector<std::uint64_t>& first, Fate&& fate) {
+    std::vector<ExponentCounts> counts(first.size() - 1);
     for_cells([&](std::size_t begin, std::size_t end, unsigned w) {
         std::size_t at = first[w];
+        ExponentCounts& count = counts[w];
         for (std::size_t i = begin; i < end; ++i) {
             const std::uint8_t f = fate(i);
-            if (f == kKeep) next.copy(at++, cells_, i);
+            if (f == kKeep) {
+                next.copy(at++, cells_, i);
+                ++count[std::size_t(exponent(i) + kExpBias)];
+            }
             if (f & kSplit)
                 for (std::uint32_t k = 0; k < 4; ++k)
-                    if (f >> k & 1) next.set(at++, *child(cells_[i], k));
+                    if (f >> k & 1) {
+                        const Cell c = *child(cells_[i], k);
+                        next.set(at++, c);
+                        ++count[std::size_t(exponent(c.bits, c.weight) + kExpBias)];
+                    }
         }
     });
+    exponents_ = summed(counts);
 }
 
 double FieldSampler::balance() {
     for (;;) {
         const double rate = kLambda * double(cells_.size()) / weighted_area();
+        // No cell splits if the largest weighted area present does not.
+        std::size_t top = kExponents;
+        while (top > 0 && (*exponents_)[top - 1] == 0) --top;
+        if (top == 0 || rate * pow2(int(top - 1) - kExpBias) <= kSplitAbove) return rate;
         auto splits = [&](std::size_t i) { return cells_.bits(i) > 0 && rate * pow2(exponent(i)) > kSplitAbove; };
         // A cell's fate: kept, or split with the mask of its children not covered by a sample.
         // Before the first sample it costs a few instructions and is found again when written;

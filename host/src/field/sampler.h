@@ -2,6 +2,7 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cstdint>
 #include <optional>
@@ -60,6 +61,10 @@ private:
     std::vector<uvec2, Uninitialised<uvec2>> words_;
     std::vector<std::uint8_t, Uninitialised<std::uint8_t>> weights_;
 };
+
+// Cells counted by the exponent of their weighted area (engine.cpp), entry e + kExponentBias.
+constexpr int kExponentBias = 64;
+using ExponentCounts = std::array<std::uint64_t, 128>;
 
 // A dart still undecided after its throw, in throwing order (cell order, then index in the cell):
 // the tie-break of equal keys. It carries its cell's leaf: the textbook resolution reads it in
@@ -200,8 +205,11 @@ private:
     void for_cells(Body&& body) {
         pool_.parallel_for(cells_.size(), body, kCellGrain);
     }
-    // The exponent of cell i's weighted area: 2 bits, less 2 weight under Eq. 12.
-    int exponent(std::size_t i) const { return 2 * int(cells_.bits(i)) - (density_ ? 2 * int(cells_.weight(i)) : 0); }
+    // The exponent of a cell's weighted area (of cell i's): 2 bits, less 2 weight under Eq. 12.
+    int exponent(std::uint32_t bits, std::uint8_t weight) const {
+        return 2 * int(bits) - (density_ ? 2 * int(weight) : 0);
+    }
+    int exponent(std::size_t i) const { return exponent(cells_.bits(i), cells_.weight(i)); }
     // 2^e, exactly, for |e| < 1023 (std::ldexp's value without its call).
     static double pow2(int e) { return std::bit_cast<double>(std::uint64_t(1023 + e) << 52); }
     // Splits cells expecting more than kSplitAbove darts at this round's rate; returns the rate.
@@ -210,9 +218,11 @@ private:
     double weighted_area();
     // Writes each cell's fate, fate(i) (engine.cpp's kKeep, or kSplit with its surviving
     // children's mask), to `next`: itself, or those children; chunk c of the pool from
-    // next[first[c]].
+    // next[first[c]]. Counts the written cells per exponent into exponents_.
     template <typename Fate>
     void write_fates(Cells& next, const std::vector<std::uint64_t>& first, Fate&& fate);
+    // The active list's cells per exponent of their weighted area (+ kExponentBias), when counted.
+    std::optional<ExponentCounts> exponents_;
     void throw_darts(std::uint32_t round);
     // Decides the round's darts (field/resolve.cpp): as the textbook does, one dart at a time in
     // arrival order, or (cpu backend on several threads) in parallel, with the same outcome.
