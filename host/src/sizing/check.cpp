@@ -37,6 +37,7 @@ void cover(const std::vector<glm::dvec2>& pts, const std::vector<double>& radius
     const double res = rep.resolution;
     const auto gx = std::int64_t(std::ceil(box.width / res)), gy = std::int64_t(std::ceil(box.height / res));
     rep.grid_points = std::uint64_t(gx * gy);
+    auto centre = [&](std::int64_t i) { return (double(i) + 0.5) * res; };  // node i's coordinate
     const double L = rep.field.lipschitz * 1.01;
     auto reach_of = [&](std::size_t i) {
         return L < 1 ? radius[i] / (1 - L) + tolerance : rep.field.r_max + tolerance;
@@ -86,7 +87,7 @@ void cover(const std::vector<glm::dvec2>& pts, const std::vector<double>& radius
                     node_r.assign(cells, 0.0);
                     for (std::int64_t y = y0; y < y1; ++y)
                         for (std::int64_t x = 0; x < gx; ++x) {
-                            const glm::dvec2 node{(double(x) + 0.5) * res, (double(y) + 0.5) * res};
+                            const glm::dvec2 node{centre(x), centre(y)};
                             if (node.x < box.width && node.y < box.height)
                                 node_r[std::size_t((y - y0) * gx + x)] = r(node);
                         }
@@ -99,12 +100,12 @@ void cover(const std::vector<glm::dvec2>& pts, const std::vector<double>& radius
                     const int nx = runs(span(pts[i].x, reach, gx), gx, 0, gx - 1, xs);
                     for (int a = 0; a < ny; ++a)
                         for (std::int64_t y = ys[a][0]; y <= ys[a][1]; ++y) {
-                            const double node_y = (double(y) + 0.5) * res;
+                            const double node_y = centre(y);
                             if (node_y >= box.height) continue;
                             const double dy = gap(pts[i].y, node_y, box.height, periodic);
                             for (int b = 0; b < nx; ++b)
                                 for (std::int64_t x = xs[b][0]; x <= xs[b][1]; ++x) {
-                                    const double node_x = (double(x) + 0.5) * res;
+                                    const double node_x = centre(x);
                                     if (node_x >= box.width) continue;
                                     const double dx = gap(pts[i].x, node_x, box.width, periodic);
                                     const double d = std::sqrt(dx * dx + dy * dy);
@@ -120,7 +121,7 @@ void cover(const std::vector<glm::dvec2>& pts, const std::vector<double>& radius
                 Band& out = found[band];
                 for (std::int64_t y = y0; y < y1; ++y)
                     for (std::int64_t x = 0; x < gx; ++x) {
-                        const glm::dvec2 node{(double(x) + 0.5) * res, (double(y) + 0.5) * res};
+                        const glm::dvec2 node{centre(x), centre(y)};
                         if (node.x >= box.width || node.y >= box.height) continue;
                         const double b = best[std::size_t((y - y0) * gx + x)];
                         if (b >= 1) ++out.uncovered;
