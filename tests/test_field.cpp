@@ -384,6 +384,20 @@ TEST_CASE("bad sizing input is refused with its reason", "[field]") {
         out << "P6\n2 2\n255\n" << std::string(12, '\x40');
     }
     CHECK_THAT(image(colour, 0.01, 0.02), Catch::Contains("must be greyscale"));
+    // A binary PGM that ends before its pixels do (stb_image reads such pixels unchecked), with a
+    // comment in its header; the same file whole is accepted.
+    const std::string cut = (scratch_dir() / "cut.pgm").string();
+    auto write_pgm = [&](std::size_t bytes) {
+        std::ofstream(cut, std::ios::binary) << "P5\n# grey\n4 4 # side\n255\n" << std::string(bytes, '\x80');
+        return image(cut, 0.01, 0.02);
+    };
+    CHECK_THAT(write_pgm(15), Catch::Contains("truncated: its 4 x 4 pixels need 16 bytes, it holds 15"));
+    CHECK(write_pgm(16) == "accepted");
+    // A PNG that ends after its header chunk: stb_image names the missing chunk by its empty type.
+    const std::string header_only = (scratch_dir() / "header_only.png").string();
+    std::ofstream(header_only, std::ios::binary)
+        << std::string("\x89PNG\r\n\x1a\n\0\0\0\x0dIHDR\0\0\0\x04\0\0\0\x04\x08\0\0\0\0\0\0\0\0", 33);
+    CHECK_THAT(image(header_only, 0.01, 0.02), Catch::Contains("cannot decode") && Catch::EndsWith("truncated data"));
 }
 
 TEST_CASE("sample --sizing from the command line: x,y,r rows, and bad input refused before any file", "[field][cli]") {

@@ -1,11 +1,13 @@
 // A sizing field's source (field/table.h): an expression, or a greyscale image decoded by stb_image
 // (Debian's libstb, a maintained decoder of PNG and binary PGM among others).
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <memory>
+#include <string>
 
 #include <fmt/format.h>
 #include <stb_image.h>
@@ -35,6 +37,49 @@ struct GreyImage {
     }
 };
 
+// stb_image's reason for its last failure; stb names an unknown PNG chunk by its type's bytes,
+// which are empty at a file's premature end.
+std::string failure_reason() {
+    const char* why = stbi_failure_reason();
+    if (!why || !std::isprint(static_cast<unsigned char>(why[0]))) return "corrupt or truncated data";
+    return why;
+}
+
+// Throws Error if a binary PGM (P5) file ends before its pixels do: stb_image reads such a file's
+// pixels without checking that they are all there. The header is stb's grammar: the magic, then
+// width, height and largest value, each after whitespace and # comments, and one byte of
+// whitespace before the pixels (2 bytes each past a largest value of 255).
+void check_pgm_length(std::FILE* file, const std::string& path) {
+    std::rewind(file);
+    int c = std::fgetc(file);
+    if (c != 'P' || std::fgetc(file) != '5') {
+        std::rewind(file);
+        return;
+    }
+    std::uint64_t field[3] = {};
+    c = std::fgetc(file);
+    for (std::uint64_t& v : field) {
+        for (;;) {
+            while (c != EOF && std::isspace(c)) c = std::fgetc(file);
+            if (c != '#') break;
+            while (c != EOF && c != '\n' && c != '\r') c = std::fgetc(file);
+        }
+        while (c != EOF && std::isdigit(c) && v < (std::uint64_t(1) << 32)) {
+            v = v * 10 + std::uint64_t(c - '0');
+            c = std::fgetc(file);
+        }
+    }
+    // c is the byte after the largest value's digits: the pixels start after it.
+    const long pixels_at = std::ftell(file);
+    std::fseek(file, 0, SEEK_END);
+    const long end = std::ftell(file);
+    std::rewind(file);
+    const std::uint64_t need = field[0] * field[1] * (field[2] > 255 ? 2 : 1);
+    if (pixels_at >= 0 && end >= pixels_at && std::uint64_t(end - pixels_at) < need)
+        throw Error(fmt::format("the sizing image {} is truncated: its {} x {} pixels need {} bytes, it holds {}", path,
+                                field[0], field[1], need, end - pixels_at));
+}
+
 GreyImage load_grey(const std::string& path) {
     std::FILE* file = std::fopen(path.c_str(), "rb");
     if (!file) throw Error(fmt::format("cannot read the sizing image {}: {}", path, std::strerror(errno)));
@@ -42,7 +87,7 @@ GreyImage load_grey(const std::string& path) {
     int w = 0, h = 0, channels = 0;
     if (!stbi_info_from_file(file, &w, &h, &channels))
         throw Error(fmt::format("the sizing image {} is not a PNG or binary PGM image stb_image can decode ({})", path,
-                                stbi_failure_reason()));
+                                failure_reason()));
     if (channels > 2)
         throw Error(fmt::format("the sizing image {} has {} colour channels: it must be greyscale", path, channels));
     if (w > kMaxImageSide || h > kMaxImageSide)
@@ -51,16 +96,17 @@ GreyImage load_grey(const std::string& path) {
     GreyImage img;
     img.width = w;
     img.height = h;
+    check_pgm_length(file, path);
     img.grey.resize(std::size_t(w) * std::size_t(h));
     const bool deep = stbi_is_16_bit_from_file(file);
     int cw = 0, ch = 0, cc = 0;
     if (deep) {
         std::unique_ptr<stbi_us, void (*)(void*)> px(stbi_load_from_file_16(file, &cw, &ch, &cc, 1), &stbi_image_free);
-        if (!px) throw Error(fmt::format("cannot decode the sizing image {}: {}", path, stbi_failure_reason()));
+        if (!px) throw Error(fmt::format("cannot decode the sizing image {}: {}", path, failure_reason()));
         for (std::size_t i = 0; i < img.grey.size(); ++i) img.grey[i] = float(px.get()[i]) / 65535.0f;
     } else {
         std::unique_ptr<stbi_uc, void (*)(void*)> px(stbi_load_from_file(file, &cw, &ch, &cc, 1), &stbi_image_free);
-        if (!px) throw Error(fmt::format("cannot decode the sizing image {}: {}", path, stbi_failure_reason()));
+        if (!px) throw Error(fmt::format("cannot decode the sizing image {}: {}", path, failure_reason()));
         for (std::size_t i = 0; i < img.grey.size(); ++i) img.grey[i] = float(px.get()[i]) / 255.0f;
     }
     return img;
