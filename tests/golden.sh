@@ -36,7 +36,7 @@ EOF
 host_table=$(cat <<'EOF'
 6445d02f403236d8c740e00cfe0c9409f362899868afa7429620fa1fed852269 | --sizing 0.01+0.05*x --rule smaller --boundary free --seed 1
 ead010cfc33d2c50610d090c6f9adc0c2f2136064fede01955edd2059e8b85fa | --sizing 0.02+0.01*sin(2*pi*x)*cos(2*pi*y) --rule prior --seed 2
-10644e0bd9fc10f0a691f7437eef9bb9349727e154a3edb186d18619d9967258 | --sizing 0.004+0.02*d --rule bigger --weighting density --seed 3
+48385631d31631728d0acdf69f92d00a320375a773b6c11038bf839666780066 | --sizing 0.004+0.02*d --rule bigger --weighting density --seed 3
 72ad00f78cd7805039eeae3afbaf76c09bddf165bbb9ad50b0230ea328aec298 | --sizing 0.03+(0.006-0.03)*abs(sin(4*pi*d)) --rule current --extent 2,1 --seed 4
 7e8b1403f55b739eb3df5bfec8542a2e282cda0be6423c1956fb7917a22189b0 | --sizing 0.002+0.04*x*y --rule prior --boundary free --extent 1.5,1 --seed 8
 29ebb9f4c1618e08ccac8cd19426df0c63f37dd50511ccd71ea0bdb8607657d2 | --sizing 0.3+0.1*sin(2*pi*x) --rule current --seed 7

@@ -102,13 +102,15 @@ TEST_CASE("the exact sum of the cells' powers of two equals the serial sum, or d
 
 // The steep sine (L 1.91, past every rule's bound) has searches whose reach passes 4 r, so they
 // test the largest r over a subtree before entering it (FieldSampler::within).
-TEST_CASE("each rule on a ramp, rectified sines and an image: conflict-free and maximal under it", "[field]") {
+TEST_CASE("each rule on a ramp, rectified sines, a kink and an image: conflict-free and maximal under it", "[field]") {
     const std::string image = write_gradient_pgm("gradient.pgm", 64, 48);
     struct Field {
         Sizing sizing;
         Boundary boundary;
     };
-    std::vector<Field> fields(4);
+    std::vector<Field> fields(5);
+    fields[4].sizing.expression = "0.01 + 0.05*abs(x - 0.3)";  // a kink: a table with patches
+    fields[4].boundary = Boundary::Free;
     fields[3].sizing.expression = "0.06 + (0.006-0.06)*abs(sin(8*pi*d))";
     fields[3].boundary = Boundary::Periodic;
     fields[0].sizing.expression = "0.004 + 0.06*x";
@@ -163,22 +165,25 @@ TEST_CASE("radii near half the torus: each rule conflict-free and maximal, cpu =
 }
 
 TEST_CASE("sizing fields: cpu on 1 or 3 threads and serial give the same samples", "[field]") {
-    for (SizingRule rule : kRules)
-        for (Weighting w : {Weighting::Uniform, Weighting::Density}) {
-            SampleOptions o = field_options("0.01 + 0.04*x*y", rule, Boundary::Periodic, 9);
-            o.sizing->weighting = w;
-            o.threads = 1;
-            const Sampling one = sample(o);
-            o.threads = 3;
-            const Sampling three = sample(o);
-            o.backend = Backend::Serial;
-            const Sampling serial = sample(o);
-            INFO(sizing_rule_name(rule));
-            REQUIRE(one.size() > 500);
-            CHECK(one.lattice == three.lattice);
-            CHECK(one.lattice == serial.lattice);
-            CHECK(one.local_radius == serial.local_radius);
-        }
+    // The second field's kink gives its table patches.
+    for (const auto& [expression, boundary] :
+         {std::pair{"0.01 + 0.04*x*y", Boundary::Periodic}, {"0.02 + 0.1*abs(x - 0.3)", Boundary::Free}})
+        for (SizingRule rule : kRules)
+            for (Weighting w : {Weighting::Uniform, Weighting::Density}) {
+                SampleOptions o = field_options(expression, rule, boundary, 9);
+                o.sizing->weighting = w;
+                o.threads = 1;
+                const Sampling one = sample(o);
+                o.threads = 3;
+                const Sampling three = sample(o);
+                o.backend = Backend::Serial;
+                const Sampling serial = sample(o);
+                INFO(expression << " " << sizing_rule_name(rule));
+                REQUIRE(one.size() > 300);
+                CHECK(one.lattice == three.lattice);
+                CHECK(one.lattice == serial.lattice);
+                CHECK(one.local_radius == serial.local_radius);
+            }
 }
 
 TEST_CASE("the leaf quadtree built on 3 threads is the one built on one, and refuses leaves past its limit",

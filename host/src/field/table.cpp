@@ -3,14 +3,19 @@
 // units and the interpolant's rounding costs under 0.025 %. The table is refined (table cells and
 // lattice halved together) while its interpolant is further than 0.075 % from the source at
 // some table cell's centre or edge midpoint, within the 31-bit lattice and a budget of 8 nodes
-// per expected sample (a kink, such as abs()'s, converges only linearly: refining it to 0.1 %
-// would take far more nodes than samples).
+// per expected sample. A kink, such as abs()'s, converges only linearly, so the cells still past
+// 0.075 % then get patches (field/patches.cpp), finer grids of their own, if all of them fit a
+// budget of 4 nodes per expected sample (at least 2^18).
 #include "table.h"
+
+#include "patches.h"
 
 #include "field.h"
 #include "../cpu/thread_pool.h"
 #include "../cpu/uninitialised.h"
 #include "../plan.h"
+
+#include <malloc.h>
 
 #include <algorithm>
 #include <cmath>
@@ -30,22 +35,8 @@ constexpr double kNodesPerSample = 8;
 constexpr std::uint64_t kMinTableNodes = std::uint64_t(1) << 16;
 constexpr std::uint32_t kMinLatticeRadius = 4096;
 constexpr std::uint32_t kSurvey = 256;
-
-// v = r(x, y), a point of the box; throws unless v is a radius.
-double check(double v, double x, double y) {
-    if (!(std::isfinite(v) && v > 0))
-        throw Error(
-            fmt::format("sizing field: r({:.6g}, {:.6g}) = {}; it must be a finite number > 0 everywhere in "
-                        "the box",
-                        x, y, v));
-    return v;
-}
-
-double checked(const FieldSource& f, double x, double y) {
-    double v;
-    f(&x, &y, &v, 1);
-    return check(v, x, y);
-}
+constexpr double kPatchNodesPerSample = 4;
+constexpr double kMinPatchNodes = 1 << 18;
 
 // The double-valued table at a resolution: its nodes, the source at the points halfway between
 // them (which are the next resolution's nodes), and its largest relative error against the
@@ -58,6 +49,7 @@ struct Draft {
     Doubles values;
     Doubles fine;  // (2 cells_x + 1) x (2 cells_y + 1), at spacing h / 2
     double error = 0;
+    std::uint64_t over = 0;  // the points where the error is past the target
 };
 
 // Calls row(j) for j in [0, n) on the pool's threads, from two rows on (a row holds hundreds of
@@ -98,13 +90,49 @@ void fill_nodes(const FieldSource& f, const Box& box, bool periodic, std::uint32
     ys.assign(xs.size(), y);
     vs.resize(xs.size());
     f(xs.data(), ys.data(), vs.data(), xs.size());
-    for (std::size_t k = 0; k < xs.size(); ++k) {
-        const double x = xs[k], v = vs[k];
-        row[first + k * step] = x <= box.width && y <= box.height ? check(v, x, y)
-                                : std::isfinite(v) && v > 0
-                                    ? v
-                                    : checked(f, std::min(x, box.width), std::min(y, box.height));
-    }
+    for (std::size_t k = 0; k < xs.size(); ++k) row[first + k * step] = node_value(f, box, xs[k], y, vs[k]);
+}
+
+// The relative error of a draft's interpolant at point (tx, ty) of cell (i, j), a halfway point
+// (its value in d.fine); a point past a free box's edge is judged at the edge, inside the cell.
+[[gnu::always_inline]] inline double point_error(const FieldSource& f, const Box& box, const Draft& d, std::uint32_t i,
+                                                 std::uint32_t j, double tx, double ty) {
+    const std::size_t row = std::size_t(d.cells_x) + 1;
+    const double fx = (i + tx) * d.h, fy = (double(j) + ty) * d.h;
+    const double x = std::min(fx, box.width), y = std::min(fy, box.height);
+    const double v =
+        fx <= box.width && fy <= box.height
+            ? d.fine[(2 * std::size_t(j) + std::size_t(2 * ty)) * (2 * row - 1) + 2 * i + std::size_t(2 * tx)]
+            : source_at(f, x, y);
+    tx = x / d.h - i;
+    ty = y / d.h - double(j);
+    const double* n = &d.values[std::size_t(j) * row + i];
+    const double at = (n[0] * (1 - tx) + n[1] * tx) * (1 - ty) + (n[row] * (1 - tx) + n[row + 1] * tx) * ty;
+    return std::abs(at - v) / v;
+}
+
+// Per cell of the draft, the largest error at its centre and edge midpoints (those past a free
+// box's far edges excepted, as the draft's own error does).
+std::vector<double> cell_errors(ThreadPool& pool, const FieldSource& f, const Box& box, const Draft& d) {
+    const bool periodic = box.boundary == Boundary::Periodic;
+    std::vector<double> out(std::size_t(d.cells_x) * d.cells_y, 0.0);
+    auto measured = [&](std::uint32_t i, std::uint32_t j) { return i * d.h < box.width && j * d.h < box.height; };
+    for_rows(pool, d.cells_y, [&](std::size_t jj) {
+        const std::uint32_t j = std::uint32_t(jj);
+        for (std::uint32_t i = 0; i < d.cells_x; ++i) {
+            if (!measured(i, j)) continue;
+            double e = std::max({point_error(f, box, d, i, j, 0.5, 0.5), point_error(f, box, d, i, j, 0.5, 0.0),
+                                 point_error(f, box, d, i, j, 0.0, 0.5)});
+            // The top and right midpoints, as the cells above and to the right measure them.
+            const std::uint32_t up = j + 1 < d.cells_y ? j + 1 : 0, right = i + 1 < d.cells_x ? i + 1 : 0;
+            if ((j + 1 < d.cells_y || periodic) && measured(i, up))
+                e = std::max(e, point_error(f, box, d, i, up, 0.5, 0.0));
+            if ((i + 1 < d.cells_x || periodic) && measured(right, j))
+                e = std::max(e, point_error(f, box, d, right, j, 0.0, 0.5));
+            out[std::size_t(j) * d.cells_x + i] = e;
+        }
+    });
+    return out;
 }
 
 // The draft of n_x x n_y cells of side h, from its nodes if the last draft's `fine` holds them.
@@ -129,33 +157,24 @@ Draft draft(ThreadPool& pool, const FieldSource& f, const Box& box, std::uint32_
             for (std::size_t i = 0; i < row; ++i) out[2 * i] = d.values[j / 2 * row + i];
         fill_nodes(f, box, periodic, 2 * cells_x, 2 * cells_y, h / 2, j, even ? 1 : 0, even ? 2 : 1, out);
     });
-    auto interp = [&](std::size_t i, std::size_t j, double tx, double ty) {
-        const double* v = &d.values[j * row + i];
-        return (v[0] * (1 - tx) + v[1] * tx) * (1 - ty) + (v[row] * (1 - tx) + v[row + 1] * tx) * ty;
-    };
     std::vector<double> error(cells_y, 0.0);  // per row, so that threads never share one
+    std::vector<std::uint64_t> over(cells_y, 0);
     for_rows(pool, cells_y, [&](std::size_t j) {
         if (double(j) * h >= box.height) return;
         for (std::uint32_t i = 0; i < cells_x && i * h < box.width; ++i)
             for (auto [tx, ty] : {std::pair{0.5, 0.5}, {0.5, 0.0}, {0.0, 0.5}}) {
-                // Points past a free box's edge are judged at the edge, inside the cell; the
-                // others are halfway points.
-                const double fx = (i + tx) * h, fy = (double(j) + ty) * h;
-                const double x = std::min(fx, box.width), y = std::min(fy, box.height);
-                const double v = fx <= box.width && fy <= box.height
-                                     ? d.fine[(2 * j + std::size_t(2 * ty)) * fine_row + 2 * i + std::size_t(2 * tx)]
-                                     : checked(f, x, y);
-                tx = x / h - i;
-                ty = y / h - double(j);
-                error[j] = std::max(error[j], std::abs(interp(i, j, tx, ty) - v) / v);
+                const double e = point_error(f, box, d, i, std::uint32_t(j), tx, ty);
+                error[j] = std::max(error[j], e);
+                over[j] += e > kTargetError;
             }
     });
+    for (std::uint64_t n : over) d.over += n;
     for (double e : error) d.error = std::max(d.error, e);
     return d;
 }
 
-// Level 0 (one table cell) is read from the cell's four nodes; level k >= 1 holds the least and
-// greatest node over blocks of 2^k x 2^k cells.
+// Level 0 (one table cell) is read from the cell's four nodes (or its patch's bounds); level
+// k >= 1 holds the least and greatest node over blocks of 2^k x 2^k cells.
 void build_pyramids(FieldTable& t) {
     t.lo.assign(1, {});
     t.hi.assign(1, {});
@@ -167,7 +186,10 @@ void build_pyramids(FieldTable& t) {
         for (std::uint32_t j = 0; j < h; ++j)
             for (std::uint32_t i = 0; i < w; ++i) {
                 const std::size_t to = std::size_t(j / 2) * nw + i / 2, from = std::size_t(j) * pw + i;
-                if (cells) {
+                if (const FieldTable::Patch* q = cells ? t.patch(i, j) : nullptr) {
+                    nlo[to] = std::min(nlo[to], q->lo);
+                    nhi[to] = std::max(nhi[to], q->hi);
+                } else if (cells) {
                     const glm::uvec4 v = t.cell_nodes(i, j);
                     nlo[to] = std::min({nlo[to], v.x, v.y, v.z, v.w});
                     nhi[to] = std::max({nhi[to], v.x, v.y, v.z, v.w});
@@ -186,7 +208,8 @@ void build_pyramids(FieldTable& t) {
 }  // namespace
 
 FieldStats FieldTable::stats() const {
-    return {box_lo * quantum, box_hi * quantum, lipschitz, tabulation_error, std::uint64_t(nodes.size())};
+    return {box_lo * quantum, box_hi * quantum, lipschitz, tabulation_error,
+            std::uint64_t(nodes.size() + patch_nodes.size())};
 }
 
 FieldTable tabulate(const Sizing& s, const Box& box, unsigned threads) {
@@ -203,7 +226,7 @@ FieldTable tabulate(const Sizing& s, const Box& box, unsigned threads) {
         }
         f(xs.data(), ys.data(), vs.data(), kSurvey + 1);
         for (std::uint32_t i = 0; i <= kSurvey; ++i) {
-            const double v = check(vs[i], xs[i], ys[i]);
+            const double v = checked_radius(vs[i], xs[i], ys[i]);
             lo = std::min(lo, v);
             hi = std::max(hi, v);
         }
@@ -258,6 +281,7 @@ FieldTable tabulate(const Sizing& s, const Box& box, unsigned threads) {
                         lo, hi, kMaxTableNodes));
     Draft d;
     Doubles nodes;
+    double samples = 0;
     ThreadPool pool(threads);
     for (;;) {
         d = draft(pool, f, box, std::uint32_t(tx << a), std::uint32_t(ty << a), tile / double(1u << a),
@@ -266,13 +290,24 @@ FieldTable tabulate(const Sizing& s, const Box& box, unsigned threads) {
         const double least = *std::min_element(d.values.begin(), d.values.end());
         const bool fine = d.error <= kTargetError && least / quantum >= kMinLatticeRadius;
         // The table stays within a few nodes per expected sample (0.70 per r^2 of area).
-        double samples = 0;
+        samples = 0;
         for (double v : d.values) samples += 0.70 * d.h * d.h / (v * v);
         const double next_nodes = double(tx << (a + 1)) * double(ty << (a + 1));
         const bool affordable = next_nodes <= std::max(kNodesPerSample * samples, double(kMinTableNodes));
         if (fine || !fits(a + 1) || (least / quantum >= kMinLatticeRadius && !affordable)) break;
         nodes = std::move(d.fine);
         ++a;
+    }
+    // Patches where the table strays from the source past the target (a kink), within their own
+    // budget of nodes; none under --lipschitz, whose field is the table's nodes themselves.
+    double error = d.error;
+    std::vector<PatchDraft> patches;
+    const double budget = std::max(kPatchNodesPerSample * samples, double(kMinPatchNodes));
+    // Each point past the target is in at most two cells, each to take at least 9 patch nodes.
+    if (s.lipschitz < 0 && d.error > kTargetError && 4.5 * double(d.over) <= budget) {
+        const TableDraft view{d.values.data(), d.fine.data(), d.cells_x, d.cells_y, d.h};
+        patches =
+            draft_patches(pool, f, box, view, cell_errors(pool, f, box, d), kTargetError, std::uint64_t(budget), error);
     }
     Doubles().swap(d.fine);
     if (lo == hi && std::all_of(d.values.begin(), d.values.end(), [&](double v) { return v == lo; })) t.constant = lo;
@@ -291,7 +326,7 @@ FieldTable tabulate(const Sizing& s, const Box& box, unsigned threads) {
         periodic ? std::uint32_t(ex) : std::uint32_t(std::min<double>(std::ceil(box.width / t.quantum), double(ex)));
     t.lattice.extent_y =
         periodic ? std::uint32_t(ey) : std::uint32_t(std::min<double>(std::ceil(box.height / t.quantum), double(ey)));
-    t.tabulation_error = d.error;
+    t.tabulation_error = error;
     t.nodes.resize(d.values.size());
     for (std::size_t i = 0; i < d.values.size(); ++i) {
         const double units = std::round(d.values[i] / t.quantum);
@@ -299,8 +334,16 @@ FieldTable tabulate(const Sizing& s, const Box& box, unsigned threads) {
             throw Error(fmt::format("the field's radius {:.6g} is too large for the lattice of this box", d.values[i]));
         t.nodes[i] = std::max<std::uint32_t>(1, std::uint32_t(units));
     }
+    install_patches(t, patches);
+    if (!patches.empty()) {
+        // The drafts are many small blocks of the heap: handed back to the system before the
+        // sampler's arrays are allocated, rather than held below them.
+        std::vector<PatchDraft>().swap(patches);
+        malloc_trim(0);
+    }
     t.r_lo = *std::min_element(t.nodes.begin(), t.nodes.end());
     t.r_hi = *std::max_element(t.nodes.begin(), t.nodes.end());
+    for (const FieldTable::Patch& q : t.patches) t.r_lo = std::min(t.r_lo, q.lo), t.r_hi = std::max(t.r_hi, q.hi);
     // Over the box, r's extremes are at the corners of the table cells clipped to it: the nodes
     // inside, the points where node lines meet the far edges, and the far corner.
     t.box_lo = UINT32_MAX;
@@ -322,11 +365,13 @@ FieldTable tabulate(const Sizing& s, const Box& box, unsigned threads) {
     double steepest = 0;
     for (std::uint32_t j = 0; j < t.cells_y; ++j)
         for (std::uint32_t i = 0; i < t.cells_x; ++i) {
+            if (t.patch(i, j)) continue;  // patch_bounds takes its cells'
             const double v00 = t.node(i, j), v10 = t.node(i + 1, j), v01 = t.node(i, j + 1), v11 = t.node(i + 1, j + 1);
             for (double gx : {v10 - v00, v11 - v01})
                 for (double gy : {v01 - v00, v11 - v10})
                     if (std::abs(gx) + std::abs(gy) > steepest) steepest = std::max(steepest, std::hypot(gx, gy));
         }
+    patch_bounds(t, steepest);
     t.lipschitz = steepest / double(1u << t.cell_bits);
     t.rule = std::uint32_t(s.rule);
     build_pyramids(t);

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <array>
+#include <bit>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -41,17 +42,56 @@ struct FieldTable {
     std::uint32_t rule = 0;
     double constant = 0;  // the source's value where it is one constant, else 0
 
+    // A table cell refined where its interpolant strays from the source (a kink, such as abs()'s):
+    // a patch of (2^depth + 1)^2 nodes over it, row by row in patch_nodes from `first`, whose own
+    // cells interpolate as the table's do. Its corners are the cell's nodes, and along an edge
+    // shared with a cell of lesser depth (or none) its nodes lie on that cell's edge, so the
+    // interpolant stays continuous (to its rounding).
+    struct Patch {
+        std::uint32_t first, depth;
+        std::uint32_t lo, hi;  // its least and greatest node
+    };
+    std::vector<std::uint64_t> patched;      // a bit per table cell, row by row; empty without patches
+    std::vector<std::uint32_t> patch_rank;   // per word of `patched`: the patches of the cells before it
+    std::vector<Patch> patches;              // in cell order
+    std::vector<std::uint32_t> patch_nodes;  // the patches' nodes
+
     std::uint32_t node(std::uint32_t i, std::uint32_t j) const { return nodes[std::size_t(j) * (cells_x + 1) + i]; }
     // The four nodes of table cell (i, j), in field_interpolate's order.
     glm::uvec4 cell_nodes(std::uint32_t i, std::uint32_t j) const {
         const std::uint32_t* v = &nodes[std::size_t(j) * (cells_x + 1) + i];
         return {v[0], v[1], v[cells_x + 1], v[cells_x + 2]};
     }
+    // Table cell (i, j)'s patch, or nullptr.
+    const Patch* patch(std::uint32_t i, std::uint32_t j) const {
+        if (patched.empty()) [[likely]]
+            return nullptr;
+        const std::size_t c = std::size_t(j) * cells_x + i;
+        const std::uint64_t word = patched[c >> 6], below = (std::uint64_t(1) << (c & 63)) - 1;
+        if (!(word >> (c & 63) & 1)) return nullptr;
+        return &patches[patch_rank[c >> 6] + std::size_t(std::popcount(word & below))];
+    }
+    // The cell of a patch holding offset f (inside its table cell), its nodes and its side's bits.
+    struct PatchCell {
+        glm::uvec4 v;
+        glm::uvec2 corner;  // its offset in the table cell
+        std::uint32_t bits;
+    };
+    PatchCell patch_cell(const Patch& q, glm::uvec2 f) const {
+        const std::uint32_t bits = cell_bits - q.depth, n = (1u << q.depth) + 1;
+        const glm::uvec2 k(f.x >> bits, f.y >> bits);
+        const std::uint32_t* v = &patch_nodes[q.first + std::size_t(k.y) * n + k.x];
+        return {{v[0], v[1], v[n], v[n + 1]}, {k.x << bits, k.y << bits}, bits};
+    }
     // r at lattice point p (inside the lattice).
     std::uint32_t radius(glm::uvec2 p) const {
         const std::uint32_t mask = (1u << cell_bits) - 1u;
-        return shared::field_interpolate(cell_nodes(p.x >> cell_bits, p.y >> cell_bits),
-                                         glm::uvec2(p.x & mask, p.y & mask), cell_bits);
+        const glm::uvec2 f(p.x & mask, p.y & mask);
+        if (const Patch* q = patch(p.x >> cell_bits, p.y >> cell_bits)) [[unlikely]] {
+            const PatchCell c = patch_cell(*q, f);
+            return shared::field_interpolate(c.v, f - c.corner, c.bits);
+        }
+        return shared::field_interpolate(cell_nodes(p.x >> cell_bits, p.y >> cell_bits), f, cell_bits);
     }
     // Starts fetching the nodes radius(p) reads.
     void prefetch(glm::uvec2 p) const {
@@ -74,9 +114,10 @@ struct FieldTable {
     // The same over a square of half-width `reach` around p (wrapping on a torus, clipped to a free box).
     std::uint32_t max_near(glm::uvec2 p, std::uint64_t reach) const;
     FieldStats stats() const;
-    // The bytes the nodes and the pyramids hold.
+    // The bytes the nodes, the patches and the pyramids hold.
     std::uint64_t bytes() const {
-        std::uint64_t n = nodes.capacity();
+        std::uint64_t n = nodes.capacity() + patch_nodes.capacity() + patch_rank.capacity() + 2 * patched.capacity() +
+                          patches.capacity() * sizeof(Patch) / 4;
         for (std::size_t k = 0; k < lo.size(); ++k) n += lo[k].capacity() + hi[k].capacity();
         return 4 * n;
     }

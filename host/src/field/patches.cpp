@@ -1,0 +1,414 @@
+// Patches of a sizing field's table (field/patches.h). A bilinear cell across a kink is off by
+// about the slope's jump times the cell's side, so it converges only linearly: refining the whole
+// table to the target there would take far more nodes than samples. A patch refines one cell to
+// the depth its own error asks; the worst cells are deepened first, within a budget of nodes.
+#include "patches.h"
+
+#include <algorithm>
+#include <mutex>
+#include <string>
+
+namespace vrpd::detail {
+namespace {
+
+constexpr std::uint32_t kMaxDepth = 8;
+
+// The nodes of a patch of depth k (none at depth 0: the table cell's own four).
+std::uint64_t nodes_at(std::uint32_t k) {
+    return k == 0 ? 0 : ((std::uint64_t(1) << k) + 1) * ((std::uint64_t(1) << k) + 1);
+}
+
+// The interpolant of a patch's nodes (the even entries of `grid`, m + 1 a side) at (u, v), in
+// the table cell's units.
+double interpolate(const std::vector<double>& grid, std::uint32_t m, double u, double v) {
+    const std::uint32_t n = m / 2;
+    const double fx = u * n, fy = v * n;
+    const std::uint32_t p = std::min(std::uint32_t(fx), n - 1), q = std::min(std::uint32_t(fy), n - 1);
+    const double tx = fx - p, ty = fy - q;
+    auto at = [&](std::uint32_t a, std::uint32_t b) { return grid[std::size_t(2 * b) * (m + 1) + 2 * a]; };
+    return (at(p, q) * (1 - tx) + at(p + 1, q) * tx) * (1 - ty) + (at(p, q + 1) * (1 - tx) + at(p + 1, q + 1) * tx) * ty;
+}
+
+// The largest relative distance between a patch's interpolant and the source at the points of
+// its grid between its nodes.
+double patch_error(const PatchDraft& p) {
+    const std::uint32_t m = 2u << p.depth;
+    double e = 0;
+    std::size_t k = 0;  // the next entry of p.outside
+    for (std::uint32_t b = 0; b <= m; ++b)
+        for (std::uint32_t a = b % 2 == 0 ? 1 : 0; a <= m; a += b % 2 == 0 ? 2 : 1) {
+            const std::uint32_t at = b * (m + 1) + a;
+            if (k < p.outside.size() && p.outside[k].at == at) {
+                const PatchDraft::Outside& o = p.outside[k++];
+                e = std::max(e, std::abs(interpolate(p.grid, m, o.u, o.v) - o.source) / o.source);
+                continue;
+            }
+            e = std::max(e, std::abs(interpolate(p.grid, m, double(a) / m, double(b) / m) - p.grid[at]) / p.grid[at]);
+        }
+    return e;
+}
+
+struct Source {
+    const FieldSource& f;
+    const Box& box;
+    const TableDraft& d;
+    bool periodic;
+
+    // Point (a, b) of table cell c's grid of m cells a side, in box coordinates: the same double
+    // as any coarser grid's for the same point (m a power of two); on a torus the last row and
+    // column are the first.
+    std::pair<double, double> point(std::uint32_t c, std::uint32_t m, std::uint32_t a, std::uint32_t b) const {
+        std::uint64_t x = std::uint64_t(c % d.cells_x) * m + a, y = std::uint64_t(c / d.cells_x) * m + b;
+        if (periodic && x == std::uint64_t(d.cells_x) * m) x = 0;
+        if (periodic && y == std::uint64_t(d.cells_y) * m) y = 0;
+        const double step = d.h / m;
+        return {double(x) * step, double(y) * step};
+    }
+
+    // Patch p one level deeper: its grid's entries become the even ones of a grid twice as fine,
+    // the source at the others; then its error.
+    void deepen(PatchDraft& p) const {
+        const std::uint32_t m = 2u << p.depth, fine = 2 * m;
+        std::vector<double> grid(std::size_t(fine + 1) * (fine + 1));
+        std::vector<double> xs, ys, vs;
+        std::vector<std::uint32_t> at;
+        const std::size_t fresh = grid.size() - std::size_t(m + 1) * (m + 1);
+        xs.reserve(fresh);
+        ys.reserve(fresh);
+        at.reserve(fresh);
+        for (std::uint32_t b = 0; b <= fine; ++b)
+            for (std::uint32_t a = 0; a <= fine; ++a) {
+                const std::uint32_t k = b * (fine + 1) + a;
+                if (a % 2 == 0 && b % 2 == 0) {
+                    grid[k] = p.grid[std::size_t(b / 2) * (m + 1) + a / 2];
+                    continue;
+                }
+                const auto [x, y] = point(p.cell, fine, a, b);
+                xs.push_back(x);
+                ys.push_back(y);
+                at.push_back(k);
+            }
+        vs.resize(xs.size());
+        f(xs.data(), ys.data(), vs.data(), xs.size());
+        p.outside.clear();
+        const double x0 = double(p.cell % d.cells_x) * d.h, y0 = double(p.cell / d.cells_x) * d.h;
+        for (std::size_t k = 0; k < xs.size(); ++k) {
+            grid[at[k]] = node_value(f, box, xs[k], ys[k], vs[k]);
+            if (xs[k] <= box.width && ys[k] <= box.height) continue;
+            const double x = std::min(xs[k], box.width), y = std::min(ys[k], box.height);
+            p.outside.push_back({at[k], (x - x0) / d.h, (y - y0) / d.h, source_at(f, x, y)});
+        }
+        p.grid = std::move(grid);
+        ++p.depth;
+        p.error = patch_error(p);
+    }
+
+    // Table cell c as a patch of depth 0: its 3 x 3 points of the draft's finer grid.
+    PatchDraft first(std::uint32_t c) const {
+        PatchDraft p;
+        p.cell = c;
+        const std::size_t row = 2 * std::size_t(d.cells_x) + 1, i = c % d.cells_x, j = c / d.cells_x;
+        for (std::size_t b = 0; b < 3; ++b)
+            for (std::size_t a = 0; a < 3; ++a) p.grid.push_back(d.fine[(2 * j + b) * row + 2 * i + a]);
+        return p;
+    }
+};
+
+// Calls visit(n, edge) for each table cell n sharing an edge with cell c (on a torus, around):
+// edge 0 below c, 1 above, 2 left, 3 right.
+template <typename Visit>
+void each_neighbour(std::uint32_t c, const TableDraft& d, bool periodic, Visit&& visit) {
+    const std::int64_t i = c % d.cells_x, j = c / d.cells_x;
+    constexpr int kStep[4][2] = {{0, -1}, {0, 1}, {-1, 0}, {1, 0}};
+    for (int edge = 0; edge < 4; ++edge) {
+        std::int64_t x = i + kStep[edge][0], y = j + kStep[edge][1];
+        if (periodic) {
+            x = (x + d.cells_x) % d.cells_x;
+            y = (y + d.cells_y) % d.cells_y;
+        } else if (x < 0 || y < 0 || x >= d.cells_x || y >= d.cells_y) {
+            continue;
+        }
+        visit(std::uint32_t(y * d.cells_x + x), edge);
+    }
+}
+
+// Puts patch p's nodes on an edge shared with a cell of lesser depth (a table cell without a
+// patch: depth 0) on that cell's edge, linear between its nodes there, and moves the nodes behind
+// each by the same amount fading linearly to nothing at the opposite edge: a step at the edge
+// would be as steep as the coarser cell's distance from the source over one patch cell. The
+// other edges do not move (the amount is 0 at the edge's ends), so the patch stays continuous
+// with every neighbour. The neighbours' nodes are read from `patches` (slot[c]: cell c's patch,
+// or -1), as drafted: the coarser side of an edge never moves, so each patch conforms alone.
+void conform(PatchDraft& p, const std::vector<PatchDraft>& patches, const std::vector<std::int32_t>& slot,
+             const TableDraft& d, bool periodic) {
+    // Node (s, r) of a patch of `side` cells a side, in its grid.
+    auto node = [](auto& grid, std::uint32_t side, std::uint32_t s, std::uint32_t r) -> auto& {
+        return grid[std::size_t(2 * r) * (2 * side + 1) + 2 * s];
+    };
+    const std::uint32_t n = 1u << p.depth;
+    each_neighbour(p.cell, d, periodic, [&](std::uint32_t c, int edge) {
+        const PatchDraft* q = slot[c] < 0 ? nullptr : &patches[std::size_t(slot[c])];
+        const std::uint32_t depth = q ? q->depth : 0;
+        if (depth >= p.depth) return;
+        // Node k of this patch along the shared edge, and node k of the neighbour's.
+        auto mine = [&](std::uint32_t k) -> double& {
+            return edge == 0   ? node(p.grid, n, k, 0)
+                   : edge == 1 ? node(p.grid, n, k, n)
+                   : edge == 2 ? node(p.grid, n, 0, k)
+                               : node(p.grid, n, n, k);
+        };
+        const std::uint32_t nn = 1u << depth;
+        std::vector<double> theirs(nn + 1);
+        for (std::uint32_t k = 0; k <= nn; ++k)
+            theirs[k] = !q           ? mine(k == 0 ? 0 : n)
+                        : edge == 0 ? node(q->grid, nn, k, nn)
+                        : edge == 1 ? node(q->grid, nn, k, 0)
+                        : edge == 2 ? node(q->grid, nn, nn, k)
+                                    : node(q->grid, nn, 0, k);
+        // Node k along the edge at row t from it (t = 0: the edge).
+        auto inward = [&](std::uint32_t k, std::uint32_t t) -> double& {
+            return edge == 0   ? node(p.grid, n, k, t)
+                   : edge == 1 ? node(p.grid, n, k, n - t)
+                   : edge == 2 ? node(p.grid, n, t, k)
+                               : node(p.grid, n, n - t, k);
+        };
+        for (std::uint32_t k = 1; k < n; ++k) {
+            const double at = double(k) * nn / n;
+            const std::uint32_t seg = std::min(std::uint32_t(at), nn - 1);
+            const double w = at - seg;
+            const double moved = theirs[seg] * (1 - w) + theirs[seg + 1] * w - mine(k);
+            for (std::uint32_t t = 0; t < n; ++t) inward(k, t) += moved * double(n - t) / n;
+        }
+    });
+}
+
+// Deepens each patch while more(p), on the pool's threads. A point between the nodes that is not
+// a radius stops the run; the lowest cell's reason is given, so the message does not depend on
+// timing.
+template <typename More>
+void deepen(ThreadPool& pool, const Source& source, std::vector<PatchDraft>& patches, More&& more) {
+    std::mutex mutex;
+    std::uint32_t failed = UINT32_MAX;
+    std::string message;
+    pool.parallel_for(
+        patches.size(),
+        [&](std::size_t begin, std::size_t end, unsigned) {
+            for (std::size_t k = begin; k < end; ++k) {
+                PatchDraft& p = patches[k];
+                try {
+                    while (more(p)) source.deepen(p);
+                } catch (const Error& e) {
+                    const std::lock_guard lock(mutex);
+                    if (p.cell < failed) failed = p.cell, message = e.what();
+                }
+            }
+        },
+        4);
+    if (failed != UINT32_MAX) throw Error(message);
+}
+
+// Raises depths until no cell is more than one level deeper than a cell sharing an edge with it
+// (on a torus, around), so that a patch's edge conforms to a neighbour's at most one level
+// coarser: one that is itself within the target there.
+void grade(std::vector<std::uint8_t>& depth, std::uint32_t cells_x, std::uint32_t cells_y, bool periodic) {
+    for (bool changed = true; changed;) {
+        changed = false;
+        for (std::uint32_t j = 0; j < cells_y; ++j)
+            for (std::uint32_t i = 0; i < cells_x; ++i) {
+                const std::uint8_t k = depth[std::size_t(j) * cells_x + i];
+                if (k <= 1) continue;
+                auto raise = [&](std::int64_t x, std::int64_t y) {
+                    if (periodic) {
+                        x = (x + cells_x) % cells_x;
+                        y = (y + cells_y) % cells_y;
+                    } else if (x < 0 || y < 0 || x >= cells_x || y >= cells_y) {
+                        return;
+                    }
+                    std::uint8_t& n = depth[std::size_t(y) * cells_x + std::size_t(x)];
+                    if (n + 1 < k) n = std::uint8_t(k - 1), changed = true;
+                };
+                raise(std::int64_t(i) - 1, j);
+                raise(std::int64_t(i) + 1, j);
+                raise(i, std::int64_t(j) - 1);
+                raise(i, std::int64_t(j) + 1);
+            }
+    }
+}
+
+}  // namespace
+
+std::vector<PatchDraft> draft_patches(ThreadPool& pool, const FieldSource& f, const Box& box, const TableDraft& d,
+                                      const std::vector<double>& cell_error, double target, std::uint64_t budget,
+                                      double& error) {
+    const bool periodic = box.boundary == Boundary::Periodic;
+    const std::size_t cells = cell_error.size();
+    // Each cell past the target at the depth that halving its error per level would take (a
+    // kink's rate; a smooth field's error falls four times faster), the depths graded so that
+    // neighbours differ by at most one level. Patches are made only if all of them fit the budget.
+    std::vector<std::uint8_t> depth(cells, 0);
+    std::vector<std::uint32_t> over;
+    for (std::uint32_t c = 0; c < cells; ++c) {
+        if (cell_error[c] <= target) continue;
+        const double levels = std::ceil(std::log2(cell_error[c] / target));
+        if (levels > kMaxDepth) return {};  // a jump, or a kink too sharp for the deepest patch
+        depth[c] = std::uint8_t(std::max(1.0, levels));
+        over.push_back(c);
+    }
+    if (over.empty()) return {};
+    std::uint64_t least = 0;  // before grading
+    for (std::uint32_t c : over) least += nodes_at(depth[c]);
+    if (least > budget) return {};
+    auto graded_nodes = [&] {
+        grade(depth, d.cells_x, d.cells_y, periodic);
+        std::uint64_t n = 0;
+        for (std::uint8_t k : depth) n += nodes_at(k);
+        return n;
+    };
+    if (graded_nodes() > budget) return {};
+    // Then each such cell deepened while its measured error exceeds the target, the depths graded
+    // again, and the cells below their graded depth deepened to it.
+    const Source source{f, box, d, periodic};
+    std::vector<PatchDraft> patches;
+    std::vector<std::int32_t> slot(cells, -1);  // each cell's patch, or -1
+    // `depth` becomes the depth each cell is wanted at: each patch goes at least that deep, and on
+    // while its error exceeds the target, and the depths are graded again, until they hold.
+    std::fill(depth.begin(), depth.end(), 0);
+    for (std::uint32_t c : over) depth[c] = 1;
+    auto open = [&](std::uint32_t c) {
+        if (slot[c] >= 0) return;
+        slot[c] = std::int32_t(patches.size());
+        patches.push_back(source.first(c));
+    };
+    auto wanted = [&](const PatchDraft& p) {
+        return p.depth < depth[p.cell] || (p.error > target && p.depth < kMaxDepth);
+    };
+    for (;;) {
+        for (std::uint32_t c = 0; c < cells; ++c)
+            if (depth[c] > 0) open(c);
+        deepen(pool, source, patches, wanted);
+        for (const PatchDraft& p : patches) {
+            if (p.error > target) return {};  // past the deepest patch
+            depth[p.cell] = std::max(depth[p.cell], std::uint8_t(p.depth));
+        }
+        if (graded_nodes() > 2 * budget) return {};
+        if (std::none_of(patches.begin(), patches.end(), [&](const PatchDraft& p) { return p.depth < depth[p.cell]; }))
+            break;
+    }
+    // Where conforming to a coarser neighbour takes a patch past the target (the neighbour's edge,
+    // within the target at its own points, is not at the finer ones, as where a kink crosses it),
+    // the neighbour goes as deep, its own neighbours graded after it; each cell changed is checked
+    // again. Depths only grow, so this ends.
+    std::vector<std::uint32_t> work;
+    std::vector<bool> queued(cells, false);
+    auto queue = [&](std::uint32_t c) {
+        if (slot[c] >= 0 && !queued[c]) queued[c] = true, work.push_back(c);
+    };
+    for (const PatchDraft& p : patches) queue(p.cell);
+    bool deepest = false;  // a patch past the target at the deepest level
+    auto raise = [&](auto&& self, std::uint32_t c, std::uint32_t k) -> void {
+        if (k == 0 || depth[c] >= k) return;
+        depth[c] = std::uint8_t(k);
+        open(c);
+        PatchDraft& p = patches[std::size_t(slot[c])];
+        while (wanted(p)) source.deepen(p);
+        deepest |= p.error > target;
+        queue(c);
+        each_neighbour(c, d, periodic, [&](std::uint32_t n, int) {
+            queue(n);
+            self(self, n, k - 1);
+        });
+    };
+    while (!work.empty() && !deepest) {
+        const std::uint32_t c = work.back();
+        work.pop_back();
+        queued[c] = false;
+        const std::uint32_t k = patches[std::size_t(slot[c])].depth;
+        bool coarser = false;
+        each_neighbour(c, d, periodic, [&](std::uint32_t n, int) { coarser |= depth[n] < k; });
+        if (!coarser) continue;
+        PatchDraft q = patches[std::size_t(slot[c])];
+        conform(q, patches, slot, d, periodic);
+        if (patch_error(q) <= target) continue;
+        each_neighbour(c, d, periodic, [&](std::uint32_t n, int) { raise(raise, n, k); });
+    }
+    std::uint64_t nodes = 0;
+    for (const PatchDraft& p : patches) nodes += nodes_at(p.depth);
+    if (deepest || nodes > 2 * budget) return {};
+    // Conforming in place: a patch reads only its coarser neighbours' edges, which it never moves.
+    for (PatchDraft& p : patches) {
+        conform(p, patches, slot, d, periodic);
+        p.error = patch_error(p);
+    }
+    std::sort(patches.begin(), patches.end(), [](const PatchDraft& a, const PatchDraft& b) { return a.cell < b.cell; });
+    error = 0;
+    for (std::uint32_t c = 0; c < cells; ++c)
+        if (slot[c] < 0) error = std::max(error, cell_error[c]);
+    for (const PatchDraft& p : patches) error = std::max(error, p.error);
+    return patches;
+}
+
+void install_patches(FieldTable& t, const std::vector<PatchDraft>& patches) {
+    if (patches.empty()) return;
+    const std::size_t cells = std::size_t(t.cells_x) * t.cells_y;
+    t.patched.assign((cells + 63) / 64, 0);
+    t.patch_rank.assign(t.patched.size(), 0);
+    for (const PatchDraft& p : patches) {
+        const std::uint32_t n = 1u << p.depth, m = 2 * n;
+        FieldTable::Patch q{std::uint32_t(t.patch_nodes.size()), p.depth, UINT32_MAX, 0};
+        for (std::uint32_t r = 0; r <= n; ++r)
+            for (std::uint32_t s = 0; s <= n; ++s) {
+                const double v = p.grid[std::size_t(2 * r) * (m + 1) + 2 * s];
+                const double units = std::round(v / t.quantum);
+                if (units >= 4294967295.0)
+                    throw Error(fmt::format("the field's radius {:.6g} is too large for the lattice of this box", v));
+                const std::uint32_t node = std::max<std::uint32_t>(1, std::uint32_t(units));
+                t.patch_nodes.push_back(node);
+                q.lo = std::min(q.lo, node);
+                q.hi = std::max(q.hi, node);
+            }
+        t.patches.push_back(q);
+        t.patched[p.cell >> 6] |= std::uint64_t(1) << (p.cell & 63);
+    }
+    std::uint32_t before = 0;
+    for (std::size_t w = 0; w < t.patched.size(); ++w) {
+        t.patch_rank[w] = before;
+        before += std::uint32_t(std::popcount(t.patched[w]));
+    }
+}
+
+void patch_bounds(FieldTable& t, double& steepest) {
+    const std::uint32_t last_x = t.lattice.extent_x - 1, last_y = t.lattice.extent_y - 1;
+    std::size_t k = 0;  // the next patch
+    for (std::size_t w = 0; w < t.patched.size(); ++w)
+        for (std::uint64_t word = t.patched[w]; word != 0; word &= word - 1) {
+            const std::size_t c = w * 64 + std::size_t(std::countr_zero(word));
+            const FieldTable::Patch& q = t.patches[k++];
+            const std::uint32_t n = 1u << q.depth, bits = t.cell_bits - q.depth;
+            const std::uint64_t x0 = std::uint64_t(c % t.cells_x) << t.cell_bits,
+                                y0 = std::uint64_t(c / t.cells_x) << t.cell_bits;
+            auto at = [&](std::uint32_t s, std::uint32_t r) { return double(t.patch_nodes[q.first + r * (n + 1) + s]); };
+            for (std::uint32_t r = 0; r <= n; ++r)
+                for (std::uint32_t s = 0; s <= n; ++s) {
+                    const std::uint64_t x = x0 + (std::uint64_t(s) << bits), y = y0 + (std::uint64_t(r) << bits);
+                    if ((x > last_x && s > 0 && x - (std::uint64_t(1) << bits) > last_x) ||
+                        (y > last_y && r > 0 && y - (std::uint64_t(1) << bits) > last_y))
+                        continue;
+                    if ((x > last_x && s == 0) || (y > last_y && r == 0)) continue;
+                    const std::uint32_t v = t.radius({std::uint32_t(std::min<std::uint64_t>(x, last_x)),
+                                                      std::uint32_t(std::min<std::uint64_t>(y, last_y))});
+                    t.box_lo = std::min(t.box_lo, v);
+                    t.box_hi = std::max(t.box_hi, v);
+                }
+            // A patch cell of side 2^-depth table cells: its gradient scaled up by 2^depth.
+            for (std::uint32_t r = 0; r < n; ++r)
+                for (std::uint32_t s = 0; s < n; ++s) {
+                    const double v00 = at(s, r), v10 = at(s + 1, r), v01 = at(s, r + 1), v11 = at(s + 1, r + 1);
+                    for (double gx : {v10 - v00, v11 - v01})
+                        for (double gy : {v01 - v00, v11 - v10})
+                            if ((std::abs(gx) + std::abs(gy)) * n > steepest)
+                                steepest = std::max(steepest, std::hypot(gx, gy) * n);
+                }
+        }
+}
+
+}  // namespace vrpd::detail

@@ -1,0 +1,81 @@
+// Patches of a sizing field's table (field/table.h, FieldTable::Patch): finer grids over the
+// table cells whose bilinear interpolant strays from the source, as at a kink.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "table.h"
+#include "../cpu/thread_pool.h"
+
+namespace vrpd::detail {
+
+// v = r(x, y), a point of the box; throws unless v is a radius.
+inline double checked_radius(double v, double x, double y) {
+    if (!(std::isfinite(v) && v > 0))
+        throw Error(
+            fmt::format("sizing field: r({:.6g}, {:.6g}) = {}; it must be a finite number > 0 everywhere in "
+                        "the box",
+                        x, y, v));
+    return v;
+}
+
+// The source at one point of the box, checked.
+inline double source_at(const FieldSource& f, double x, double y) {
+    double v;
+    f(&x, &y, &v, 1);
+    return checked_radius(v, x, y);
+}
+
+// A table node's value from the source's value v at (x, y): inside the box v, checked; past a
+// free box's edge v if it is a radius, else the source at the edge.
+inline double node_value(const FieldSource& f, const Box& box, double x, double y, double v) {
+    if (x <= box.width && y <= box.height) return checked_radius(v, x, y);
+    return std::isfinite(v) && v > 0 ? v : source_at(f, std::min(x, box.width), std::min(y, box.height));
+}
+
+// The table's nodes before rounding: (cells_x + 1) x (cells_y + 1) values over cells of side h,
+// and the source halfway between them, (2 cells_x + 1) x (2 cells_y + 1) values, row by row.
+struct TableDraft {
+    const double* values;
+    const double* fine;
+    std::uint32_t cells_x, cells_y;
+    double h;
+};
+
+// A patch before rounding: table cell `cell` (row by row) at `depth`, and `grid`, the source on
+// the grid twice as fine, (2^(depth+1) + 1)^2 values row by row, whose even entries are the
+// patch's nodes (those on an edge shared with a coarser cell made to lie on that cell's edge).
+// A grid point past a free box's edge is judged at the edge instead: `outside` holds, in index
+// order, each such point's index, the point at the edge (in the cell's units) and the source there.
+struct PatchDraft {
+    struct Outside {
+        std::uint32_t at;
+        double u, v, source;
+    };
+    std::uint32_t cell = 0, depth = 0;
+    double error = 0;  // the interpolant's largest relative distance from the source over the grid
+    std::vector<double> grid;
+    std::vector<Outside> outside;
+};
+
+// Patches the table cells whose error (cell_error: the largest relative distance at the cell's
+// centre and edge midpoints) exceeds `target`, the worst first, and deepens each while it does,
+// within `budget` patch nodes. Returns them in cell order; `error` (in: the table's error without
+// patches) becomes the patched table's.
+std::vector<PatchDraft> draft_patches(ThreadPool& pool, const FieldSource& f, const Box& box, const TableDraft& d,
+                                      const std::vector<double>& cell_error, double target, std::uint64_t budget,
+                                      double& error);
+
+// Gives t (its lattice and quantum set) the patches' nodes in lattice units, indexed by cell.
+void install_patches(FieldTable& t, const std::vector<PatchDraft>& patches);
+
+// Adds the patches to t's bounds: the box's least and greatest r at the nodes (as its table
+// nodes are taken, clipped to the box), and `steepest`, the largest gradient over their cells
+// (in node units per table cell).
+void patch_bounds(FieldTable& t, double& steepest);
+
+}  // namespace vrpd::detail
