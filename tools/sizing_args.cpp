@@ -74,8 +74,8 @@ void print_field_summary(const Sampling& s, const Sizing& sizing, std::ostream& 
     if (f.tabulation_error > 0.001)
         out << fmt::format(
             "vrpd: warning: the table is {:.3g} % from the source somewhere (more than 0.1 %): at a kink or "
-            "a jump (on a torus, a field that does not wrap) the lattice or the table's node budget stopped "
-            "its refinement\n",
+            "a jump (on a torus, a field that does not wrap) the lattice or the node budgets (the table's, "
+            "and its patches' at kinks) stopped its refinement\n",
             100 * f.tabulation_error);
 }
 
