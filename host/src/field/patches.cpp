@@ -401,13 +401,8 @@ void patch_bounds(FieldTable& t, double& steepest) {
                 }
             // A patch cell of side 2^-depth table cells: its gradient scaled up by 2^depth.
             for (std::uint32_t r = 0; r < n; ++r)
-                for (std::uint32_t s = 0; s < n; ++s) {
-                    const double v00 = at(s, r), v10 = at(s + 1, r), v01 = at(s, r + 1), v11 = at(s + 1, r + 1);
-                    for (double gx : {v10 - v00, v11 - v01})
-                        for (double gy : {v01 - v00, v11 - v10})
-                            if ((std::abs(gx) + std::abs(gy)) * n > steepest)
-                                steepest = std::max(steepest, std::hypot(gx, gy) * n);
-                }
+                for (std::uint32_t s = 0; s < n; ++s)
+                    raise_steepest(steepest, at(s, r), at(s + 1, r), at(s, r + 1), at(s + 1, r + 1), n);
         }
 }
 

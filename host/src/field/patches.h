@@ -2,6 +2,7 @@
 // table cells whose bilinear interpolant strays from the source, as at a kink.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -35,6 +36,17 @@ inline double source_at(const FieldSource& f, double x, double y) {
 inline double node_value(const FieldSource& f, const Box& box, double x, double y, double v) {
     if (x <= box.width && y <= box.height) return checked_radius(v, x, y);
     return std::isfinite(v) && v > 0 ? v : source_at(f, std::min(x, box.width), std::min(y, box.height));
+}
+
+// Raises `steepest` to the largest gradient of the interpolant of a cell with nodes v00, v10,
+// v01, v11 (x first), in node units per cell side times `scale`. It is largest at a corner
+// (|grad|^2 is convex on the cell); |gx| + |gy|, exact, bounds hypot's value, so a corner whose
+// sum is no more than the largest so far is passed over.
+inline void raise_steepest(double& steepest, double v00, double v10, double v01, double v11, double scale) {
+    for (double gx : {v10 - v00, v11 - v01})
+        for (double gy : {v01 - v00, v11 - v10})
+            if ((std::abs(gx) + std::abs(gy)) * scale > steepest)
+                steepest = std::max(steepest, std::hypot(gx, gy) * scale);
 }
 
 // The table's nodes before rounding: (cells_x + 1) x (cells_y + 1) values over cells of side h,

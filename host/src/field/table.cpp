@@ -359,18 +359,13 @@ FieldTable tabulate(const Sizing& s, const Box& box, unsigned threads) {
             t.box_lo = std::min(t.box_lo, r);
             t.box_hi = std::max(t.box_hi, r);
         }
-    // The interpolant's gradient is largest at a table cell's corner (|grad|^2 is convex on the cell).
-    // |gx| + |gy|, exact, bounds hypot's value: a corner whose sum is no more than the largest
-    // length so far cannot raise it.
+    // The interpolant's L: its steepest gradient over the cells (patch_bounds takes a patched
+    // cell's).
     double steepest = 0;
     for (std::uint32_t j = 0; j < t.cells_y; ++j)
-        for (std::uint32_t i = 0; i < t.cells_x; ++i) {
-            if (t.patch(i, j)) continue;  // patch_bounds takes its cells'
-            const double v00 = t.node(i, j), v10 = t.node(i + 1, j), v01 = t.node(i, j + 1), v11 = t.node(i + 1, j + 1);
-            for (double gx : {v10 - v00, v11 - v01})
-                for (double gy : {v01 - v00, v11 - v10})
-                    if (std::abs(gx) + std::abs(gy) > steepest) steepest = std::max(steepest, std::hypot(gx, gy));
-        }
+        for (std::uint32_t i = 0; i < t.cells_x; ++i)
+            if (!t.patch(i, j))
+                raise_steepest(steepest, t.node(i, j), t.node(i + 1, j), t.node(i, j + 1), t.node(i + 1, j + 1), 1);
     patch_bounds(t, steepest);
     t.lipschitz = steepest / double(1u << t.cell_bits);
     t.rule = std::uint32_t(s.rule);
