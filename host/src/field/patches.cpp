@@ -40,7 +40,7 @@ double patch_error(const PatchDraft& p) {
             const std::uint32_t at = b * (m + 1) + a;
             if (k < p.outside.size() && p.outside[k].at == at) {
                 const PatchDraft::Outside& o = p.outside[k++];
-                e = std::max(e, std::abs(interpolate(p.grid, m, o.u, o.v) - o.source) / o.source);
+                if (o.source > 0) e = std::max(e, std::abs(interpolate(p.grid, m, o.u, o.v) - o.source) / o.source);
                 continue;
             }
             e = std::max(e, std::abs(interpolate(p.grid, m, double(a) / m, double(b) / m) - p.grid[at]) / p.grid[at]);
@@ -95,8 +95,10 @@ struct Source {
         for (std::size_t k = 0; k < xs.size(); ++k) {
             grid[at[k]] = node_value(f, box, xs[k], ys[k], vs[k]);
             if (xs[k] <= box.width && ys[k] <= box.height) continue;
+            // A cell wholly past the edge has nothing to judge there.
             const double x = std::min(xs[k], box.width), y = std::min(ys[k], box.height);
-            p.outside.push_back({at[k], (x - x0) / d.h, (y - y0) / d.h, source_at(f, x, y)});
+            const bool judged = x >= x0 && y >= y0;
+            p.outside.push_back({at[k], (x - x0) / d.h, (y - y0) / d.h, judged ? source_at(f, x, y) : 0.0});
         }
         p.grid = std::move(grid);
         ++p.depth;
@@ -399,10 +401,12 @@ void patch_bounds(FieldTable& t, double& steepest) {
                     t.box_lo = std::min(t.box_lo, v);
                     t.box_hi = std::max(t.box_hi, v);
                 }
-            // A patch cell of side 2^-depth table cells: its gradient scaled up by 2^depth.
+            // A patch cell of side 2^-depth table cells: its gradient scaled up by 2^depth. Those
+            // wholly past a free box's lattice, where r is never read, are passed over.
             for (std::uint32_t r = 0; r < n; ++r)
                 for (std::uint32_t s = 0; s < n; ++s)
-                    raise_steepest(steepest, at(s, r), at(s + 1, r), at(s, r + 1), at(s + 1, r + 1), n);
+                    if (x0 + (std::uint64_t(s) << bits) <= last_x && y0 + (std::uint64_t(r) << bits) <= last_y)
+                        raise_steepest(steepest, at(s, r), at(s + 1, r), at(s, r + 1), at(s + 1, r + 1), n);
         }
 }
 

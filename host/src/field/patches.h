@@ -62,7 +62,8 @@ struct TableDraft {
 // the grid twice as fine, (2^(depth+1) + 1)^2 values row by row, whose even entries are the
 // patch's nodes (those on an edge shared with a coarser cell made to lie on that cell's edge).
 // A grid point past a free box's edge is judged at the edge instead: `outside` holds, in index
-// order, each such point's index, the point at the edge (in the cell's units) and the source there.
+// order, each such point's index, the point at the edge (in the cell's units) and the source there
+// (0, not judged, for a cell wholly past the edge).
 struct PatchDraft {
     struct Outside {
         std::uint32_t at;
