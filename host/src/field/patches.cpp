@@ -143,8 +143,10 @@ void each_neighbour(std::uint32_t c, const TableDraft& d, bool periodic, Visit&&
 // or -1), as drafted: the coarser side of an edge never moves, so each patch conforms alone.
 void conform(PatchDraft& p, const std::vector<PatchDraft>& patches, const std::vector<std::int32_t>& slot,
              const TableDraft& d, bool periodic) {
-    // Node (s, r) of a patch of `side` cells a side, in its grid.
-    auto node = [](auto& grid, std::uint32_t side, std::uint32_t s, std::uint32_t r) -> auto& {
+    // Node k along edge e (each_neighbour's numbering) of a patch of `side` cells a side, at row t
+    // from that edge (t = 0: the edge).
+    auto along = [](auto& grid, std::uint32_t side, int e, std::uint32_t k, std::uint32_t t) -> auto& {
+        const std::uint32_t s = e == 2 ? t : e == 3 ? side - t : k, r = e == 0 ? t : e == 1 ? side - t : k;
         return grid[std::size_t(2 * r) * (2 * side + 1) + 2 * s];
     };
     const std::uint32_t n = 1u << p.depth;
@@ -152,33 +154,18 @@ void conform(PatchDraft& p, const std::vector<PatchDraft>& patches, const std::v
         const PatchDraft* q = slot[c] < 0 ? nullptr : &patches[std::size_t(slot[c])];
         const std::uint32_t depth = q ? q->depth : 0;
         if (depth >= p.depth) return;
-        // Node k of this patch along the shared edge, and node k of the neighbour's.
-        auto mine = [&](std::uint32_t k) -> double& {
-            return edge == 0   ? node(p.grid, n, k, 0)
-                   : edge == 1 ? node(p.grid, n, k, n)
-                   : edge == 2 ? node(p.grid, n, 0, k)
-                               : node(p.grid, n, n, k);
-        };
+        // The neighbour's nodes along the shared edge (its opposite edge, edge ^ 1): without a
+        // patch, the edge's ends, which are this patch's too.
         const std::uint32_t nn = 1u << depth;
         std::vector<double> theirs(nn + 1);
         for (std::uint32_t k = 0; k <= nn; ++k)
-            theirs[k] = !q           ? mine(k == 0 ? 0 : n)
-                        : edge == 0 ? node(q->grid, nn, k, nn)
-                        : edge == 1 ? node(q->grid, nn, k, 0)
-                        : edge == 2 ? node(q->grid, nn, nn, k)
-                                    : node(q->grid, nn, 0, k);
-        // Node k along the edge at row t from it (t = 0: the edge).
-        auto inward = [&](std::uint32_t k, std::uint32_t t) -> double& {
-            return edge == 0   ? node(p.grid, n, k, t)
-                   : edge == 1 ? node(p.grid, n, k, n - t)
-                   : edge == 2 ? node(p.grid, n, t, k)
-                               : node(p.grid, n, n - t, k);
-        };
+            theirs[k] = q ? along(q->grid, nn, edge ^ 1, k, 0) : along(p.grid, n, edge, k == 0 ? 0 : n, 0);
+        auto inward = [&](std::uint32_t k, std::uint32_t t) -> double& { return along(p.grid, n, edge, k, t); };
         for (std::uint32_t k = 1; k < n; ++k) {
             const double at = double(k) * nn / n;
             const std::uint32_t seg = std::min(std::uint32_t(at), nn - 1);
             const double w = at - seg;
-            const double moved = theirs[seg] * (1 - w) + theirs[seg + 1] * w - mine(k);
+            const double moved = theirs[seg] * (1 - w) + theirs[seg + 1] * w - inward(k, 0);
             for (std::uint32_t t = 0; t < n; ++t) inward(k, t) += moved * double(n - t) / n;
         }
     });
@@ -212,28 +199,16 @@ void deepen(ThreadPool& pool, const Source& source, std::vector<PatchDraft>& pat
 // Raises depths until no cell is more than one level deeper than a cell sharing an edge with it
 // (on a torus, around), so that a patch's edge conforms to a neighbour's at most one level
 // coarser: one that is itself within the target there.
-void grade(std::vector<std::uint8_t>& depth, std::uint32_t cells_x, std::uint32_t cells_y, bool periodic) {
+void grade(std::vector<std::uint8_t>& depth, const TableDraft& d, bool periodic) {
     for (bool changed = true; changed;) {
         changed = false;
-        for (std::uint32_t j = 0; j < cells_y; ++j)
-            for (std::uint32_t i = 0; i < cells_x; ++i) {
-                const std::uint8_t k = depth[std::size_t(j) * cells_x + i];
-                if (k <= 1) continue;
-                auto raise = [&](std::int64_t x, std::int64_t y) {
-                    if (periodic) {
-                        x = (x + cells_x) % cells_x;
-                        y = (y + cells_y) % cells_y;
-                    } else if (x < 0 || y < 0 || x >= cells_x || y >= cells_y) {
-                        return;
-                    }
-                    std::uint8_t& n = depth[std::size_t(y) * cells_x + std::size_t(x)];
-                    if (n + 1 < k) n = std::uint8_t(k - 1), changed = true;
-                };
-                raise(std::int64_t(i) - 1, j);
-                raise(std::int64_t(i) + 1, j);
-                raise(i, std::int64_t(j) - 1);
-                raise(i, std::int64_t(j) + 1);
-            }
+        for (std::uint32_t c = 0; c < depth.size(); ++c) {
+            const std::uint8_t k = depth[c];
+            if (k <= 1) continue;
+            each_neighbour(c, d, periodic, [&](std::uint32_t n, int) {
+                if (depth[n] + 1 < k) depth[n] = std::uint8_t(k - 1), changed = true;
+            });
+        }
     }
 }
 
@@ -261,7 +236,7 @@ std::vector<PatchDraft> draft_patches(ThreadPool& pool, const FieldSource& f, co
     for (std::uint32_t c : over) least += nodes_at(depth[c]);
     if (least > budget) return {};
     auto graded_nodes = [&] {
-        grade(depth, d.cells_x, d.cells_y, periodic);
+        grade(depth, d, periodic);
         std::uint64_t n = 0;
         for (std::uint8_t k : depth) n += nodes_at(k);
         return n;
