@@ -142,6 +142,45 @@ void check_rows(const std::vector<DeviceSample>& rows, const Sampling& expected)
 
 }  // namespace
 
+TEST_CASE("a varying sizing field on the application's device: the host samples it, each row has r at it",
+          "[vulkan][gpu][field]") {
+    Application app;
+    const VulkanTarget target = app.target();
+    SampleOptions o = test::options(0, 4, Backend::Auto, {1, 1, Boundary::Free});
+    o.sizing = Sizing{"0.01 + 0.02*x", "", 0, 0, -1, SizingRule::Bigger, Weighting::Uniform};
+    SampleOptions on_cpu = o;
+    on_cpu.backend = Backend::Cpu;
+    const Sampling expected = sample(on_cpu);
+    REQUIRE(expected.local_radius.size() == expected.size());
+
+    const DeviceSamples made = sample_on(target, o);
+    CHECK(made.sampling.lattice == expected.lattice);
+    CHECK(made.sampling.choice.find("runs on the host") != std::string::npos);
+    VkMemoryRequirements req;
+    app.vk.vkGetBufferMemoryRequirements(app.device, made.buffer, &req);
+    if (app.device_local_readable(req.memoryTypeBits)) {
+        const std::vector<DeviceSample> rows = app.read(made.memory, expected.size());
+        for (std::size_t i = 0; i < rows.size(); ++i) {
+            INFO("sample " << i);
+            REQUIRE(rows[i].x == float(expected.point(i).x));
+            REQUIRE(rows[i].radius == float(expected.local_radius[i]));
+            REQUIRE(rows[i].radius >= 0.0099f);
+        }
+    }
+    app.vk.vkDestroyBuffer(app.device, made.buffer, nullptr);
+    app.vk.vkFreeMemory(app.device, made.memory, nullptr);
+
+    SampleOptions gpu = o, cpu = o;
+    gpu.backend = Backend::Gpu;
+    CHECK_THROWS_WITH(sample_on(target, gpu), Catch::Contains("Vulkan kernels are not built"));
+    cpu.backend = Backend::Cpu;
+    CHECK_THROWS_WITH(sample_on(target, cpu), Catch::Contains("needs the gpu backend"));
+    app.vk.vkDestroyDevice(app.device, nullptr);
+    app.device = VK_NULL_HANDLE;
+    INFO((app.messages.empty() ? std::string() : app.messages.front()));
+    CHECK(app.messages.empty());
+}
+
 TEST_CASE("sampling on the application's device: its buffer, the cpu backend's points, no validation message",
           "[vulkan][gpu][hierarchy]") {
     Application app;

@@ -28,7 +28,8 @@ struct VulkanTarget {
 
 // One sample in the buffer: 16 bytes, usable as a vertex attribute (R32G32B32A32_SFLOAT) or a
 // std430 vec4. x, y in box units; t its birth (1 for a direct run); radius = Rf at its birth
-// (t S Rf: the spacing of the level it belongs to, for point sizes).
+// (t S Rf: the spacing of the level it belongs to, for point sizes), or with a sizing field r at
+// the sample (Sampling::local_radius).
 struct DeviceSample {
     float x, y, t, radius;
 };
@@ -41,7 +42,9 @@ struct DeviceSamples {
 };
 
 // Samples `options` (its backend must be Auto or Gpu) on the target's device and writes the samples,
-// in birth order, to a buffer on it:
+// in birth order, to a buffer on it. A varying sizing field has no Vulkan kernels: under Auto the
+// host samples it (Sampling::choice says so) and the samples still go to the buffer; Gpu is refused.
+// The buffer:
 // - `into` = VK_NULL_HANDLE: vrpd allocates a device-local buffer (usage vertex, storage, transfer
 //   source and destination; exclusive to `queue_family`) and hands it over with its memory: the
 //   caller frees both (vkDestroyBuffer, vkFreeMemory) once its own use of them is complete.

@@ -44,6 +44,7 @@ Sampling sample_sized(const SampleOptions& o) {
     }
     if (o.backend == Backend::Gpu)
         throw Error("a varying sizing field runs on the cpu and serial backends; its Vulkan kernels are not built");
+    if (o.vulkan) choose_backend(o);  // refuses the cpu and serial backends beside the application's device
     Sampling s = sample_field(o, t);
     if (o.backend == Backend::Auto) s.choice = "a varying sizing field runs on the host";
     s.stats.seconds += tabulation;
