@@ -383,12 +383,28 @@ TEST_CASE("bad sizing input is refused with its reason", "[field]") {
     const std::string corrupt = (scratch_dir() / "corrupt.png").string();
     std::ofstream(corrupt, std::ios::binary) << "\x89PNG\r\n\x1a\n garbage";
     CHECK_THAT(image(corrupt, 0.01, 0.02), Catch::Contains("not a PNG or binary PGM"));
+    // A colour image is refused by its first pixel that is not grey; one whose pixels are all grey
+    // (red = green = blue) is the grey image.
     const std::string colour = (scratch_dir() / "colour.ppm").string();
-    {
+    const std::string greys = "\x10\x40\x80\xF0";
+    auto write_ppm = [&](char green) {
         std::ofstream out(colour, std::ios::binary);
-        out << "P6\n2 2\n255\n" << std::string(12, '\x40');
-    }
-    CHECK_THAT(image(colour, 0.01, 0.02), Catch::Contains("must be greyscale"));
+        out << "P6\n2 2\n255\n";
+        for (std::size_t i = 0; i < greys.size(); ++i) out << greys[i] << (i == 1 ? green : greys[i]) << greys[i];
+    };
+    write_ppm('\x41');
+    CHECK_THAT(image(colour, 0.01, 0.02),
+               Catch::Contains("not greyscale: its pixel (1, 0) is red 64, green 65, blue 64"));
+    write_ppm('\x40');
+    const std::string grey_pgm = (scratch_dir() / "grey_too.pgm").string();
+    std::ofstream(grey_pgm, std::ios::binary) << "P5\n2 2\n255\n" << greys;
+    SampleOptions from_colour = field_options("", SizingRule::Current, free, 0), from_grey = from_colour;
+    from_colour.sizing->image = colour;
+    from_grey.sizing->image = grey_pgm;
+    for (SampleOptions* o : {&from_colour, &from_grey}) o->sizing->r_min = 0.01, o->sizing->r_max = 0.03;
+    const Sampling a = sample(from_colour);
+    CHECK(a.field.r_max > a.field.r_min);
+    CHECK(a.lattice == sample(from_grey).lattice);
     // A binary PGM that ends before its pixels do (stb_image reads such pixels unchecked), with a
     // comment in its header; the same file whole is accepted.
     const std::string cut = (scratch_dir() / "cut.pgm").string();

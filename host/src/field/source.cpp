@@ -80,6 +80,23 @@ void check_pgm_length(std::FILE* file, const std::string& path) {
                                 field[0], field[1], need, end - pixels_at));
 }
 
+// Fills img.grey from decoded pixels of `n` channels, full scale `scale`: the first channel. A
+// colour image (n >= 3, palette images among them) is a grey one if every pixel has red = green =
+// blue, as many tools store grey; else Error names the first pixel that does not. Alpha is ignored.
+template <typename T>
+void take_grey(const T* px, int n, float scale, GreyImage& img, const std::string& path) {
+    for (std::size_t i = 0; i < img.grey.size(); ++i) {
+        const T* p = px + i * std::size_t(n);
+        if (n >= 3 && (p[0] != p[1] || p[1] != p[2]))
+            throw Error(
+                fmt::format("the sizing image {} is not greyscale: its pixel ({}, {}) is red {}, green {}, "
+                            "blue {}",
+                            path, i % std::size_t(img.width), i / std::size_t(img.width), unsigned(p[0]),
+                            unsigned(p[1]), unsigned(p[2])));
+        img.grey[i] = float(p[0]) / scale;
+    }
+}
+
 GreyImage load_grey(const std::string& path) {
     std::FILE* file = std::fopen(path.c_str(), "rb");
     if (!file) throw Error(fmt::format("cannot read the sizing image {}: {}", path, std::strerror(errno)));
@@ -88,8 +105,6 @@ GreyImage load_grey(const std::string& path) {
     if (!stbi_info_from_file(file, &w, &h, &channels))
         throw Error(fmt::format("the sizing image {} is not a PNG or binary PGM image stb_image can decode ({})", path,
                                 failure_reason()));
-    if (channels > 2)
-        throw Error(fmt::format("the sizing image {} has {} colour channels: it must be greyscale", path, channels));
     if (w > kMaxImageSide || h > kMaxImageSide)
         throw Error(
             fmt::format("the sizing image {} is {} x {} pixels; at most {} per side", path, w, h, kMaxImageSide));
@@ -98,16 +113,18 @@ GreyImage load_grey(const std::string& path) {
     img.height = h;
     check_pgm_length(file, path);
     img.grey.resize(std::size_t(w) * std::size_t(h));
-    const bool deep = stbi_is_16_bit_from_file(file);
+    // Grey (with or without alpha) decodes to one channel; colour keeps its channels to be checked.
+    const int want = channels >= 3 ? channels : 1;
     int cw = 0, ch = 0, cc = 0;
-    if (deep) {
-        std::unique_ptr<stbi_us, void (*)(void*)> px(stbi_load_from_file_16(file, &cw, &ch, &cc, 1), &stbi_image_free);
+    if (stbi_is_16_bit_from_file(file)) {
+        std::unique_ptr<stbi_us, void (*)(void*)> px(stbi_load_from_file_16(file, &cw, &ch, &cc, want),
+                                                     &stbi_image_free);
         if (!px) throw Error(fmt::format("cannot decode the sizing image {}: {}", path, failure_reason()));
-        for (std::size_t i = 0; i < img.grey.size(); ++i) img.grey[i] = float(px.get()[i]) / 65535.0f;
+        take_grey(px.get(), want, 65535.0f, img, path);
     } else {
-        std::unique_ptr<stbi_uc, void (*)(void*)> px(stbi_load_from_file(file, &cw, &ch, &cc, 1), &stbi_image_free);
+        std::unique_ptr<stbi_uc, void (*)(void*)> px(stbi_load_from_file(file, &cw, &ch, &cc, want), &stbi_image_free);
         if (!px) throw Error(fmt::format("cannot decode the sizing image {}: {}", path, failure_reason()));
-        for (std::size_t i = 0; i < img.grey.size(); ++i) img.grey[i] = float(px.get()[i]) / 255.0f;
+        take_grey(px.get(), want, 255.0f, img, path);
     }
     return img;
 }
