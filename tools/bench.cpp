@@ -173,10 +173,11 @@ int run_bench(const BenchOptions& o) {
             }
             const double pps = double(c.samples) / c.best_seconds;
             std::cout << fmt::format(
-                "{:>13} {:>7} {:>9} {:>8.5f} {:>9.3f} {:>10.3g} {:>8.2f} {:>7.2f} {:>9.1f} {:>8.1f} {:>8.1f}  {}\n",
-                label, backend_name(b), c.samples, radii.field.empty() ? double(c.samples) * radii.rc * radii.rc : 0.0,
-                c.best_seconds, pps,
-                1e6 / pps, double(c.darts) / double(c.samples), c.peak_bytes / (1 << 20),
+                "{:>13} {:>7} {:>9} {:>8} {:>9.3f} {:>10.3g} {:>8.2f} {:>7.2f} {:>9.1f} {:>8.1f} {:>8.1f}  {}\n", label,
+                backend_name(b), c.samples,
+                // A field has no one radius: its n r^2 is not a density.
+                radii.field.empty() ? fmt::format("{:.5f}", double(c.samples) * radii.rc * radii.rc) : "-",
+                c.best_seconds, pps, 1e6 / pps, double(c.darts) / double(c.samples), c.peak_bytes / (1 << 20),
                 c.peak_bytes / double(c.samples), c.array_bytes / double(c.samples), c.device);
             if (radii.steps != 0)
                 std::cout << fmt::format("{:>13} {:>7}  count_at: {:.1f} ns\n", "", "", c.count_at_ns);
