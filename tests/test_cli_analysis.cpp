@@ -2,9 +2,12 @@
 // numbers, and one line and exit 2 for bad input with no report left behind.
 #include <catch2/catch.hpp>
 
+#include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <string>
 
+#include <cairo.h>
 #include <nlohmann/json.hpp>
 
 #include "cli_support.h"
@@ -29,6 +32,24 @@ std::pair<unsigned, unsigned> png_size(const fs::path& p) {
     return {be(16), be(20)};
 }
 bool is_svg(const fs::path& p) { return slurp(p).find("<svg") != std::string::npos; }
+// The pixels of a PNG darker than mid-grey, read back by cairo.
+std::size_t dark_pixels(const fs::path& p) {
+    cairo_surface_t* s = cairo_image_surface_create_from_png(p.c_str());
+    std::size_t dark = 0;
+    if (cairo_surface_status(s) == CAIRO_STATUS_SUCCESS) {
+        const int w = cairo_image_surface_get_width(s), h = cairo_image_surface_get_height(s);
+        const int stride = cairo_image_surface_get_stride(s);
+        const unsigned char* data = cairo_image_surface_get_data(s);
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                std::uint32_t px;
+                std::memcpy(&px, data + std::size_t(y) * std::size_t(stride) + std::size_t(x) * 4, 4);
+                dark += ((px >> 16 & 0xFF) + (px >> 8 & 0xFF) + (px & 0xFF)) < 3 * 128;
+            }
+    }
+    cairo_surface_destroy(s);
+    return dark;
+}
 }  // namespace
 
 TEST_CASE("analyze: figures as PNG and SVG, and metrics.json with every number they show", "[cli][analysis]") {
@@ -88,6 +109,14 @@ TEST_CASE("plot: a PNG or an SVG, coloured by a column", "[cli][analysis]") {
     }
     REQUIRE(cli("plot " + coloured.string() + " --colour t -o " + (scratch() / "c.png").string()).code == 0);
     CHECK(is_png(scratch() / "c.png"));
+    // --disks: each point's disk of radius r/2 from its r column. One point of r = 0.4 in the
+    // 640-pixel square is a disk of 128 pixels' radius (about 51 000 pixels); as a dot, a few.
+    const fs::path sized = scratch() / "sized.csv";
+    std::ofstream(sized) << "x,y,r\n0.5,0.5,0.4\n";
+    REQUIRE(cli("plot " + sized.string() + " --disks -o " + (scratch() / "d.png").string()).code == 0);
+    REQUIRE(cli("plot " + sized.string() + " -o " + (scratch() / "e.png").string()).code == 0);
+    CHECK(dark_pixels(scratch() / "d.png") > 45000);
+    CHECK(dark_pixels(scratch() / "e.png") < 10000);
 }
 
 TEST_CASE("analyze, plot, figures: bad input is one line, exit 2, and leaves no report", "[cli][analysis]") {
@@ -105,6 +134,7 @@ TEST_CASE("analyze, plot, figures: bad input is one line, exit 2, and leaves no 
         "analyze " + file + " --out " + file,  // a file, not a directory
         "plot " + file + " --colour t -o " + (out / "p.png").string(),
         "plot " + file + " -o " + (scratch() / "p.jpg").string(),
+        "plot " + file + " --disks -o " + (out / "p.png").string(),  // no r column
         "figures --sets 0" + to,
     };
     for (const std::string& args : bad) {

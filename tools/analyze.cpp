@@ -185,6 +185,12 @@ int run_plot(const PlotOptions& o) {
     const PointSet set = read_point_set(o.file);
     figures::PointStyle style;
     style.disk_radius = o.radius / 2;
+    if (o.disks) {
+        if (o.radius > 0) throw Error("give --radius or --disks, not both");
+        const std::vector<double>* r = set.column("r");
+        if (!r) throw Error(fmt::format("{} has no r column for --disks (sample --sizing writes one)", o.file));
+        for (double v : *r) style.disk_radii.push_back(v / 2);
+    }
     if (!o.colour.empty()) {
         const std::vector<double>* values = set.column(o.colour);
         if (!values) throw Error(fmt::format("{} has no column '{}' to colour by", o.file, o.colour));

@@ -76,6 +76,7 @@ int run_analyze(const AnalyzeOptions& options);
 struct PlotOptions {
     std::string file, output, extent = "1,1", colour;
     double radius = 0;  // disks of radius r/2 (touching at distance r); 0: dots
+    bool disks = false;  // each point's disk of radius r/2 from its r column
 };
 int run_plot(const PlotOptions& options);
 

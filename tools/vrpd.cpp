@@ -295,6 +295,8 @@ int main(int argc, char** argv) {
     plot_cmd->add_option("file", plot.file, "point file (.csv or .bin)")->required();
     plot_cmd->add_option("-o,--output", plot.output, "FILE.png or FILE.svg")->required();
     plot_cmd->add_option("--radius,-r", plot.radius, "draw disks of radius r/2 (default: dots)");
+    plot_cmd->add_flag("--disks", plot.disks,
+                       "draw each point's disk of radius r/2, r from its r column (sample --sizing)");
     plot_cmd->add_option("--colour,--color", plot.colour, "colour by a column of the file, e.g. t or r");
     plot_cmd->add_option("--extent", plot.extent, "box W,H (default 1,1)");
 

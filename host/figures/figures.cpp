@@ -132,6 +132,8 @@ void plot_points(const std::string& stem, const std::vector<glm::dvec2>& points,
     const int width = int(std::lround(kSquare * box.width / longest)) + 40;
     const int height = int(std::lround(kSquare * box.height / longest)) + 60;
     double lo = 0, hi = 1;
+    if (!style.disk_radii.empty() && style.disk_radii.size() != points.size())
+        throw Error(fmt::format("{} disk radii for {} points", style.disk_radii.size(), points.size()));
     if (!style.colour_by.empty()) {
         if (style.colour_by.size() != points.size())
             throw Error(fmt::format("{} values to colour {} points", style.colour_by.size(), points.size()));
@@ -152,8 +154,9 @@ void plot_points(const std::string& stem, const std::vector<glm::dvec2>& points,
         cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
         for (std::size_t i = 0; i < points.size(); ++i) {
             if (!style.colour_by.empty()) colour_ramp(cr, (style.colour_by[i] - lo) / (hi - lo));
+            const double radius = style.disk_radii.empty() ? dot : style.disk_radii[i] * scale;
             // y up, as in the paper's figures
-            cairo_arc(cr, left + points[i].x * scale, top + (box.height - points[i].y) * scale, dot, 0, 2 * M_PI);
+            cairo_arc(cr, left + points[i].x * scale, top + (box.height - points[i].y) * scale, radius, 0, 2 * M_PI);
             cairo_fill(cr);
         }
         (void)h;

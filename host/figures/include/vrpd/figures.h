@@ -15,6 +15,7 @@ namespace vrpd::figures {
 
 struct PointStyle {
     double disk_radius = 0;          // in box units: disks of this radius; 0: dots
+    std::vector<double> disk_radii;  // or one radius per point (box units), when not empty
     std::vector<double> colour_by;   // one value per point, coloured from blue (least) to yellow; or empty
     std::string colour_name;         // what colour_by holds, for the legend
 };
