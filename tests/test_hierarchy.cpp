@@ -167,7 +167,7 @@ TEST_CASE("lod and --hierarchy from the command line", "[hierarchy][cli]") {
              "lod " + p + " --t 0.5", "lod " + h + " --radius 0.05", "lod " + h + " --t 0", "lod " + h,
              "sample --radius 0.01 --hierarchy discrete:1", "sample --radius 0.01 --hierarchy continuous:0.5",
              "sample --radius 0.01 --hierarchy spiral:3", "sample --radius 0.01 --hierarchy discrete:5:0.5",
-             "sample --radius 0.01 --hierarchy discrete:-3",
+             "sample --radius 0.01 --hierarchy discrete:-3", "sample --radius 0.01 --hierarchy discrete:0",
              "sample --radius 0.01 --from " + (dir / "missing.csv").string()}) {
         const test::Run r = cli(bad + " -o " + (dir / "never.csv").string());
         INFO(bad << "\n" << r.err);

@@ -64,6 +64,8 @@ HierarchyOptions parse_hierarchy(const std::string& text) {
         throw Error(fmt::format("--hierarchy must be discrete:K, discrete:K:S, continuous or continuous:S (got '{}')",
                                 text));
     if (got == 2 && !(start >= 1)) throw Error(fmt::format("--hierarchy's S must be >= 1 (got '{}')", text));
+    // 0 steps is the options' "no hierarchy": refused here, not read as a direct run.
+    if (steps < 2) throw Error(fmt::format("--hierarchy discrete:K needs K >= 2 steps (got '{}')", text));
     return {steps, start};
 }
 
