@@ -20,7 +20,7 @@ std::uint64_t nodes_at(std::uint32_t k) {
 
 // The interpolant of a patch's nodes (the even entries of `grid`, m + 1 a side) at (u, v), in
 // the table cell's units.
-double interpolate(const std::vector<double>& grid, std::uint32_t m, double u, double v) {
+double interpolate(const PatchDraft::Grid& grid, std::uint32_t m, double u, double v) {
     const std::uint32_t n = m / 2;
     const double fx = u * n, fy = v * n;
     const std::uint32_t p = std::min(std::uint32_t(fx), n - 1), q = std::min(std::uint32_t(fy), n - 1);
@@ -30,21 +30,31 @@ double interpolate(const std::vector<double>& grid, std::uint32_t m, double u, d
 }
 
 // The largest relative distance between a patch's interpolant and the source at the points of
-// its grid between its nodes.
+// its grid between its nodes. There the interpolant is the mean of the two nodes beside the
+// point (an edge's midpoint) or of the four around it (a cell's centre): interpolate's value at
+// those points, whose weights are all halves.
 double patch_error(const PatchDraft& p) {
     const std::uint32_t m = 2u << p.depth;
+    const std::size_t row = m + 1;
+    const double* g = p.grid.data();
     double e = 0;
     std::size_t k = 0;  // the next entry of p.outside
-    for (std::uint32_t b = 0; b <= m; ++b)
-        for (std::uint32_t a = b % 2 == 0 ? 1 : 0; a <= m; a += b % 2 == 0 ? 2 : 1) {
-            const std::uint32_t at = b * (m + 1) + a;
+    for (std::uint32_t b = 0; b <= m; ++b) {
+        const bool node_row = b % 2 == 0;
+        for (std::uint32_t a = node_row ? 1 : 0; a <= m; a += node_row ? 2 : 1) {
+            const std::size_t at = b * row + a;
             if (k < p.outside.size() && p.outside[k].at == at) {
                 const PatchDraft::Outside& o = p.outside[k++];
                 if (o.source > 0) e = std::max(e, std::abs(interpolate(p.grid, m, o.u, o.v) - o.source) / o.source);
                 continue;
             }
-            e = std::max(e, std::abs(interpolate(p.grid, m, double(a) / m, double(b) / m) - p.grid[at]) / p.grid[at]);
+            const double mean =
+                node_row     ? (g[at - 1] + g[at + 1]) * 0.5
+                : a % 2 == 0 ? (g[at - row] + g[at + row]) * 0.5
+                             : ((g[at - row - 1] + g[at - row + 1]) + (g[at + row - 1] + g[at + row + 1])) * 0.25;
+            e = std::max(e, std::abs(mean - g[at]) / g[at]);
         }
+    }
     return e;
 }
 
@@ -54,52 +64,52 @@ struct Source {
     const TableDraft& d;
     bool periodic;
 
-    // Point (a, b) of table cell c's grid of m cells a side, in box coordinates: the same double
-    // as any coarser grid's for the same point (m a power of two); on a torus the last row and
-    // column are the first.
-    std::pair<double, double> point(std::uint32_t c, std::uint32_t m, std::uint32_t a, std::uint32_t b) const {
-        std::uint64_t x = std::uint64_t(c % d.cells_x) * m + a, y = std::uint64_t(c / d.cells_x) * m + b;
-        if (periodic && x == std::uint64_t(d.cells_x) * m) x = 0;
-        if (periodic && y == std::uint64_t(d.cells_y) * m) y = 0;
-        const double step = d.h / m;
-        return {double(x) * step, double(y) * step};
-    }
-
     // Patch p one level deeper: its grid's entries become the even ones of a grid twice as fine,
-    // the source at the others; then its error.
+    // the source at the others; then its error. Point (a, b) of the fine grid, of `fine` cells a
+    // side over the table cell, lies at (cell's column * fine + a) * (h / fine) in x (likewise in
+    // y): the same double as any coarser grid's for the same point; on a torus the last row and
+    // column are the first.
     void deepen(PatchDraft& p) const {
         const std::uint32_t m = 2u << p.depth, fine = 2 * m;
-        std::vector<double> grid(std::size_t(fine + 1) * (fine + 1));
-        std::vector<double> xs, ys, vs;
-        std::vector<std::uint32_t> at;
-        const std::size_t fresh = grid.size() - std::size_t(m + 1) * (m + 1);
-        xs.reserve(fresh);
-        ys.reserve(fresh);
-        at.reserve(fresh);
-        for (std::uint32_t b = 0; b <= fine; ++b)
-            for (std::uint32_t a = 0; a <= fine; ++a) {
-                const std::uint32_t k = b * (fine + 1) + a;
-                if (a % 2 == 0 && b % 2 == 0) {
-                    grid[k] = p.grid[std::size_t(b / 2) * (m + 1) + a / 2];
-                    continue;
-                }
-                const auto [x, y] = point(p.cell, fine, a, b);
-                xs.push_back(x);
-                ys.push_back(y);
-                at.push_back(k);
+        const std::size_t side = std::size_t(fine) + 1;
+        const std::uint64_t column = std::uint64_t(p.cell % d.cells_x) * fine,
+                            row = std::uint64_t(p.cell / d.cells_x) * fine;
+        const std::uint64_t wrap_x = std::uint64_t(d.cells_x) * fine, wrap_y = std::uint64_t(d.cells_y) * fine;
+        const double step = d.h / fine;
+        auto coordinate = [&](std::uint64_t at, std::uint64_t wrap) {
+            return double(periodic && at == wrap ? 0 : at) * step;
+        };
+        const std::size_t fresh = side * side - std::size_t(m + 1) * (m + 1);
+        PatchDraft::Grid xs(fresh), ys(fresh), vs(fresh);
+        std::size_t k = 0;
+        for (std::uint32_t b = 0; b <= fine; ++b) {
+            const double y = coordinate(row + b, wrap_y);
+            for (std::uint32_t a = b % 2 == 0 ? 1 : 0; a <= fine; a += b % 2 == 0 ? 2 : 1, ++k) {
+                xs[k] = coordinate(column + a, wrap_x);
+                ys[k] = y;
             }
-        vs.resize(xs.size());
-        f(xs.data(), ys.data(), vs.data(), xs.size());
+        }
+        f(xs.data(), ys.data(), vs.data(), fresh);
+        PatchDraft::Grid grid(side * side);
         p.outside.clear();
         const double x0 = double(p.cell % d.cells_x) * d.h, y0 = double(p.cell / d.cells_x) * d.h;
-        for (std::size_t k = 0; k < xs.size(); ++k) {
-            grid[at[k]] = node_value(f, box, xs[k], ys[k], vs[k]);
-            if (xs[k] <= box.width && ys[k] <= box.height) continue;
-            // A cell wholly past the edge has nothing to judge there.
-            const double x = std::min(xs[k], box.width), y = std::min(ys[k], box.height);
-            const bool judged = x >= x0 && y >= y0;
-            p.outside.push_back({at[k], (x - x0) / d.h, (y - y0) / d.h, judged ? source_at(f, x, y) : 0.0});
-        }
+        k = 0;  // the next fresh point, in the order they were listed
+        for (std::uint32_t b = 0; b <= fine; ++b)
+            for (std::uint32_t a = 0; a <= fine; ++a) {
+                const std::size_t at = b * side + a;
+                if (a % 2 == 0 && b % 2 == 0) {
+                    grid[at] = p.grid[std::size_t(b / 2) * (m + 1) + a / 2];
+                    continue;
+                }
+                const double x = xs[k], y = ys[k], v = vs[k++];
+                grid[at] = node_value(f, box, x, y, v);
+                if (x <= box.width && y <= box.height) continue;
+                // A cell wholly past the edge has nothing to judge there.
+                const double ex = std::min(x, box.width), ey = std::min(y, box.height);
+                const bool judged = ex >= x0 && ey >= y0;
+                p.outside.push_back(
+                    {std::uint32_t(at), (ex - x0) / d.h, (ey - y0) / d.h, judged ? source_at(f, ex, ey) : 0.0});
+            }
         p.grid = std::move(grid);
         ++p.depth;
         p.error = patch_error(p);
@@ -371,8 +381,12 @@ void patch_bounds(FieldTable& t, double& steepest) {
                         (y > last_y && r > 0 && y - (std::uint64_t(1) << bits) > last_y))
                         continue;
                     if ((x > last_x && s == 0) || (y > last_y && r == 0)) continue;
-                    const std::uint32_t v = t.radius({std::uint32_t(std::min<std::uint64_t>(x, last_x)),
-                                                      std::uint32_t(std::min<std::uint64_t>(y, last_y))});
+                    // r at a node of the patch's own cells (not its far edges, its neighbours')
+                    // is the node.
+                    const std::uint32_t v = s < n && r < n && x <= last_x && y <= last_y
+                                                ? t.patch_nodes[q.first + r * (n + 1) + s]
+                                                : t.radius({std::uint32_t(std::min<std::uint64_t>(x, last_x)),
+                                                            std::uint32_t(std::min<std::uint64_t>(y, last_y))});
                     t.box_lo = std::min(t.box_lo, v);
                     t.box_hi = std::max(t.box_hi, v);
                 }

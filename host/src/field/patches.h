@@ -11,6 +11,7 @@
 
 #include "table.h"
 #include "../cpu/thread_pool.h"
+#include "../cpu/uninitialised.h"
 
 namespace vrpd::detail {
 
@@ -69,9 +70,11 @@ struct PatchDraft {
         std::uint32_t at;
         double u, v, source;
     };
+    // Filled whole by its maker: no entry is set twice.
+    using Grid = std::vector<double, Uninitialised<double>>;
     std::uint32_t cell = 0, depth = 0;
     double error = 0;  // the interpolant's largest relative distance from the source over the grid
-    std::vector<double> grid;
+    Grid grid;
     std::vector<Outside> outside;
 };
 

@@ -94,19 +94,26 @@ void fill_nodes(const FieldSource& f, const Box& box, bool periodic, std::uint32
 }
 
 // The relative error of a draft's interpolant at point (tx, ty) of cell (i, j), a halfway point
-// (its value in d.fine); a point past a free box's edge is judged at the edge, inside the cell.
+// (its value in d.fine): there the interpolant is the mean of the two nodes beside it (an edge's
+// midpoint) or of the four around it (the centre). A point past a free box's edge is judged at
+// the edge, inside the cell.
 [[gnu::always_inline]] inline double point_error(const FieldSource& f, const Box& box, const Draft& d, std::uint32_t i,
                                                  std::uint32_t j, double tx, double ty) {
     const std::size_t row = std::size_t(d.cells_x) + 1;
+    const double* n = &d.values[std::size_t(j) * row + i];
     const double fx = (i + tx) * d.h, fy = (double(j) + ty) * d.h;
+    if (fx <= box.width && fy <= box.height) [[likely]] {
+        const double v =
+            d.fine[(2 * std::size_t(j) + std::size_t(2 * ty)) * (2 * row - 1) + 2 * i + std::size_t(2 * tx)];
+        const double mean = ty == 0   ? (n[0] + n[1]) * 0.5
+                            : tx == 0 ? (n[0] + n[row]) * 0.5
+                                      : ((n[0] + n[1]) + (n[row] + n[row + 1])) * 0.25;
+        return std::abs(mean - v) / v;
+    }
     const double x = std::min(fx, box.width), y = std::min(fy, box.height);
-    const double v =
-        fx <= box.width && fy <= box.height
-            ? d.fine[(2 * std::size_t(j) + std::size_t(2 * ty)) * (2 * row - 1) + 2 * i + std::size_t(2 * tx)]
-            : source_at(f, x, y);
+    const double v = source_at(f, x, y);
     tx = x / d.h - i;
     ty = y / d.h - double(j);
-    const double* n = &d.values[std::size_t(j) * row + i];
     const double at = (n[0] * (1 - tx) + n[1] * tx) * (1 - ty) + (n[row] * (1 - tx) + n[row + 1] * tx) * ty;
     return std::abs(at - v) / v;
 }
