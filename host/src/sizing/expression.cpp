@@ -224,7 +224,12 @@ void SizingExpression::run(const double* x, const double* y, double* out, std::s
         case Op::X: push([&](std::size_t i) { return x[i]; }); break;
         case Op::Y: push([&](std::size_t i) { return y[i]; }); break;
         case Op::D:
-            push([&](std::size_t i) { return std::hypot(x[i] - box.width / 2, y[i] - box.height / 2); });
+            // Box sides within 1e-100 to 1e100 keep the squares far from overflow and underflow,
+            // so the plain formula is as good as hypot's guarded one, at a fifth of its cost.
+            push([&](std::size_t i) {
+                const double dx = x[i] - box.width / 2, dy = y[i] - box.height / 2;
+                return std::sqrt(dx * dx + dy * dy);
+            });
             break;
         case Op::W: push([&](std::size_t) { return box.width; }); break;
         case Op::H: push([&](std::size_t) { return box.height; }); break;
