@@ -70,7 +70,7 @@ struct PatchDraft {
         std::uint32_t at;
         double u, v, source;
     };
-    // Filled whole by its maker: no entry is set twice.
+    // Not zeroed on a resize: each grid's maker writes every entry.
     using Grid = std::vector<double, Uninitialised<double>>;
     std::uint32_t cell = 0, depth = 0;
     double error = 0;  // the interpolant's largest relative distance from the source over the grid
