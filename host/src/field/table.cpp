@@ -18,6 +18,7 @@
 #include <malloc.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <functional>
 #include <mutex>
@@ -118,6 +119,23 @@ void fill_nodes(const FieldSource& f, const Box& box, bool periodic, std::uint32
     return std::abs(at - v) / v;
 }
 
+// The errors at cell (i, j)'s centre, bottom midpoint and left midpoint (point_error's). A cell
+// wholly inside the box reads its points' values from d.fine directly.
+[[gnu::always_inline]] inline std::array<double, 3> cell_point_errors(const FieldSource& f, const Box& box,
+                                                                      const Draft& d, std::uint32_t i,
+                                                                      std::uint32_t j) {
+    if ((i + 1.0) * d.h > box.width || (j + 1.0) * d.h > box.height) [[unlikely]]
+        return {point_error(f, box, d, i, j, 0.5, 0.5), point_error(f, box, d, i, j, 0.5, 0.0),
+                point_error(f, box, d, i, j, 0.0, 0.5)};
+    const std::size_t row = std::size_t(d.cells_x) + 1, fine_row = 2 * row - 1;
+    const double* n = &d.values[std::size_t(j) * row + i];
+    const double* low = &d.fine[2 * std::size_t(j) * fine_row + 2 * std::size_t(i)];
+    const double* mid = low + fine_row;
+    const double centre = ((n[0] + n[1]) + (n[row] + n[row + 1])) * 0.25, bottom = (n[0] + n[1]) * 0.5,
+                 left = (n[0] + n[row]) * 0.5;
+    return {std::abs(centre - mid[1]) / mid[1], std::abs(bottom - low[1]) / low[1], std::abs(left - mid[0]) / mid[0]};
+}
+
 // Per cell of the draft, the largest error at its centre and edge midpoints (those past a free
 // box's far edges excepted, as the draft's own error does).
 std::vector<double> cell_errors(ThreadPool& pool, const FieldSource& f, const Box& box, const Draft& d) {
@@ -128,8 +146,8 @@ std::vector<double> cell_errors(ThreadPool& pool, const FieldSource& f, const Bo
         const std::uint32_t j = std::uint32_t(jj);
         for (std::uint32_t i = 0; i < d.cells_x; ++i) {
             if (!measured(i, j)) continue;
-            double e = std::max({point_error(f, box, d, i, j, 0.5, 0.5), point_error(f, box, d, i, j, 0.5, 0.0),
-                                 point_error(f, box, d, i, j, 0.0, 0.5)});
+            const std::array<double, 3> own = cell_point_errors(f, box, d, i, j);
+            double e = std::max({own[0], own[1], own[2]});
             // The top and right midpoints, as the cells above and to the right measure them.
             const std::uint32_t up = j + 1 < d.cells_y ? j + 1 : 0, right = i + 1 < d.cells_x ? i + 1 : 0;
             if ((j + 1 < d.cells_y || periodic) && measured(i, up))
@@ -169,8 +187,7 @@ Draft draft(ThreadPool& pool, const FieldSource& f, const Box& box, std::uint32_
     for_rows(pool, cells_y, [&](std::size_t j) {
         if (double(j) * h >= box.height) return;
         for (std::uint32_t i = 0; i < cells_x && i * h < box.width; ++i)
-            for (auto [tx, ty] : {std::pair{0.5, 0.5}, {0.5, 0.0}, {0.0, 0.5}}) {
-                const double e = point_error(f, box, d, i, std::uint32_t(j), tx, ty);
+            for (const double e : cell_point_errors(f, box, d, i, std::uint32_t(j))) {
                 error[j] = std::max(error[j], e);
                 over[j] += e > kTargetError;
             }
