@@ -94,10 +94,17 @@ void fill_nodes(const FieldSource& f, const Box& box, bool periodic, std::uint32
     for (std::size_t k = 0; k < xs.size(); ++k) row[first + k * step] = node_value(f, box, xs[k], y, vs[k]);
 }
 
+// The bilinear interpolant of a cell with nodes n[0], n[1] (row 0) and n[row], n[row + 1] at a
+// halfway point (tx, ty): (0.5, 0.5), (0.5, 0) or (0, 0.5). There it is the mean of the four
+// nodes around the point (the centre) or of the two beside it (an edge's midpoint).
+[[gnu::always_inline]] inline double midpoint_mean(const double* n, std::size_t row, double tx, double ty) {
+    return ty == 0   ? (n[0] + n[1]) * 0.5
+           : tx == 0 ? (n[0] + n[row]) * 0.5
+                     : ((n[0] + n[1]) + (n[row] + n[row + 1])) * 0.25;
+}
+
 // The relative error of a draft's interpolant at point (tx, ty) of cell (i, j), a halfway point
-// (its value in d.fine): there the interpolant is the mean of the two nodes beside it (an edge's
-// midpoint) or of the four around it (the centre). A point past a free box's edge is judged at
-// the edge, inside the cell.
+// (its value in d.fine). A point past a free box's edge is judged at the edge, inside the cell.
 [[gnu::always_inline]] inline double point_error(const FieldSource& f, const Box& box, const Draft& d, std::uint32_t i,
                                                  std::uint32_t j, double tx, double ty) {
     const std::size_t row = std::size_t(d.cells_x) + 1;
@@ -106,9 +113,7 @@ void fill_nodes(const FieldSource& f, const Box& box, bool periodic, std::uint32
     if (fx <= box.width && fy <= box.height) [[likely]] {
         const double v =
             d.fine[(2 * std::size_t(j) + std::size_t(2 * ty)) * (2 * row - 1) + 2 * i + std::size_t(2 * tx)];
-        const double mean = ty == 0   ? (n[0] + n[1]) * 0.5
-                            : tx == 0 ? (n[0] + n[row]) * 0.5
-                                      : ((n[0] + n[1]) + (n[row] + n[row + 1])) * 0.25;
+        const double mean = midpoint_mean(n, row, tx, ty);
         return std::abs(mean - v) / v;
     }
     const double x = std::min(fx, box.width), y = std::min(fy, box.height);
@@ -131,8 +136,8 @@ void fill_nodes(const FieldSource& f, const Box& box, bool periodic, std::uint32
     const double* n = &d.values[std::size_t(j) * row + i];
     const double* low = &d.fine[2 * std::size_t(j) * fine_row + 2 * std::size_t(i)];
     const double* mid = low + fine_row;
-    const double centre = ((n[0] + n[1]) + (n[row] + n[row + 1])) * 0.25, bottom = (n[0] + n[1]) * 0.5,
-                 left = (n[0] + n[row]) * 0.5;
+    const double centre = midpoint_mean(n, row, 0.5, 0.5), bottom = midpoint_mean(n, row, 0.5, 0),
+                 left = midpoint_mean(n, row, 0, 0.5);
     return {std::abs(centre - mid[1]) / mid[1], std::abs(bottom - low[1]) / low[1], std::abs(left - mid[0]) / mid[0]};
 }
 
