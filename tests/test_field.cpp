@@ -17,28 +17,16 @@
 #include "field/table.h"
 #include "vrpd/io.h"
 #include "vrpd/sizing.h"
-#include "support.h"
+#include "field_support.h"
 
 using namespace vrpd;
+using namespace vrpd::test;
 
 namespace {
 
 std::filesystem::path scratch_dir() {
     static const vrpd::test::ScratchDir dir("vrpd_field_test");
     return dir.path;
-}
-
-const SizingRule kRules[] = {SizingRule::Prior, SizingRule::Current, SizingRule::Bigger, SizingRule::Smaller};
-
-SampleOptions field_options(const std::string& expr, SizingRule rule, Boundary b, std::uint32_t seed) {
-    SampleOptions o;
-    o.box.boundary = b;
-    o.seed = seed;
-    o.backend = Backend::Cpu;
-    o.sizing = Sizing{};
-    o.sizing->expression = expr;
-    o.sizing->rule = rule;
-    return o;
 }
 
 // A greyscale binary PGM whose grey is x across the image (a known L: (r_max - r_min) / width).
@@ -49,14 +37,6 @@ std::string write_gradient_pgm(const std::string& name, int w, int h) {
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) out.put(char(std::lround(255.0 * x / (w - 1))));
     return path;
-}
-
-SizingReport judge(const Sampling& s, const Sizing& sizing) {
-    const SizingField field(sizing, s.box);
-    const FieldStats f = field.stats();
-    std::vector<glm::dvec2> pts(s.size());
-    for (std::size_t i = 0; i < s.size(); ++i) pts[i] = s.point(i);
-    return check_sizing(pts, std::cref(field), sizing.rule, s.box, 1e-9, {f.r_min, f.r_max, f.lipschitz, 0});
 }
 
 }  // namespace

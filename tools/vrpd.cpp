@@ -241,7 +241,9 @@ int main(int argc, char** argv) {
                            "discrete:K[:S]: K steps from S (default K) times the radii down to them; continuous[:S] "
                            "(default S 10): t lowered without steps; every sample with its birth t, every level a "
                            "prefix (paper section 4)");
-    sample_cmd->add_option("--from", from, "start from the samples of FILE (conflict-free at Rf); output them first");
+    sample_cmd->add_option(
+        "--from", from,
+        "start from the samples of FILE (conflict-free at Rf, or under a sizing field's rule); output them first");
     cli::SizingArgs sizing;
     cli::add_sizing_options(*sample_cmd, sizing, true);
     sample_cmd->add_flag("--profile", opt.profile,

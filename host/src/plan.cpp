@@ -118,12 +118,11 @@ void validate_box(const Box& box) {
                                     kSmallestLength, kLargestLength));
 }
 
-// A run with a sizing field: the field replaces the radii, and it starts from nothing.
+// A run with a sizing field: the field replaces the radii.
 void validate_sizing(const SampleOptions& o) {
     if (o.radius != 0 || o.coverage != 0) throw Error("give a sizing field or radii, not both");
     if (o.hierarchy.steps != 0 || o.hierarchy.continuous)
         throw Error("hierarchies of a sizing field are not built: give --sizing or --hierarchy, not both");
-    if (!o.initial.empty()) throw Error("a sizing-field run starts from no samples: give --sizing or --from, not both");
     if (o.threads > detail::kMaxThreads)
         throw Error(fmt::format("threads must be at most {} (got {})", detail::kMaxThreads, o.threads));
     validate_box(o.box);

@@ -96,7 +96,8 @@ struct SampleOptions {
     HierarchyOptions hierarchy;
     // Samples the run starts from (and outputs first, unchanged but for rounding to the run's
     // lattice, by at most half a lattice step): they must lie in the box and be conflict-free at
-    // Rf on that lattice. The run adds samples until the set is maximal.
+    // Rf on that lattice (with a sizing field: under its rule, in their order, as the earlier
+    // samples). The run adds samples until the set is maximal.
     std::vector<glm::dvec2> initial;
     // Run on the application's Vulkan device (vrpd/vulkan_target.h; Gpu backend) instead of one
     // vrpd opens; not owned.

@@ -16,6 +16,7 @@
 #include "field.h"
 #include "power_sum.h"
 #include "sampler.h"
+#include "vrpd/sizing.h"
 #include "../plan.h"
 
 namespace vrpd::detail {
@@ -269,6 +270,45 @@ std::uint32_t FieldSampler::refine() {
     return *std::min_element(least.begin(), least.end());
 }
 
+void FieldSampler::place_initial() {
+    const shared::Lattice& l = t_.lattice;
+    // Rounding up to the box's side wraps round a torus, and stays on the last point of a free box.
+    auto axis = [&](double v, std::uint32_t extent) {
+        const double u = std::round(v / t_.quantum);
+        return u >= double(extent) ? (l.periodic ? 0u : extent - 1) : std::uint32_t(u);
+    };
+    auto given = [&](std::size_t i) { return fmt::format("{} ({}, {})", i + 1, initial_[i].x, initial_[i].y); };
+    for (std::size_t i = 0; i < initial_.size(); ++i) {
+        const glm::dvec2 q = initial_[i];
+        if (!(q.x >= 0 && q.y >= 0 && q.x < box_.width && q.y < box_.height))
+            throw Error(
+                fmt::format("given sample {} is outside the box [0,{}) x [0,{})", given(i), box_.width, box_.height));
+        const uvec2 p(axis(q.x, l.extent_x), axis(q.y, l.extent_y));
+        const std::uint32_t r = t_.radius(p), leaf = tree_.leaf_of(p);
+        // Two points of one leaf conflict under every rule (its diagonal is below r anywhere in it).
+        std::uint32_t s = tree_.sample(leaf);
+        if (s == FieldQuadtree::kNone) s = conflicting(p, r);
+        if (s != FieldQuadtree::kNone)
+            throw Error(fmt::format("given samples {} and {} conflict under the {} rule on the run's lattice", given(s),
+                                    given(i), sizing_rule_name(SizingRule(rule_))));
+        tree_.set_sample(leaf, p, add_sample(p, r));
+    }
+    // Stamped as one round's samples, they drop the leaves they cover; the rest stay, each tested
+    // against every sample of its time, as the rounds' refinement keeps its cells.
+    auto each_sample = [&](auto&& body) {
+        pool_.parallel_for(
+            lattice_.size(),
+            [&](std::size_t begin, std::size_t end, unsigned) {
+                for (std::size_t s = begin; s < end; ++s) body(std::uint32_t(s));
+            },
+            kCellGrain);
+    };
+    each_sample([&](std::uint32_t s) { touch(s); });
+    got_.assign(cells_.size(), 0);
+    refine();
+    each_sample([&](std::uint32_t s) { tree_.settle(lattice_[s]); });
+}
+
 Sampling FieldSampler::run() {
     // Every leaf an active cell, unstamped; a run of tiles is a run of leaves, written by one thread.
     cells_.resize(tree_.leaves());
@@ -282,6 +322,7 @@ Sampling FieldSampler::run() {
             });
         },
         FieldQuadtree::kTileGrain);
+    if (!initial_.empty()) place_initial();
     std::uint32_t round = 0;
     std::uint32_t deepest = 0;
     // Runs one phase, timed when the run is profiled.
@@ -292,7 +333,7 @@ Sampling FieldSampler::run() {
     };
     while (!cells_.empty()) {
         if (round == kMaxRounds) throw Error("internal: the sizing-field sampler did not converge");
-        round_ = round;
+        round_ = round + 1;
         round_first_ = std::uint32_t(lattice_.size());  // this round's samples are fresh until refined
         phase("throw", [&] { throw_darts(round); });
         phase("resolve", [&] { resolve(); });

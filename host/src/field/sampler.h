@@ -86,7 +86,9 @@ public:
           seed_(o.seed),
           serial_(o.backend == Backend::Serial),
           cells_(density_),
-          profile_(o.profile) {
+          profile_(o.profile),
+          initial_(o.initial),
+          box_(o.box) {
         bytes_ = tree_.build_bytes();
     }
 
@@ -259,6 +261,11 @@ private:
     // Drops, keeps or splits each active cell (the next list); returns the least side exponent
     // in it (UINT32_MAX when it is empty).
     std::uint32_t refine();
+    // Makes the given samples (SampleOptions::initial) the first ones, in their order, each at the
+    // lattice point nearest it and tested exactly against those before it under the rule (the
+    // test a dart takes); then drops the leaves they cover, as a round's refinement does. Throws
+    // Error for a sample outside the box or a pair in conflict.
+    void place_initial();
     // Notes the arrays' bytes now, with `extra` held outside them, for the peak.
     void note_bytes(std::uint64_t extra) {
         bytes_ = std::max<std::uint64_t>(bytes_, tree_.bytes() + cells_.bytes() + darts_.capacity() * sizeof(Dart) +
@@ -284,7 +291,8 @@ private:
     static constexpr std::uint32_t kStampedMany = 0x80000000u;
     static constexpr std::uint32_t kUnstamped = 0xFFFFFFFFu;  // many in a round that never comes
     std::vector<std::uint32_t, Uninitialised<std::uint32_t>> touched_;
-    std::uint32_t round_ = 0, round_first_ = 0;  // the round, and its first sample
+    // The stamps' round (0 for the given samples, dart round k stamps as k + 1) and its first sample.
+    std::uint32_t round_ = 0, round_first_ = 0;
     std::vector<Dart, Uninitialised<Dart>> darts_;
     std::vector<uvec2> lattice_;
     std::vector<std::uint32_t> radii_;
@@ -292,6 +300,8 @@ private:
     std::uint64_t darts_thrown_ = 0, bytes_ = 0;
     bool profile_;
     PhaseTimes phases_;
+    const std::vector<glm::dvec2>& initial_;
+    Box box_;
 };
 
 }  // namespace vrpd::detail::field
