@@ -107,7 +107,7 @@ TEST_CASE("given samples in conflict under a field's rule, in their order, are r
     CHECK(refused({{0.5, 1.0}}) == "given sample 1 (0.5, 1) is outside the box [0,1) x [0,1)");
 }
 
-TEST_CASE("sample --sizing --from: the given rows first, unchanged; a conflicting file is one line and exit 2",
+TEST_CASE("sample --sizing --from: the given rows first and unchanged, a conflicting file one line and exit 2",
           "[field][cli]") {
     const std::filesystem::path dir = scratch();
     const std::string field = "--sizing \"0.01 + 0.02*x\" --rule prior --boundary free";
