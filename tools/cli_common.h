@@ -59,6 +59,7 @@ struct CheckOptions {
     std::optional<double> tolerance;       // default: kDefaultTolerance
     std::string extent = "1,1", boundary = "periodic", json;
     SizingArgs sizing;                     // a sizing field and its rule, instead of radii
+    std::optional<double> scale;           // the field times this (a hierarchy's level: S t)
 };
 // `vrpd check --sizing`: 0 pass, 1 conflicts or not covered, 2 bad input.
 int run_check_sizing(const CheckOptions& options);

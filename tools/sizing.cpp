@@ -28,7 +28,7 @@ int run_check_sizing(const CheckOptions& o) {
     const double tolerance = o.tolerance ? *o.tolerance : kDefaultTolerance * std::max(box.width, box.height);
     // The field as vrpd sample tabulates it: the same r at each of its samples.
     if (!o.json.empty()) check_writable(o.json);
-    const SizingField r(sizing, box);
+    const SizingField r = o.scale ? SizingField(sizing, box).scaled(*o.scale) : SizingField(sizing, box);
     const std::vector<glm::dvec2> points = read_points(o.file);
     const FieldStats f = r.stats();
     FieldSummary field{f.r_min, f.r_max, f.lipschitz, std::size_t(std::llround(std::sqrt(double(f.table_nodes))))};

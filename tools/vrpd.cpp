@@ -95,6 +95,7 @@ void parse_extent(const std::string& text, Box& box) {
 // `vrpd check`: 0 pass, 1 conflicts or not maximal, 2 bad input.
 int run_check(const CheckOptions& o) {
     if (o.sizing.given()) return run_check_sizing(o);
+    if (o.scale) throw Error("--scale scales a sizing field: give --sizing or --sizing-image");
     Box box;
     box.boundary = parse_boundary(o.boundary);
     parse_extent(o.extent, box);
@@ -276,6 +277,8 @@ int main(int argc, char** argv) {
                           "box's longer side: vrpd's CSV digits and lattice)");
     check_cmd->add_option("--json", check.json, "also write the report as JSON to FILE");
     cli::add_sizing_options(*check_cmd, check.sizing, false);
+    check_cmd->add_option("--scale", check.scale,
+                          "judge under the sizing field times F, as a hierarchy's level at birth t has it (F = S t)");
 
     cli::AnalyzeOptions analyze;
     auto* analyze_cmd = app.add_subcommand(

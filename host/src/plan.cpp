@@ -104,6 +104,18 @@ double hierarchy_start(const SampleOptions& o) {
     return o.hierarchy.continuous ? 10.0 : double(o.hierarchy.steps);
 }
 
+std::vector<HierarchyStep> hierarchy_steps(const SampleOptions& o) {
+    const unsigned steps = o.hierarchy.steps;
+    if (steps == 0) return {{1.0, 1.0}};
+    const double start = hierarchy_start(o), last = double(steps - 1);
+    std::vector<HierarchyStep> out;
+    for (unsigned k = 0; k < steps; ++k) {
+        const double numerator = last * start - (start - 1) * double(k);
+        out.push_back({numerator / (last * start), numerator / last});
+    }
+    return out;
+}
+
 }  // namespace vrpd::detail
 
 namespace vrpd {
@@ -118,11 +130,26 @@ void validate_box(const Box& box) {
                                     kSmallestLength, kLargestLength));
 }
 
-// A run with a sizing field: the field replaces the radii.
+// The checks of a hierarchy's steps and start, for every kind of run.
+void validate_hierarchy(const SampleOptions& o) {
+    const double start = detail::hierarchy_start(o);
+    if (o.hierarchy.continuous && o.hierarchy.steps != 0)
+        throw Error("a hierarchy is discrete (K steps) or continuous, not both");
+    if (!o.hierarchy.continuous && (o.hierarchy.steps < 2 || o.hierarchy.steps > detail::kMaxSteps))
+        throw Error(fmt::format("a hierarchy needs 2 to {} steps (got {})", detail::kMaxSteps, o.hierarchy.steps));
+    if (!(start >= 1 && start <= detail::kMaxStart))
+        throw Error(fmt::format("a hierarchy's start S must be 1 to {} times the final radii (got {})",
+                                detail::kMaxStart, start));
+    if (!o.initial.empty()) throw Error("a hierarchy starts from no samples: give --from or --hierarchy, not both");
+}
+
+// A run with a sizing field: the field replaces the radii. Its hierarchies are discrete; the
+// first step's field is checked where it is tabulated (field/run.cpp).
 void validate_sizing(const SampleOptions& o) {
     if (o.radius != 0 || o.coverage != 0) throw Error("give a sizing field or radii, not both");
-    if (o.hierarchy.steps != 0 || o.hierarchy.continuous)
-        throw Error("hierarchies of a sizing field are not built: give --sizing or --hierarchy, not both");
+    if (o.hierarchy.continuous)
+        throw Error("continuous hierarchies of a sizing field are not built: use --hierarchy discrete:K[:S]");
+    if (o.hierarchy.steps != 0) validate_hierarchy(o);
     if (o.threads > detail::kMaxThreads)
         throw Error(fmt::format("threads must be at most {} (got {})", detail::kMaxThreads, o.threads));
     validate_box(o.box);
@@ -171,15 +198,8 @@ void validate(const SampleOptions& o) {
     if (o.sizing) return validate_sizing(o);
     validate_run(o);
     if (o.hierarchy.continuous || o.hierarchy.steps != 0) {
+        validate_hierarchy(o);
         const double start = detail::hierarchy_start(o);
-        if (o.hierarchy.continuous && o.hierarchy.steps != 0)
-            throw Error("a hierarchy is discrete (K steps) or continuous, not both");
-        if (!o.hierarchy.continuous && (o.hierarchy.steps < 2 || o.hierarchy.steps > detail::kMaxSteps))
-            throw Error(fmt::format("a hierarchy needs 2 to {} steps (got {})", detail::kMaxSteps, o.hierarchy.steps));
-        if (!(start >= 1 && start <= detail::kMaxStart))
-            throw Error(fmt::format("a hierarchy's start S must be 1 to {} times the final radii (got {})",
-                                    detail::kMaxStart, start));
-        if (!o.initial.empty()) throw Error("a hierarchy starts from no samples: give --from or --hierarchy, not both");
         // The first step must be a valid run of its own.
         SampleOptions first = o;
         first.hierarchy = {};

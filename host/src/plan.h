@@ -34,6 +34,14 @@ bool periodic_tiling(double width, double height, double max_side, std::uint64_t
 // A hierarchy's S (HierarchyOptions::start, or K if that is 0).
 double hierarchy_start(const SampleOptions& options);
 
+// A discrete hierarchy's steps in order: t_k = 1 - (1 - 1/S) k / (K - 1) and the radii's scale
+// S t_k, each as one division of exact numerators for whole S (so S = K = 10 gives t = 0.2, not
+// 0.19999...). A direct run is one step at t = 1, scale 1.
+struct HierarchyStep {
+    double t, scale;
+};
+std::vector<HierarchyStep> hierarchy_steps(const SampleOptions& options);
+
 // The plan of a hierarchy step at `scale` times the final radii (1 <= scale <= S), on the lattice
 // of `finest` (make_plan's plan for the options): its base cells group 2^j x 2^j of the finest,
 // the coarsest grouping whose cells a sample still covers.

@@ -200,23 +200,11 @@ Sampling detail::sample_plan(const SampleOptions& options, const Plan& plan) {
 
 Sampling detail::run_plan(const SampleOptions& options, const Plan& plan, Engine& engine) {
     Sampling result;
-    // A hierarchy's steps: t_k = 1 - (1 - 1/S) k / (K - 1) and the radii's scale S t_k, each as
-    // one division of exact numerators for whole S (so S = K = 10 gives t = 0.2, not 0.19999...).
-    // A direct run is one step at t = 1, scale 1.
     const unsigned steps = options.hierarchy.steps;
-    std::vector<std::pair<double, double>> births{{1.0, 1.0}};  // t, scale
-    if (steps != 0) {
-        const double start = hierarchy_start(options), last = double(steps - 1);
-        births.clear();
-        for (unsigned k = 0; k < steps; ++k) {
-            const double numerator = last * start - (start - 1) * double(k);
-            births.emplace_back(numerator / (last * start), numerator / last);
-        }
-    }
     std::vector<glm::uvec2> samples = initial_samples(options, plan);
     if (options.profile) engine.start_profile();
     std::uint32_t round = 0;
-    for (const auto& [t, scale] : births) {
+    for (const auto& [t, scale] : hierarchy_steps(options)) {
         const Plan step = steps == 0 ? plan : step_plan(plan, options, scale);
         const std::size_t before = samples.size();
         const std::uint32_t levels = run_to_maximal(engine, step, engine.start(step, samples), round, result.stats);

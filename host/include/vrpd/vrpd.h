@@ -47,7 +47,9 @@ struct Box {
 // (K = S = 10: 10, 9, ..., 1 times the final radii), each step continuing the sampling until it
 // is maximal at t_k (Rf0, Rc0). Every sample records the t_k at which it was born, so the samples
 // with t >= t_k are a maximal sampling at t_k (Rf0, Rc0): a prefix of the output, which is in
-// birth order.
+// birth order. With a sizing field r(x) (discrete only) the level at t_k has the field t_k S r(x):
+// the final field's table on its lattice, each node scaled and rounded (SizingField::scaled), so
+// r at a point only shrinks from level to level.
 // A continuous hierarchy (section 4.2, `continuous`; steps 0) lowers t without steps from a
 // direct sampling at t = 1, inserting a sample where the sampling first stops being maximal; it is
 // built on CGAL's Delaunay triangulation, by vrpd_geometry's continuous_hierarchy (vrpd/continuous.h).

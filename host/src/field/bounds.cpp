@@ -1,7 +1,9 @@
 // The bounds of r over blocks of the lattice (field/table.h): exact inside one table cell, where
 // the bilinear interpolant's extremes lie at a block's corners, and from the min/max pyramids
-// beyond it.
+// beyond it; and the table's bounds as a whole (complete_bounds).
 #include "table.h"
+
+#include "patches.h"
 
 #include <algorithm>
 
@@ -105,7 +107,70 @@ inline std::pair<std::uint32_t, std::uint32_t> corner_extremes(const FieldTable&
         return patch_extremes(t, q, i, j, fa, fb);
     return corner_extremes(t.cell_nodes(i, j), t.cell_bits, fa, fb);
 }
+// Level 0 (one table cell) is read from the cell's four nodes (or its patch's bounds); level
+// k >= 1 holds the least and greatest node over blocks of 2^k x 2^k cells.
+void build_pyramids(FieldTable& t) {
+    t.lo.assign(1, {});
+    t.hi.assign(1, {});
+    std::uint32_t w = t.cells_x, h = t.cells_y;
+    while (w > 1 || h > 1) {
+        const std::uint32_t pw = w, nw = (w + 1) / 2, nh = (h + 1) / 2;
+        const bool cells = t.lo.size() == 1;
+        std::vector<std::uint32_t> nlo(std::size_t(nw) * nh, UINT32_MAX), nhi(nlo.size(), 0);
+        for (std::uint32_t j = 0; j < h; ++j)
+            for (std::uint32_t i = 0; i < w; ++i) {
+                const std::size_t to = std::size_t(j / 2) * nw + i / 2, from = std::size_t(j) * pw + i;
+                if (const FieldTable::Patch* q = cells ? t.patch(i, j) : nullptr) {
+                    nlo[to] = std::min(nlo[to], q->lo);
+                    nhi[to] = std::max(nhi[to], q->hi);
+                } else if (cells) {
+                    const glm::uvec4 v = t.cell_nodes(i, j);
+                    nlo[to] = std::min({nlo[to], v.x, v.y, v.z, v.w});
+                    nhi[to] = std::max({nhi[to], v.x, v.y, v.z, v.w});
+                } else {
+                    nlo[to] = std::min(nlo[to], t.lo.back()[from]);
+                    nhi[to] = std::max(nhi[to], t.hi.back()[from]);
+                }
+            }
+        t.lo.push_back(std::move(nlo));
+        t.hi.push_back(std::move(nhi));
+        w = nw;
+        h = nh;
+    }
+}
 }  // namespace
+
+void complete_bounds(FieldTable& t) {
+    t.r_lo = *std::min_element(t.nodes.begin(), t.nodes.end());
+    t.r_hi = *std::max_element(t.nodes.begin(), t.nodes.end());
+    for (const FieldTable::Patch& q : t.patches) t.r_lo = std::min(t.r_lo, q.lo), t.r_hi = std::max(t.r_hi, q.hi);
+    // Over the box, r's extremes are at the corners of the table cells clipped to it: the nodes
+    // inside, the points where node lines meet the far edges, and the far corner.
+    t.box_lo = UINT32_MAX;
+    t.box_hi = 0;
+    const std::uint32_t last_x = t.lattice.extent_x - 1, last_y = t.lattice.extent_y - 1;
+    for (std::uint32_t j = 0; j <= t.cells_y; ++j)
+        for (std::uint32_t i = 0; i <= t.cells_x; ++i) {
+            const std::uint64_t x = std::uint64_t(i) << t.cell_bits, y = std::uint64_t(j) << t.cell_bits;
+            if ((x > last_x && i > 0 && (std::uint64_t(i - 1) << t.cell_bits) > last_x) ||
+                (y > last_y && j > 0 && (std::uint64_t(j - 1) << t.cell_bits) > last_y))
+                continue;
+            const std::uint32_t r = t.radius(
+                {std::uint32_t(std::min<std::uint64_t>(x, last_x)), std::uint32_t(std::min<std::uint64_t>(y, last_y))});
+            t.box_lo = std::min(t.box_lo, r);
+            t.box_hi = std::max(t.box_hi, r);
+        }
+    // The interpolant's L: its steepest gradient over the cells (patch_bounds takes a patched
+    // cell's).
+    double steepest = 0;
+    for (std::uint32_t j = 0; j < t.cells_y; ++j)
+        for (std::uint32_t i = 0; i < t.cells_x; ++i)
+            if (!t.patch(i, j))
+                raise_steepest(steepest, t.node(i, j), t.node(i + 1, j), t.node(i, j + 1), t.node(i + 1, j + 1), 1);
+    patch_bounds(t, steepest);
+    t.lipschitz = steepest / double(1u << t.cell_bits);
+    build_pyramids(t);
+}
 
 std::uint32_t FieldTable::min_over(glm::uvec2 a, glm::uvec2 b) const {
     if (in_one_cell(*this, a, b)) return corner_extremes(*this, a, b).first;

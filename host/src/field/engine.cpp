@@ -10,6 +10,7 @@
 #include <bit>
 #include <chrono>
 #include <cmath>
+#include <optional>
 
 #include <fmt/format.h>
 
@@ -270,27 +271,22 @@ std::uint32_t FieldSampler::refine() {
     return *std::min_element(least.begin(), least.end());
 }
 
-void FieldSampler::place_initial() {
-    const shared::Lattice& l = t_.lattice;
-    // Rounding up to the box's side wraps round a torus, and stays on the last point of a free box.
-    auto axis = [&](double v, std::uint32_t extent) {
-        const double u = std::round(v / t_.quantum);
-        return u >= double(extent) ? (l.periodic ? 0u : extent - 1) : std::uint32_t(u);
+void FieldSampler::place_given(const std::vector<uvec2>& given) {
+    // A sample from the options is named as given; a hierarchy's earlier levels' samples, which
+    // never conflict (r only shrinks), by their point.
+    auto name = [&](std::size_t i) {
+        const glm::dvec2 q = i < initial_.size() ? initial_[i] : glm::dvec2(given[i]) * t_.quantum;
+        return fmt::format("{} ({}, {})", i + 1, q.x, q.y);
     };
-    auto given = [&](std::size_t i) { return fmt::format("{} ({}, {})", i + 1, initial_[i].x, initial_[i].y); };
-    for (std::size_t i = 0; i < initial_.size(); ++i) {
-        const glm::dvec2 q = initial_[i];
-        if (!(q.x >= 0 && q.y >= 0 && q.x < box_.width && q.y < box_.height))
-            throw Error(
-                fmt::format("given sample {} is outside the box [0,{}) x [0,{})", given(i), box_.width, box_.height));
-        const uvec2 p(axis(q.x, l.extent_x), axis(q.y, l.extent_y));
+    for (std::size_t i = 0; i < given.size(); ++i) {
+        const uvec2 p = given[i];
         const std::uint32_t r = t_.radius(p), leaf = tree_.leaf_of(p);
         // Two points of one leaf conflict under every rule (its diagonal is below r anywhere in it).
         std::uint32_t s = tree_.sample(leaf);
         if (s == FieldQuadtree::kNone) s = conflicting(p, r);
         if (s != FieldQuadtree::kNone)
-            throw Error(fmt::format("given samples {} and {} conflict under the {} rule on the run's lattice", given(s),
-                                    given(i), sizing_rule_name(SizingRule(rule_))));
+            throw Error(fmt::format("given samples {} and {} conflict under the {} rule on the run's lattice", name(s),
+                                    name(i), sizing_rule_name(SizingRule(rule_))));
         tree_.set_sample(leaf, p, add_sample(p, r));
     }
     // Stamped as one round's samples, they drop the leaves they cover; the rest stay, each tested
@@ -309,7 +305,7 @@ void FieldSampler::place_initial() {
     each_sample([&](std::uint32_t s) { tree_.settle(lattice_[s]); });
 }
 
-Sampling FieldSampler::run() {
+Sampling FieldSampler::run(const std::vector<uvec2>& given, std::uint32_t first_round) {
     // Every leaf an active cell, unstamped; a run of tiles is a run of leaves, written by one thread.
     cells_.resize(tree_.leaves());
     touched_.resize(tree_.leaves());
@@ -322,7 +318,7 @@ Sampling FieldSampler::run() {
             });
         },
         FieldQuadtree::kTileGrain);
-    if (!initial_.empty()) place_initial();
+    if (!given.empty()) place_given(given);
     std::uint32_t round = 0;
     std::uint32_t deepest = 0;
     // Runs one phase, timed when the run is profiled.
@@ -335,7 +331,7 @@ Sampling FieldSampler::run() {
         if (round == kMaxRounds) throw Error("internal: the sizing-field sampler did not converge");
         round_ = round + 1;
         round_first_ = std::uint32_t(lattice_.size());  // this round's samples are fresh until refined
-        phase("throw", [&] { throw_darts(round); });
+        phase("throw", [&] { throw_darts(first_round + round); });
         phase("resolve", [&] { resolve(); });
         decltype(darts_)().swap(darts_);
         std::uint32_t least_bits = UINT32_MAX;
@@ -367,21 +363,75 @@ Sampling FieldSampler::run() {
 
 }  // namespace field
 
+namespace {
+
+// The given samples (SampleOptions::initial) on the table's lattice, each at the lattice point
+// nearest it. Throws Error for one outside the box.
+std::vector<glm::uvec2> given_on_lattice(const FieldTable& t, const SampleOptions& o) {
+    const shared::Lattice& l = t.lattice;
+    // Rounding up to the box's side wraps round a torus, and stays on the last point of a free box.
+    auto axis = [&](double v, std::uint32_t extent) {
+        const double u = std::round(v / t.quantum);
+        return u >= double(extent) ? (l.periodic ? 0u : extent - 1) : std::uint32_t(u);
+    };
+    std::vector<glm::uvec2> out(o.initial.size());
+    for (std::size_t i = 0; i < o.initial.size(); ++i) {
+        const glm::dvec2 q = o.initial[i];
+        if (!(q.x >= 0 && q.y >= 0 && q.x < o.box.width && q.y < o.box.height))
+            throw Error(fmt::format("given sample {} ({}, {}) is outside the box [0,{}) x [0,{})", i + 1, q.x, q.y,
+                                    o.box.width, o.box.height));
+        out[i] = {axis(q.x, l.extent_x), axis(q.y, l.extent_y)};
+    }
+    return out;
+}
+
+}  // namespace
+
 Sampling sample_field(const SampleOptions& o, const FieldTable& t) {
     // tabulate() refused a field whose expected samples exceed memory; the leaves stay within a
     // 64th of it besides.
     const MemoryLimit limit = host_memory_limit();
     using Clock = std::chrono::steady_clock;
     const auto start = Clock::now();
-    field::FieldSampler sampler(t, o, std::uint64_t(double(limit.bytes) / 64));
-    const double leaves = std::chrono::duration<double>(Clock::now() - start).count();
-    Sampling s = sampler.run();
-    s.stats.seconds = std::chrono::duration<double>(Clock::now() - start).count();
-    if (o.profile) s.stats.profile.insert(s.stats.profile.begin(), PhaseTime{"leaves", leaves, 1});
-    s.box = o.box;
-    s.backend = o.backend == Backend::Serial ? Backend::Serial : Backend::Cpu;
-    s.device = "host";
-    return s;
+    Sampling out;
+    std::vector<glm::uvec2> samples = given_on_lattice(t, o);
+    // A hierarchy's levels (a direct run is one): the field scaled by S t_k on t's lattice, each
+    // level completing the last one's samples, its darts from the rounds after the last one's.
+    // r only shrinks from level to level, so the earlier samples stay conflict-free.
+    PhaseTimes phases;
+    double leaves = 0;
+    for (const auto& [birth, scale] : hierarchy_steps(o)) {
+        std::optional<FieldTable> own;
+        if (scale != 1) own = scaled(t, scale);
+        const FieldTable& level = own ? *own : t;
+        const auto built = Clock::now();
+        field::FieldSampler sampler(level, o, std::uint64_t(double(limit.bytes) / 64));
+        leaves += std::chrono::duration<double>(Clock::now() - built).count();
+        Sampling s = sampler.run(samples, out.stats.rounds);
+        out.stats.rounds += s.stats.rounds;
+        out.stats.darts += s.stats.darts;
+        out.stats.levels = std::max(out.stats.levels, s.stats.levels);
+        out.stats.peak_bytes = std::max(out.stats.peak_bytes, s.stats.peak_bytes + (own ? t.bytes() : 0));
+        for (const PhaseTime& p : s.stats.profile) phases.add(p);
+        samples = std::move(s.lattice);
+        if (o.hierarchy.steps != 0) out.birth.resize(samples.size(), birth);
+    }
+    out.lattice = std::move(samples);
+    out.quantum = t.quantum;
+    out.radius = out.coverage = t.r_lo * t.quantum;
+    out.local_radius.reserve(out.size());
+    for (const glm::uvec2 p : out.lattice) out.local_radius.push_back(t.radius(p) * t.quantum);
+    out.field = t.stats();
+    out.hierarchy_start = o.hierarchy.steps != 0 ? hierarchy_start(o) : 1.0;
+    out.stats.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    if (o.profile) {
+        out.stats.profile = phases.phases();
+        out.stats.profile.insert(out.stats.profile.begin(), PhaseTime{"leaves", leaves, 1});
+    }
+    out.box = o.box;
+    out.backend = o.backend == Backend::Serial ? Backend::Serial : Backend::Cpu;
+    out.device = "host";
+    return out;
 }
 
 }  // namespace vrpd::detail

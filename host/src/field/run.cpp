@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include "field.h"
+#include "../plan.h"
 #include "vrpd/sizing.h"
 
 namespace vrpd {
@@ -19,6 +20,11 @@ double SizingField::operator()(glm::dvec2 p) const {
         return std::uint32_t(std::clamp(u, 0.0, double(extent - 1)));
     };
     return t.radius({coord(p.x, t.lattice.extent_x), coord(p.y, t.lattice.extent_y)}) * t.quantum;
+}
+
+SizingField SizingField::scaled(double scale) const {
+    if (!(std::isfinite(scale) && scale > 0)) throw Error(fmt::format("a field's scale must be > 0 (got {})", scale));
+    return SizingField(std::make_shared<const detail::FieldTable>(detail::scaled(*table_, scale)));
 }
 
 FieldStats SizingField::stats() const { return table_->stats(); }
@@ -41,6 +47,15 @@ Sampling sample_sized(const SampleOptions& o) {
         s.local_radius.assign(s.size(), t.constant);
         s.field = t.stats();
         return s;
+    }
+    if (o.hierarchy.steps != 0 && o.box.boundary == Boundary::Periodic) {
+        // The first step's field, S times r, within half the torus as every field is.
+        const double top = t.r_hi * t.quantum * hierarchy_start(o), short_side = std::min(o.box.width, o.box.height);
+        if (top >= short_side / 2)
+            throw Error(
+                fmt::format("the hierarchy's first step, at {} times the field: its largest radius {:.6g} is "
+                            "too large for a periodic box of {} x {}: it must be < {} (half the shorter side)",
+                            hierarchy_start(o), top, o.box.width, o.box.height, short_side / 2));
     }
     if (o.backend == Backend::Gpu)
         throw Error("a varying sizing field runs on the cpu and serial backends; its Vulkan kernels are not built");

@@ -87,12 +87,14 @@ public:
           serial_(o.backend == Backend::Serial),
           cells_(density_),
           profile_(o.profile),
-          initial_(o.initial),
-          box_(o.box) {
+          initial_(o.initial) {
         bytes_ = tree_.build_bytes();
     }
 
-    Sampling run();
+    // Samples until maximal, from `given` (lattice points, first in the output, in their order);
+    // its rounds' darts are those of rounds first_round on (a hierarchy's levels go on counting).
+    // Throws Error if a given sample conflicts with an earlier one under the rule.
+    Sampling run(const std::vector<uvec2>& given, std::uint32_t first_round);
 
 private:
     // The farthest an earlier sample conflicting with some point of [a, b] can be, given the
@@ -261,11 +263,10 @@ private:
     // Drops, keeps or splits each active cell (the next list); returns the least side exponent
     // in it (UINT32_MAX when it is empty).
     std::uint32_t refine();
-    // Makes the given samples (SampleOptions::initial) the first ones, in their order, each at the
-    // lattice point nearest it and tested exactly against those before it under the rule (the
-    // test a dart takes); then drops the leaves they cover, as a round's refinement does. Throws
-    // Error for a sample outside the box or a pair in conflict.
-    void place_initial();
+    // Makes the given samples the first ones, in their order, each tested exactly against those
+    // before it under the rule (the test a dart takes); then drops the leaves they cover, as a
+    // round's refinement does.
+    void place_given(const std::vector<uvec2>& given);
     // Notes the arrays' bytes now, with `extra` held outside them, for the peak.
     void note_bytes(std::uint64_t extra) {
         bytes_ = std::max<std::uint64_t>(bytes_, tree_.bytes() + cells_.bytes() + darts_.capacity() * sizeof(Dart) +
@@ -300,8 +301,7 @@ private:
     std::uint64_t darts_thrown_ = 0, bytes_ = 0;
     bool profile_;
     PhaseTimes phases_;
-    const std::vector<glm::dvec2>& initial_;
-    Box box_;
+    const std::vector<glm::dvec2>& initial_;  // names the given samples that came from the options
 };
 
 }  // namespace vrpd::detail::field
