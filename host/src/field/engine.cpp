@@ -271,7 +271,7 @@ std::uint32_t FieldSampler::refine() {
     return *std::min_element(least.begin(), least.end());
 }
 
-void FieldSampler::place_given(const std::vector<uvec2>& given) {
+void FieldSampler::place_given(const std::vector<uvec2>& given, bool checked) {
     // A sample from the options is named as given; a hierarchy's earlier levels' samples, which
     // never conflict (r only shrinks), by their point.
     auto name = [&](std::size_t i) {
@@ -283,7 +283,7 @@ void FieldSampler::place_given(const std::vector<uvec2>& given) {
         const std::uint32_t r = t_.radius(p), leaf = tree_.leaf_of(p);
         // Two points of one leaf conflict under every rule (its diagonal is below r anywhere in it).
         std::uint32_t s = tree_.sample(leaf);
-        if (s == FieldQuadtree::kNone) s = conflicting(p, r);
+        if (s == FieldQuadtree::kNone && !checked) s = conflicting(p, r);
         if (s != FieldQuadtree::kNone)
             throw Error(fmt::format("given samples {} and {} conflict under the {} rule on the run's lattice", name(s),
                                     name(i), sizing_rule_name(SizingRule(rule_))));
@@ -305,7 +305,7 @@ void FieldSampler::place_given(const std::vector<uvec2>& given) {
     each_sample([&](std::uint32_t s) { tree_.settle(lattice_[s]); });
 }
 
-Sampling FieldSampler::run(const std::vector<uvec2>& given, std::uint32_t first_round) {
+Sampling FieldSampler::run(const std::vector<uvec2>& given, bool checked, std::uint32_t first_round) {
     // Every leaf an active cell, unstamped; a run of tiles is a run of leaves, written by one thread.
     cells_.resize(tree_.leaves());
     touched_.resize(tree_.leaves());
@@ -318,15 +318,15 @@ Sampling FieldSampler::run(const std::vector<uvec2>& given, std::uint32_t first_
             });
         },
         FieldQuadtree::kTileGrain);
-    if (!given.empty()) place_given(given);
-    std::uint32_t round = 0;
-    std::uint32_t deepest = 0;
     // Runs one phase, timed when the run is profiled.
     auto phase = [&](const char* name, auto&& body) {
         const auto t0 = Clock::now();
         body();
         if (profile_) phases_.add(name, std::chrono::duration<double>(Clock::now() - t0).count());
     };
+    if (!given.empty()) phase("given", [&] { place_given(given, checked); });
+    std::uint32_t round = 0;
+    std::uint32_t deepest = 0;
     while (!cells_.empty()) {
         if (round == kMaxRounds) throw Error("internal: the sizing-field sampler did not converge");
         round_ = round + 1;
@@ -399,15 +399,23 @@ Sampling sample_field(const SampleOptions& o, const FieldTable& t) {
     // level completing the last one's samples, its darts from the rounds after the last one's.
     // r only shrinks from level to level, so the earlier samples stay conflict-free.
     PhaseTimes phases;
-    double leaves = 0;
-    for (const auto& [birth, scale] : hierarchy_steps(o)) {
+    auto since = [](Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); };
+    const std::vector<HierarchyStep> steps = hierarchy_steps(o);
+    for (std::size_t k = 0; k < steps.size(); ++k) {
+        const auto [birth, scale] = steps[k];
         std::optional<FieldTable> own;
-        if (scale != 1) own = scaled(t, scale);
+        const auto scaling = Clock::now();
+        if (scale != 1) {
+            own = scaled(t, scale);
+            phases.add("scale", since(scaling));
+        }
         const FieldTable& level = own ? *own : t;
         const auto built = Clock::now();
         field::FieldSampler sampler(level, o, std::uint64_t(double(limit.bytes) / 64));
-        leaves += std::chrono::duration<double>(Clock::now() - built).count();
-        Sampling s = sampler.run(samples, out.stats.rounds);
+        phases.add("leaves", since(built));
+        // Given samples from the options are checked against each other; a level's given
+        // samples, the earlier levels', are conflict-free by the scales' order.
+        Sampling s = sampler.run(samples, k > 0, out.stats.rounds);
         out.stats.rounds += s.stats.rounds;
         out.stats.darts += s.stats.darts;
         out.stats.levels = std::max(out.stats.levels, s.stats.levels);
@@ -424,10 +432,7 @@ Sampling sample_field(const SampleOptions& o, const FieldTable& t) {
     out.field = t.stats();
     out.hierarchy_start = o.hierarchy.steps != 0 ? hierarchy_start(o) : 1.0;
     out.stats.seconds = std::chrono::duration<double>(Clock::now() - start).count();
-    if (o.profile) {
-        out.stats.profile = phases.phases();
-        out.stats.profile.insert(out.stats.profile.begin(), PhaseTime{"leaves", leaves, 1});
-    }
+    if (o.profile) out.stats.profile = phases.phases();
     out.box = o.box;
     out.backend = o.backend == Backend::Serial ? Backend::Serial : Backend::Cpu;
     out.device = "host";

@@ -93,8 +93,9 @@ public:
 
     // Samples until maximal, from `given` (lattice points, first in the output, in their order);
     // its rounds' darts are those of rounds first_round on (a hierarchy's levels go on counting).
-    // Throws Error if a given sample conflicts with an earlier one under the rule.
-    Sampling run(const std::vector<uvec2>& given, std::uint32_t first_round);
+    // Unless the caller knows them conflict-free (`checked`), throws Error if a given sample
+    // conflicts with an earlier one under the rule.
+    Sampling run(const std::vector<uvec2>& given, bool checked, std::uint32_t first_round);
 
 private:
     // The farthest an earlier sample conflicting with some point of [a, b] can be, given the
@@ -266,7 +267,7 @@ private:
     // Makes the given samples the first ones, in their order, each tested exactly against those
     // before it under the rule (the test a dart takes); then drops the leaves they cover, as a
     // round's refinement does.
-    void place_given(const std::vector<uvec2>& given);
+    void place_given(const std::vector<uvec2>& given, bool checked);
     // Notes the arrays' bytes now, with `extra` held outside them, for the peak.
     void note_bytes(std::uint64_t extra) {
         bytes_ = std::max<std::uint64_t>(bytes_, tree_.bytes() + cells_.bytes() + darts_.capacity() * sizeof(Dart) +
