@@ -142,12 +142,15 @@ void check_rows(const std::vector<DeviceSample>& rows, const Sampling& expected)
 
 }  // namespace
 
-TEST_CASE("a varying sizing field on the application's device: the host samples it, each row has r at it",
-          "[vulkan][gpu][field]") {
+TEST_CASE(
+    "a varying sizing field's hierarchy on the application's device: the host samples it, each row has its "
+    "level's r at it",
+    "[vulkan][gpu][field]") {
     Application app;
     const VulkanTarget target = app.target();
     SampleOptions o = test::options(0, 4, Backend::Auto, {1, 1, Boundary::Free});
     o.sizing = Sizing{"0.01 + 0.02*x", "", 0, 0, -1, SizingRule::Bigger, Weighting::Uniform};
+    o.hierarchy = {3, 0};
     SampleOptions on_cpu = o;
     on_cpu.backend = Backend::Cpu;
     const Sampling expected = sample(on_cpu);
@@ -163,7 +166,8 @@ TEST_CASE("a varying sizing field on the application's device: the host samples 
         for (std::size_t i = 0; i < rows.size(); ++i) {
             INFO("sample " << i);
             REQUIRE(rows[i].x == float(expected.point(i).x));
-            REQUIRE(rows[i].radius == float(expected.local_radius[i]));
+            REQUIRE(rows[i].t == float(expected.birth[i]));
+            REQUIRE(rows[i].radius == float(expected.local_radius[i] * expected.birth[i] * 3));
             REQUIRE(rows[i].radius >= 0.0099f);
         }
     }

@@ -28,8 +28,8 @@ struct VulkanTarget {
 
 // One sample in the buffer: 16 bytes, usable as a vertex attribute (R32G32B32A32_SFLOAT) or a
 // std430 vec4. x, y in box units; t its birth (1 for a direct run); radius = Rf at its birth
-// (t S Rf: the spacing of the level it belongs to, for point sizes), or with a sizing field r at
-// the sample (Sampling::local_radius).
+// (t S Rf: the spacing of the level it belongs to, for point sizes), or with a sizing field its
+// level's r at the sample (t S r, r from Sampling::local_radius).
 struct DeviceSample {
     float x, y, t, radius;
 };

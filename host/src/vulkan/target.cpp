@@ -27,7 +27,7 @@ DeviceSamples sample_on(const VulkanTarget& target, const SampleOptions& options
     for (std::size_t i = 0; i < s.size(); ++i) {
         const glm::dvec2 p = s.point(i);
         const double t = s.birth.empty() ? 1.0 : s.birth[i];
-        const double r = s.local_radius.empty() ? s.radius * t * s.hierarchy_start : s.local_radius[i];
+        const double r = (s.local_radius.empty() ? s.radius : s.local_radius[i]) * t * s.hierarchy_start;
         rows[i] = {float(p.x), float(p.y), float(t), float(r)};
     }
 
