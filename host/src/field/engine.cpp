@@ -346,13 +346,7 @@ Sampling FieldSampler::run(const std::vector<uvec2>& given, bool checked, std::u
             kCellGrain);
     }
     Sampling s;
-    s.lattice.reserve(lattice_.size());
-    for (uvec2 p : lattice_) s.lattice.push_back(p);
-    s.quantum = t_.quantum;
-    s.radius = s.coverage = t_.r_lo * t_.quantum;
-    s.local_radius.reserve(radii_.size());
-    for (std::uint32_t r : radii_) s.local_radius.push_back(r * t_.quantum);
-    s.field = t_.stats();
+    s.lattice.assign(lattice_.begin(), lattice_.end());
     s.stats.levels = deepest;
     s.stats.rounds = round;
     s.stats.darts = darts_thrown_;
@@ -419,7 +413,9 @@ Sampling sample_field(const SampleOptions& o, const FieldTable& t) {
         out.stats.rounds += s.stats.rounds;
         out.stats.darts += s.stats.darts;
         out.stats.levels = std::max(out.stats.levels, s.stats.levels);
-        out.stats.peak_bytes = std::max(out.stats.peak_bytes, s.stats.peak_bytes + (own ? t.bytes() : 0));
+        // Beside the level's arrays: the given samples, and the final table under a scaled one.
+        out.stats.peak_bytes = std::max(
+            out.stats.peak_bytes, s.stats.peak_bytes + samples.capacity() * sizeof(glm::uvec2) + (own ? t.bytes() : 0));
         for (const PhaseTime& p : s.stats.profile) phases.add(p);
         samples = std::move(s.lattice);
         if (o.hierarchy.steps != 0) out.birth.resize(samples.size(), birth);

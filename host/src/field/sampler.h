@@ -91,7 +91,8 @@ public:
         bytes_ = tree_.build_bytes();
     }
 
-    // Samples until maximal, from `given` (lattice points, first in the output, in their order);
+    // Samples until maximal, from `given` (lattice points, first in the output, in their order),
+    // giving the samples and the stats (sample_field fills in the rest);
     // its rounds' darts are those of rounds first_round on (a hierarchy's levels go on counting).
     // Unless the caller knows them conflict-free (`checked`), throws Error if a given sample
     // conflicts with an earlier one under the rule.
