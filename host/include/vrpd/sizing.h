@@ -67,8 +67,9 @@ public:
     const detail::FieldTable& table() const { return *table_; }
     // This field times `scale` (> 0) on the same lattice, each node of its table rounded: a
     // discrete hierarchy's field at birth t is its final field scaled by S t. Throws Error for a
-    // scale that is not a finite number > 0 or passes the lattice's 32-bit radii.
-    SizingField scaled(double scale) const;
+    // scale that is not a finite number > 0 or passes the lattice's 32-bit radii. Its bounds are
+    // found on `threads` threads (0: one per hardware thread).
+    SizingField scaled(double scale, unsigned threads = 0) const;
 
 private:
     explicit SizingField(std::shared_ptr<const detail::FieldTable> table) : table_(std::move(table)) {}

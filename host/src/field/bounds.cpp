@@ -10,6 +10,10 @@
 namespace vrpd::detail {
 
 namespace {
+// The rows of table cells or nodes from which the bounds' loops go to the pool's threads (a row
+// holds hundreds of cells or more).
+constexpr std::size_t kRowGrain = 2;
+
 // The pyramid level and block range holding table cells [i0, i1] x [j0, j1] in at most 2 x 2 blocks;
 // a patched cell of level 0 gives its patch's bound (of_patch).
 template <typename Pick, typename OfPatch>
@@ -108,30 +112,38 @@ inline std::pair<std::uint32_t, std::uint32_t> corner_extremes(const FieldTable&
     return corner_extremes(t.cell_nodes(i, j), t.cell_bits, fa, fb);
 }
 // Level 0 (one table cell) is read from the cell's four nodes (or its patch's bounds); level
-// k >= 1 holds the least and greatest node over blocks of 2^k x 2^k cells.
-void build_pyramids(FieldTable& t) {
+// k >= 1 holds the least and greatest node over blocks of 2^k x 2^k cells, each row of blocks
+// made on one of the pool's threads.
+void build_pyramids(FieldTable& t, ThreadPool& pool) {
     t.lo.assign(1, {});
     t.hi.assign(1, {});
     std::uint32_t w = t.cells_x, h = t.cells_y;
     while (w > 1 || h > 1) {
-        const std::uint32_t pw = w, nw = (w + 1) / 2, nh = (h + 1) / 2;
+        const std::uint32_t pw = w, ph = h, nw = (w + 1) / 2, nh = (h + 1) / 2;
         const bool cells = t.lo.size() == 1;
         std::vector<std::uint32_t> nlo(std::size_t(nw) * nh, UINT32_MAX), nhi(nlo.size(), 0);
-        for (std::uint32_t j = 0; j < h; ++j)
-            for (std::uint32_t i = 0; i < w; ++i) {
-                const std::size_t to = std::size_t(j / 2) * nw + i / 2, from = std::size_t(j) * pw + i;
-                if (const FieldTable::Patch* q = cells ? t.patch(i, j) : nullptr) {
-                    nlo[to] = std::min(nlo[to], q->lo);
-                    nhi[to] = std::max(nhi[to], q->hi);
-                } else if (cells) {
-                    const glm::uvec4 v = t.cell_nodes(i, j);
-                    nlo[to] = std::min({nlo[to], v.x, v.y, v.z, v.w});
-                    nhi[to] = std::max({nhi[to], v.x, v.y, v.z, v.w});
-                } else {
-                    nlo[to] = std::min(nlo[to], t.lo.back()[from]);
-                    nhi[to] = std::max(nhi[to], t.hi.back()[from]);
-                }
-            }
+        const std::vector<std::uint32_t>&plo = t.lo.back(), &phi = t.hi.back();
+        pool.parallel_for(
+            nh,
+            [&](std::size_t begin, std::size_t end, unsigned) {
+                for (std::size_t row = begin; row < end; ++row)
+                    for (std::uint32_t j = std::uint32_t(2 * row); j < std::min<std::uint32_t>(ph, 2 * row + 2); ++j)
+                        for (std::uint32_t i = 0; i < pw; ++i) {
+                            const std::size_t to = row * nw + i / 2, from = std::size_t(j) * pw + i;
+                            if (const FieldTable::Patch* q = cells ? t.patch(i, j) : nullptr) {
+                                nlo[to] = std::min(nlo[to], q->lo);
+                                nhi[to] = std::max(nhi[to], q->hi);
+                            } else if (cells) {
+                                const glm::uvec4 v = t.cell_nodes(i, j);
+                                nlo[to] = std::min({nlo[to], v.x, v.y, v.z, v.w});
+                                nhi[to] = std::max({nhi[to], v.x, v.y, v.z, v.w});
+                            } else {
+                                nlo[to] = std::min(nlo[to], plo[from]);
+                                nhi[to] = std::max(nhi[to], phi[from]);
+                            }
+                        }
+            },
+            kRowGrain);
         t.lo.push_back(std::move(nlo));
         t.hi.push_back(std::move(nhi));
         w = nw;
@@ -140,36 +152,57 @@ void build_pyramids(FieldTable& t) {
 }
 }  // namespace
 
-void complete_bounds(FieldTable& t) {
+void complete_bounds(FieldTable& t, ThreadPool& pool) {
     t.r_lo = *std::min_element(t.nodes.begin(), t.nodes.end());
     t.r_hi = *std::max_element(t.nodes.begin(), t.nodes.end());
     for (const FieldTable::Patch& q : t.patches) t.r_lo = std::min(t.r_lo, q.lo), t.r_hi = std::max(t.r_hi, q.hi);
     // Over the box, r's extremes are at the corners of the table cells clipped to it: the nodes
-    // inside, the points where node lines meet the far edges, and the far corner.
+    // inside, the points where node lines meet the far edges, and the far corner. The
+    // interpolant's L: its steepest gradient over the cells (patch_bounds takes a patched cell's).
+    // Both by rows of nodes on the pool's threads, each chunk's joined after (min and max are
+    // exact, so in any order).
+    struct Part {
+        std::uint32_t lo = UINT32_MAX, hi = 0;
+        double steepest = 0;
+    };
+    const std::size_t rows = std::size_t(t.cells_y) + 1;
+    std::vector<Part> parts(pool.chunks(rows, kRowGrain));
+    const std::uint32_t last_x = t.lattice.extent_x - 1, last_y = t.lattice.extent_y - 1;
+    pool.parallel_for(
+        rows,
+        [&](std::size_t begin, std::size_t end, unsigned chunk) {
+            Part part;
+            for (std::uint32_t j = std::uint32_t(begin); j < end; ++j) {
+                for (std::uint32_t i = 0; i <= t.cells_x; ++i) {
+                    const std::uint64_t x = std::uint64_t(i) << t.cell_bits, y = std::uint64_t(j) << t.cell_bits;
+                    if ((x > last_x && i > 0 && (std::uint64_t(i - 1) << t.cell_bits) > last_x) ||
+                        (y > last_y && j > 0 && (std::uint64_t(j - 1) << t.cell_bits) > last_y))
+                        continue;
+                    const std::uint32_t r = t.radius({std::uint32_t(std::min<std::uint64_t>(x, last_x)),
+                                                      std::uint32_t(std::min<std::uint64_t>(y, last_y))});
+                    part.lo = std::min(part.lo, r);
+                    part.hi = std::max(part.hi, r);
+                }
+                if (j == t.cells_y) continue;
+                for (std::uint32_t i = 0; i < t.cells_x; ++i)
+                    if (!t.patch(i, j))
+                        raise_steepest(part.steepest, t.node(i, j), t.node(i + 1, j), t.node(i, j + 1),
+                                       t.node(i + 1, j + 1), 1);
+            }
+            parts[chunk] = part;
+        },
+        kRowGrain);
     t.box_lo = UINT32_MAX;
     t.box_hi = 0;
-    const std::uint32_t last_x = t.lattice.extent_x - 1, last_y = t.lattice.extent_y - 1;
-    for (std::uint32_t j = 0; j <= t.cells_y; ++j)
-        for (std::uint32_t i = 0; i <= t.cells_x; ++i) {
-            const std::uint64_t x = std::uint64_t(i) << t.cell_bits, y = std::uint64_t(j) << t.cell_bits;
-            if ((x > last_x && i > 0 && (std::uint64_t(i - 1) << t.cell_bits) > last_x) ||
-                (y > last_y && j > 0 && (std::uint64_t(j - 1) << t.cell_bits) > last_y))
-                continue;
-            const std::uint32_t r = t.radius(
-                {std::uint32_t(std::min<std::uint64_t>(x, last_x)), std::uint32_t(std::min<std::uint64_t>(y, last_y))});
-            t.box_lo = std::min(t.box_lo, r);
-            t.box_hi = std::max(t.box_hi, r);
-        }
-    // The interpolant's L: its steepest gradient over the cells (patch_bounds takes a patched
-    // cell's).
     double steepest = 0;
-    for (std::uint32_t j = 0; j < t.cells_y; ++j)
-        for (std::uint32_t i = 0; i < t.cells_x; ++i)
-            if (!t.patch(i, j))
-                raise_steepest(steepest, t.node(i, j), t.node(i + 1, j), t.node(i, j + 1), t.node(i + 1, j + 1), 1);
-    patch_bounds(t, steepest);
+    for (const Part& part : parts) {
+        t.box_lo = std::min(t.box_lo, part.lo);
+        t.box_hi = std::max(t.box_hi, part.hi);
+        steepest = std::max(steepest, part.steepest);
+    }
+    patch_bounds(t, steepest, pool);
     t.lipschitz = steepest / double(1u << t.cell_bits);
-    build_pyramids(t);
+    build_pyramids(t, pool);
 }
 
 std::uint32_t FieldTable::min_over(glm::uvec2 a, glm::uvec2 b) const {

@@ -395,12 +395,15 @@ Sampling sample_field(const SampleOptions& o, const FieldTable& t) {
     PhaseTimes phases;
     auto since = [](Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); };
     const std::vector<HierarchyStep> steps = hierarchy_steps(o);
+    // The levels' tables are scaled on threads of their own (the samplers' come and go).
+    std::optional<ThreadPool> pool;
+    if (steps.size() > 1) pool.emplace(o.backend == Backend::Serial ? 1 : o.threads);
     for (std::size_t k = 0; k < steps.size(); ++k) {
         const auto [birth, scale] = steps[k];
         std::optional<FieldTable> own;
         const auto scaling = Clock::now();
         if (scale != 1) {
-            own = scaled(t, scale);
+            own = scaled(t, scale, *pool);
             phases.add("scale", since(scaling));
         }
         const FieldTable& level = own ? *own : t;

@@ -363,40 +363,65 @@ void install_patches(FieldTable& t, const std::vector<PatchDraft>& patches) {
     }
 }
 
-void patch_bounds(FieldTable& t, double& steepest) {
+void patch_bounds(FieldTable& t, double& steepest, ThreadPool& pool) {
     const std::uint32_t last_x = t.lattice.extent_x - 1, last_y = t.lattice.extent_y - 1;
-    std::size_t k = 0;  // the next patch
+    // Each patch's table cell, in patch order.
+    std::vector<std::uint32_t> cells;
+    cells.reserve(t.patches.size());
     for (std::size_t w = 0; w < t.patched.size(); ++w)
-        for (std::uint64_t word = t.patched[w]; word != 0; word &= word - 1) {
-            const std::size_t c = w * 64 + std::size_t(std::countr_zero(word));
-            const FieldTable::Patch& q = t.patches[k++];
-            const std::uint32_t n = 1u << q.depth, bits = t.cell_bits - q.depth;
-            const std::uint64_t x0 = std::uint64_t(c % t.cells_x) << t.cell_bits,
-                                y0 = std::uint64_t(c / t.cells_x) << t.cell_bits;
-            auto at = [&](std::uint32_t s, std::uint32_t r) { return double(t.patch_nodes[q.first + r * (n + 1) + s]); };
-            for (std::uint32_t r = 0; r <= n; ++r)
-                for (std::uint32_t s = 0; s <= n; ++s) {
-                    const std::uint64_t x = x0 + (std::uint64_t(s) << bits), y = y0 + (std::uint64_t(r) << bits);
-                    if ((x > last_x && s > 0 && x - (std::uint64_t(1) << bits) > last_x) ||
-                        (y > last_y && r > 0 && y - (std::uint64_t(1) << bits) > last_y))
-                        continue;
-                    if ((x > last_x && s == 0) || (y > last_y && r == 0)) continue;
-                    // r at a node of the patch's own cells (not its far edges, its neighbours')
-                    // is the node.
-                    const std::uint32_t v = s < n && r < n && x <= last_x && y <= last_y
-                                                ? t.patch_nodes[q.first + r * (n + 1) + s]
-                                                : t.radius({std::uint32_t(std::min<std::uint64_t>(x, last_x)),
-                                                            std::uint32_t(std::min<std::uint64_t>(y, last_y))});
-                    t.box_lo = std::min(t.box_lo, v);
-                    t.box_hi = std::max(t.box_hi, v);
-                }
-            // A patch cell of side 2^-depth table cells: its gradient scaled up by 2^depth. Those
-            // wholly past a free box's lattice, where r is never read, are passed over.
-            for (std::uint32_t r = 0; r < n; ++r)
-                for (std::uint32_t s = 0; s < n; ++s)
-                    if (x0 + (std::uint64_t(s) << bits) <= last_x && y0 + (std::uint64_t(r) << bits) <= last_y)
-                        raise_steepest(steepest, at(s, r), at(s + 1, r), at(s, r + 1), at(s + 1, r + 1), n);
-        }
+        for (std::uint64_t word = t.patched[w]; word != 0; word &= word - 1)
+            cells.push_back(std::uint32_t(w * 64 + std::size_t(std::countr_zero(word))));
+    // Per chunk of patches: the box's least and greatest r at their nodes, and their steepest
+    // gradient, joined after (min and max are exact, so in any order).
+    struct Part {
+        std::uint32_t lo = UINT32_MAX, hi = 0;
+        double steepest = 0;
+    };
+    std::vector<Part> parts(pool.chunks(cells.size(), 4));
+    pool.parallel_for(
+        cells.size(),
+        [&](std::size_t begin, std::size_t end, unsigned chunk) {
+            Part part;
+            for (std::size_t k = begin; k < end; ++k) {
+                const std::size_t c = cells[k];
+                const FieldTable::Patch& q = t.patches[k];
+                const std::uint32_t n = 1u << q.depth, bits = t.cell_bits - q.depth;
+                const std::uint64_t x0 = std::uint64_t(c % t.cells_x) << t.cell_bits, y0 = std::uint64_t(c / t.cells_x)
+                                                                                           << t.cell_bits;
+                auto at = [&](std::uint32_t s, std::uint32_t r) {
+                    return double(t.patch_nodes[q.first + r * (n + 1) + s]);
+                };
+                for (std::uint32_t r = 0; r <= n; ++r)
+                    for (std::uint32_t s = 0; s <= n; ++s) {
+                        const std::uint64_t x = x0 + (std::uint64_t(s) << bits), y = y0 + (std::uint64_t(r) << bits);
+                        if ((x > last_x && s > 0 && x - (std::uint64_t(1) << bits) > last_x) ||
+                            (y > last_y && r > 0 && y - (std::uint64_t(1) << bits) > last_y))
+                            continue;
+                        if ((x > last_x && s == 0) || (y > last_y && r == 0)) continue;
+                        // r at a node of the patch's own cells (not its far edges, its
+                        // neighbours') is the node.
+                        const std::uint32_t v = s < n && r < n && x <= last_x && y <= last_y
+                                                    ? t.patch_nodes[q.first + r * (n + 1) + s]
+                                                    : t.radius({std::uint32_t(std::min<std::uint64_t>(x, last_x)),
+                                                                std::uint32_t(std::min<std::uint64_t>(y, last_y))});
+                        part.lo = std::min(part.lo, v);
+                        part.hi = std::max(part.hi, v);
+                    }
+                // A patch cell of side 2^-depth table cells: its gradient scaled up by 2^depth.
+                // Those wholly past a free box's lattice, where r is never read, are passed over.
+                for (std::uint32_t r = 0; r < n; ++r)
+                    for (std::uint32_t s = 0; s < n; ++s)
+                        if (x0 + (std::uint64_t(s) << bits) <= last_x && y0 + (std::uint64_t(r) << bits) <= last_y)
+                            raise_steepest(part.steepest, at(s, r), at(s + 1, r), at(s, r + 1), at(s + 1, r + 1), n);
+            }
+            parts[chunk] = part;
+        },
+        4);
+    for (const Part& part : parts) {
+        t.box_lo = std::min(t.box_lo, part.lo);
+        t.box_hi = std::max(t.box_hi, part.hi);
+        steepest = std::max(steepest, part.steepest);
+    }
 }
 
 }  // namespace vrpd::detail

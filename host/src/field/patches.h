@@ -91,7 +91,7 @@ void install_patches(FieldTable& t, const std::vector<PatchDraft>& patches);
 
 // Adds the patches to t's bounds: the box's least and greatest r at the nodes (as its table
 // nodes are taken, clipped to the box), and `steepest`, the largest gradient over their cells
-// (in node units per table cell).
-void patch_bounds(FieldTable& t, double& steepest);
+// (in node units per table cell). The patches go to the pool's threads.
+void patch_bounds(FieldTable& t, double& steepest, ThreadPool& pool);
 
 }  // namespace vrpd::detail

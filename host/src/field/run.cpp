@@ -22,9 +22,10 @@ double SizingField::operator()(glm::dvec2 p) const {
     return t.radius({coord(p.x, t.lattice.extent_x), coord(p.y, t.lattice.extent_y)}) * t.quantum;
 }
 
-SizingField SizingField::scaled(double scale) const {
+SizingField SizingField::scaled(double scale, unsigned threads) const {
     if (!(std::isfinite(scale) && scale > 0)) throw Error(fmt::format("a field's scale must be > 0 (got {})", scale));
-    return SizingField(std::make_shared<const detail::FieldTable>(detail::scaled(*table_, scale)));
+    detail::ThreadPool pool(threads);
+    return SizingField(std::make_shared<const detail::FieldTable>(detail::scaled(*table_, scale, pool)));
 }
 
 FieldStats SizingField::stats() const { return table_->stats(); }

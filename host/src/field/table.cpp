@@ -339,32 +339,30 @@ FieldTable tabulate(const Sizing& s, const Box& box, unsigned threads) {
         malloc_trim(0);
     }
     t.rule = std::uint32_t(s.rule);
-    complete_bounds(t);
+    complete_bounds(t, pool);
     return t;
 }
 
-FieldTable scaled(const FieldTable& t, double scale) {
+FieldTable scaled(const FieldTable& t, double scale, ThreadPool& pool) {
+    // The largest node decides whether every scaled node fits 32 bits (rounding is monotone).
+    if (std::round(double(t.r_hi) * scale) >= 4294967295.0)
+        throw Error(fmt::format("the field's radius {:.6g} at {} times is too large for the lattice of this box",
+                                double(t.r_hi) * t.quantum, scale));
+    auto times = [&](std::uint32_t v) {
+        return std::max<std::uint32_t>(1, std::uint32_t(std::round(double(v) * scale)));
+    };
     FieldTable out = t;
     auto scale_nodes = [&](std::vector<std::uint32_t>& nodes) {
-        for (std::uint32_t& v : nodes) {
-            const double units = std::round(double(v) * scale);
-            if (units >= 4294967295.0)
-                throw Error(
-                    fmt::format("the field's radius {:.6g} at {} times is too large for the lattice of this box",
-                                double(v) * t.quantum, scale));
-            v = std::max<std::uint32_t>(1, std::uint32_t(units));
-        }
+        pool.parallel_for(nodes.size(), [&](std::size_t begin, std::size_t end, unsigned) {
+            for (std::size_t i = begin; i < end; ++i) nodes[i] = times(nodes[i]);
+        });
     };
     scale_nodes(out.nodes);
     scale_nodes(out.patch_nodes);
-    for (FieldTable::Patch& q : out.patches) {
-        const std::size_t n = (std::size_t(1) << q.depth) + 1;
-        const auto first = out.patch_nodes.begin() + q.first, end = first + std::ptrdiff_t(n * n);
-        q.lo = *std::min_element(first, end);
-        q.hi = *std::max_element(first, end);
-    }
+    // A patch's least and greatest node scale with it: `times` is non-decreasing.
+    for (FieldTable::Patch& q : out.patches) q.lo = times(q.lo), q.hi = times(q.hi);
     out.constant = t.constant * scale;
-    complete_bounds(out);
+    complete_bounds(out, pool);
     return out;
 }
 

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "shared/field.h"
+#include "../cpu/thread_pool.h"
 #include "shared/lattice.h"
 #include "vrpd/vrpd.h"
 
@@ -123,14 +124,14 @@ struct FieldTable {
     }
 };
 
-// Sets t's bounds from its nodes and patches: r_lo, r_hi, box_lo, box_hi, the interpolant's L
-// and the min/max pyramids.
-void complete_bounds(FieldTable& t);
+// Sets t's bounds from its nodes and patches, on the pool's threads: r_lo, r_hi, box_lo, box_hi,
+// the interpolant's L and the min/max pyramids.
+void complete_bounds(FieldTable& t, ThreadPool& pool);
 
 // t with every node (patches' too) times `scale`, rounded: on the same lattice, the field
 // scale r, each level of a hierarchy of the field (r at a point is non-decreasing in the scale).
 // Throws Error where a node passes 32 bits.
-FieldTable scaled(const FieldTable& t, double scale);
+FieldTable scaled(const FieldTable& t, double scale, ThreadPool& pool);
 
 // Replaces the nodes of `cells_x` x `cells_y` table cells of side h (row by row; on a torus the
 // last row and column repeat the first) by the largest L-Lipschitz function at or below them:
