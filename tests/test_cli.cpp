@@ -200,6 +200,20 @@ TEST_CASE("bench and check write JSON that says what they measured", "[cli]") {
     CHECK(b["rows"][2]["samples"] == b["rows"][3]["samples"]);
     CHECK(cli("bench --radii 0.7").code != 0);  // too large for the unit torus
     CHECK(cli("bench --rc 0.3").code != 0);
+    // With a hierarchy: a row for the radius and for each field and rule, each after its direct row.
+    REQUIRE(
+        cli("bench --radii 0.05 --rc 0.1 --fields ramp --hierarchy 3 --devices cpu --repeat 1 --json " + bench.string())
+            .code == 0);
+    const auto h = nlohmann::json::parse(slurp(bench));
+    REQUIRE(h["rows"].size() == 11);
+    CHECK(h["rows"][2]["hierarchy_steps"] == 3);
+    for (int k = 3; k < 11; k += 2) {
+        CHECK(h["rows"][k]["field"] == "ramp");
+        CHECK(!h["rows"][k].contains("hierarchy_steps"));
+        CHECK(h["rows"][k + 1]["rule"] == h["rows"][k]["rule"]);
+        CHECK(h["rows"][k + 1]["hierarchy_steps"] == 3);
+        CHECK(h["rows"][k + 1]["samples"].get<int>() > h["rows"][k]["samples"].get<int>() / 2);
+    }
 
     REQUIRE(cli("sample --radius 0.05 --seed 4 --device cpu -o " + pts.string()).code == 0);
     REQUIRE(cli("check " + pts.string() + " --radius 0.05 --json " + report.string()).code == 0);

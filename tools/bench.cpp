@@ -1,8 +1,8 @@
 // `vrpd bench`: best-of-N wall time, points/s, darts per sample and peak memory per (radii,
 // device) on the unit torus: one radius r, two radii Rf < Rc (paper section 3), and with
 // --hierarchy K, ten-step-style discrete hierarchies to each r (section 4), and with --fields,
-// sizing fields under each rule (section 5; host backends). Each case runs in a child process so
-// its peak RSS is its own.
+// sizing fields under each rule (section 5; host backends), with --hierarchy their hierarchies too. Each case runs in a
+// child process so its peak RSS is its own.
 #include <chrono>
 #include <cstring>
 #include <fstream>
@@ -61,6 +61,7 @@ SampleOptions options_for(const Radii& radii) {
             opt.sizing->expression = f.expression;
             opt.sizing->rule = radii.rule;
             opt.box.boundary = f.boundary;
+            opt.hierarchy.steps = radii.steps;
             return opt;
         }
     opt.radius = radii.rf;
@@ -145,14 +146,16 @@ int run_bench(const BenchOptions& o) {
         bool known = false;
         for (const NamedField& f : kFields) known = known || name == f.name;
         if (!known) throw Error(fmt::format("unknown field '{}': use ramp or sine", name));
-        for (SizingRule rule : {SizingRule::Prior, SizingRule::Current, SizingRule::Bigger, SizingRule::Smaller})
+        for (SizingRule rule : {SizingRule::Prior, SizingRule::Current, SizingRule::Bigger, SizingRule::Smaller}) {
             cases.push_back({0, 0, 0, name, rule});
+            if (o.hierarchy_steps != 0) cases.push_back({0, 0, o.hierarchy_steps, name, rule});
+        }
     }
     for (const Radii& c : cases) validate(options_for(c));
     if (!o.json.empty()) check_writable(o.json);
 
     nlohmann::json rows = nlohmann::json::array();
-    std::cout << fmt::format("{:>13} {:>7} {:>9} {:>8} {:>9} {:>10} {:>8} {:>7} {:>9} {:>8} {:>8}  {}\n", "Rf/Rc",
+    std::cout << fmt::format("{:>17} {:>7} {:>9} {:>8} {:>9} {:>10} {:>8} {:>7} {:>9} {:>8} {:>8}  {}\n", "Rf/Rc",
                              "device", "samples", "n*Rc^2", "best s", "points/s", "us/point", "darts/n", "peak MiB",
                              "B/sample", "arrays/n", "device name");
     int failures = 0;
@@ -160,27 +163,29 @@ int run_bench(const BenchOptions& o) {
         std::string label =
             radii.rf == radii.rc ? fmt::format("{}", radii.rf) : fmt::format("{}/{}", radii.rf, radii.rc);
         if (radii.steps != 0) label += fmt::format(" h{}", radii.steps);
-        if (!radii.field.empty()) label = radii.field + " " + sizing_rule_name(radii.rule);
+        if (!radii.field.empty())
+            label = radii.field + " " + sizing_rule_name(radii.rule) +
+                    (radii.steps != 0 ? fmt::format(" h{}", radii.steps) : std::string());
         for (Backend b : backends) {
             // A varying field has no Vulkan kernels: its rows run on the host backends only.
             if (!radii.field.empty() && b == Backend::Gpu) continue;
             CaseResult c = run_in_child(radii, b, o);
             if (!c.ok) {
-                std::cout << fmt::format("{:>13} {:>7}  error: {}\n", label, backend_name(b), c.error);
+                std::cout << fmt::format("{:>17} {:>7}  error: {}\n", label, backend_name(b), c.error);
                 rows.push_back({{"rf", radii.rf}, {"rc", radii.rc}, {"device", backend_name(b)}, {"error", c.error}});
                 ++failures;
                 continue;
             }
             const double pps = double(c.samples) / c.best_seconds;
             std::cout << fmt::format(
-                "{:>13} {:>7} {:>9} {:>8} {:>9.3f} {:>10.3g} {:>8.2f} {:>7.2f} {:>9.1f} {:>8.1f} {:>8.1f}  {}\n", label,
+                "{:>17} {:>7} {:>9} {:>8} {:>9.3f} {:>10.3g} {:>8.2f} {:>7.2f} {:>9.1f} {:>8.1f} {:>8.1f}  {}\n", label,
                 backend_name(b), c.samples,
                 // A field has no one radius: its n r^2 is not a density.
                 radii.field.empty() ? fmt::format("{:.5f}", double(c.samples) * radii.rc * radii.rc) : "-",
                 c.best_seconds, pps, 1e6 / pps, double(c.darts) / double(c.samples), c.peak_bytes / (1 << 20),
                 c.peak_bytes / double(c.samples), c.array_bytes / double(c.samples), c.device);
             if (radii.steps != 0)
-                std::cout << fmt::format("{:>13} {:>7}  count_at: {:.1f} ns\n", "", "", c.count_at_ns);
+                std::cout << fmt::format("{:>17} {:>7}  count_at: {:.1f} ns\n", "", "", c.count_at_ns);
             std::cout.flush();
             rows.push_back({{"rf", radii.rf},
                             {"rc", radii.rc},

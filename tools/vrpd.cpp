@@ -323,8 +323,9 @@ int main(int argc, char** argv) {
                           "0.0015, periodic); cpu and serial only");
     bench_cmd->add_option("--rc", bench.coverage_radii, "two-radii rows: Rc (default 0.002)");
     bench_cmd->add_option("--rc-ratio", bench.coverage_ratio, "two-radii rows: Rf = Rc / ratio (default 2)");
-    bench_cmd->add_option("--hierarchy", bench.hierarchy_steps,
-                          "also K-step discrete hierarchies to each one-radius r, with count_at's time");
+    bench_cmd->add_option(
+        "--hierarchy", bench.hierarchy_steps,
+        "also K-step discrete hierarchies to each one-radius r and each field and rule, with count_at's time");
     bench_cmd->add_option("--devices", bench.devices, "gpu cpu serial (default all)");
     bench_cmd->add_option("--repeat", bench.repeat, "runs per case, best time kept (default 3)");
     bench_cmd->add_option("--json", bench.json, "also write the table as JSON to FILE");
