@@ -9,6 +9,7 @@
 #include <functional>
 #include <string>
 
+#include "cli_support.h"
 #include "field_support.h"
 #include "vrpd/hierarchy.h"
 
@@ -110,4 +111,20 @@ TEST_CASE("a constant field's hierarchy is the one-radius hierarchy, and bad hie
     CHECK(refusal(levels("0.06 + 0.04*sin(2*pi*x)", SizingRule::Smaller, Boundary::Periodic, 10, 0)) ==
           "the hierarchy's first step, at 10 times the field: its largest radius 1 is too large for a periodic box "
           "of 1 x 1: it must be < 0.5 (half the shorter side)");
+}
+
+TEST_CASE("sample --sizing --hierarchy: levels a prefix by t, and a warning where S t L passes the rule's bound",
+          "[field][hierarchy][cli]") {
+    const std::string out = (scratch() / "field_levels.csv").string();
+    // The ramp's L is 0.3, within bigger's 1/2; at S = 4 its levels above t = 0.417 are steeper.
+    const Run steep =
+        cli("sample --sizing \"0.005 + 0.3*x\" --rule bigger --boundary free --hierarchy discrete:4 -o " + out);
+    CHECK(steep.code == 0);
+    CHECK(steep.err.find("warning: the hierarchy's levels above t = 0.417 have L past the bigger rule's bound 0.5 "
+                         "(t S L, 1.2 at t = 1)") != std::string::npos);
+    CHECK(cli("lod " + out + " --t 0.5 -o " + (scratch() / "field_level.csv").string()).code == 0);
+    const Run gentle =
+        cli("sample --sizing \"0.005 + 0.1*x\" --rule bigger --boundary free --hierarchy discrete:4 -o " + out);
+    CHECK(gentle.code == 0);
+    CHECK(gentle.err.find("warning") == std::string::npos);
 }

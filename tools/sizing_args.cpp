@@ -71,6 +71,13 @@ void print_field_summary(const Sampling& s, const Sizing& sizing, std::ostream& 
             "vrpd: warning: the field's L {:.4g} exceeds the {} rule's bound {} (Table 1): its quality "
             "guarantees lapse (--lipschitz {:.3f} enforces it)\n",
             f.lipschitz, sizing_rule_name(sizing.rule), bound, std::floor(bound / std::sqrt(2.0) * 1000) / 1000);
+    // A hierarchy's level at birth t has the field t S r, and its slope: about t S L.
+    else if (!s.birth.empty() && f.lipschitz * s.hierarchy_start > bound)
+        out << fmt::format(
+            "vrpd: warning: the hierarchy's levels above t = {:.3g} have L past the {} rule's bound {} (t S L, "
+            "{:.4g} at t = 1): their quality guarantees lapse\n",
+            bound / (f.lipschitz * s.hierarchy_start), sizing_rule_name(sizing.rule), bound,
+            f.lipschitz * s.hierarchy_start);
     if (f.tabulation_error > 0.001)
         out << fmt::format(
             "vrpd: warning: the table is {:.3g} % from the source somewhere (more than 0.1 %): at a kink or "
