@@ -122,7 +122,12 @@ TEST_CASE("sample --sizing --hierarchy: levels a prefix by t, and a warning wher
     CHECK(steep.code == 0);
     CHECK(steep.err.find("warning: the hierarchy's levels above t = 0.417 have L past the bigger rule's bound 0.5 "
                          "(t S L, 1.2 at t = 1)") != std::string::npos);
-    CHECK(cli("lod " + out + " --t 0.5 -o " + (scratch() / "field_level.csv").string()).code == 0);
+    // The level at t = 0.5 (S t = 2) passes check on the field scaled by 2, and its JSON says so.
+    const std::string level = (scratch() / "field_level.csv").string(), json = (scratch() / "level.json").string();
+    CHECK(cli("lod " + out + " --t 0.5 -o " + level).code == 0);
+    CHECK(cli("check " + level + " --sizing \"0.005 + 0.3*x\" --rule bigger --boundary free --scale 2 --json " + json)
+              .code == 0);
+    CHECK(slurp(json).find("\"scale\": 2.0") != std::string::npos);
     const Run gentle =
         cli("sample --sizing \"0.005 + 0.1*x\" --rule bigger --boundary free --hierarchy discrete:4 -o " + out);
     CHECK(gentle.code == 0);

@@ -57,6 +57,7 @@ int run_check_sizing(const CheckOptions& o) {
     if (!o.json.empty()) {
         const nlohmann::json j{{"points", rep.points},
                                {"rule", sizing_rule_name(rule)},
+                               {"scale", o.scale.value_or(1.0)},
                                {"r_min", f.r_min},
                                {"r_max", f.r_max},
                                {"lipschitz", f.lipschitz},
