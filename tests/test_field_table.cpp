@@ -8,7 +8,9 @@
 #include <cmath>
 #include <cstdint>
 #include <random>
+#include <tuple>
 
+#include "cpu/thread_pool.h"
 #include "field/table.h"
 #include "vrpd/sizing.h"
 
@@ -135,17 +137,23 @@ TEST_CASE("the table and its bounds do not depend on the tabulation's thread cou
 
 TEST_CASE(
     "min_over and max_over (and extremes_over, both) bound r over a block, exactly inside one table cell, and "
-    "children_min is min_over of each child",
+    "children_min is min_over of each child, on a table and on it scaled",
     "[field]") {
     // A smooth field, and one with a kink, whose cells along it hold patches: half the blocks
-    // start in a patched cell there.
+    // start in a patched cell there. Each also scaled by 2.5 (a hierarchy's level), whose r is
+    // within 2.5 + 2 lattice units of 2.5 times the table's.
     Sizing smooth, kink;
     smooth.expression = "0.02 + 0.01*sin(9*x)*cos(7*y)";
     kink.expression = "0.02 + 0.1*abs(x - 0.3)";
-    for (const auto& [s, box] :
-         {std::pair{smooth, Box{1, 1, Boundary::Periodic}}, std::pair{kink, Box{1, 1, Boundary::Free}}}) {
-        const detail::FieldTable t = detail::tabulate(s, box);
+    detail::ThreadPool pool(2);
+    for (const auto& [s, box, scale] :
+         {std::tuple{smooth, Box{1, 1, Boundary::Periodic}, 1.0},
+          std::tuple{smooth, Box{1, 1, Boundary::Periodic}, 2.5}, std::tuple{kink, Box{1, 1, Boundary::Free}, 1.0},
+          std::tuple{kink, Box{1, 1, Boundary::Free}, 2.5}}) {
+        const detail::FieldTable base = detail::tabulate(s, box);
+        const detail::FieldTable t = scale == 1 ? base : detail::scaled(base, scale, pool);
         REQUIRE(t.patches.empty() == (s.expression == smooth.expression));
+        CHECK(t.lipschitz == Approx(scale * base.lipschitz).epsilon(0.01));
         std::mt19937_64 rng(5);
         for (int i = 0; i < 3000; ++i) {
             const std::uint32_t side = 1u << (rng() % 20);
@@ -167,6 +175,7 @@ TEST_CASE(
             for (glm::uvec2 p : {a, b, glm::uvec2(a.x, b.y), glm::uvec2(b.x, a.y)}) {
                 seen_lo = std::min(seen_lo, t.radius(p));
                 seen_hi = std::max(seen_hi, t.radius(p));
+                REQUIRE(std::abs(double(t.radius(p)) - scale * base.radius(p)) <= scale + 2);
             }
             REQUIRE(lo <= seen_lo);
             REQUIRE(hi >= seen_hi);
