@@ -3,6 +3,7 @@
 // hand-made pairs whose verdict each rule decides differently.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <fstream>
@@ -46,6 +47,40 @@ TEST_CASE("sizing expressions evaluate as written", "[sizing]") {
             for (double y : {0.0, 0.6}) {
                 INFO(c.text << " at (" << x << ", " << y << ")");
                 CHECK(r(x, y, box) == Approx(c.expected(x, y)).epsilon(1e-14));
+            }
+    }
+}
+
+TEST_CASE("sizing expressions with constant operands folded: the doubles of the operations as written", "[sizing]") {
+    // Operators on constants are folded into one value, and a constant operand of a binary
+    // operator is taken from the step, on either side: each expected value below performs the
+    // expression's operations in its order, so the results must be equal, not close.
+    const Box box{2, 1, Boundary::Periodic};
+    const struct {
+        const char* text;
+        double (*expected)(double x, double y, double d);
+    } cases[] = {
+        {"0.015 + (0.0015-0.015)*abs(sin(8*pi*d))",
+         [](double, double, double d) {
+             return 0.015 + (0.0015 - 0.015) * std::abs(std::sin((8 * std::numbers::pi) * d));
+         }},
+        {"2 - x/3 + 1/(y+1)", [](double x, double y, double) { return (2 - x / 3) + 1 / (y + 1); }},
+        {"2^x + x^0.5 + min(0.3, x) + max(y, -0.1)",
+         [](double x, double y, double) {
+             return ((std::pow(2, x) + std::pow(x, 0.5)) + std::min(0.3, x)) + std::max(y, -0.1);
+         }},
+        {"clamp(x, 0.25, 2*0.5) + clamp(0.5, y, 1)",
+         [](double x, double y, double) { return std::min(std::max(x, 0.25), 1.0) + std::min(std::max(0.5, y), 1.0); }},
+        {"-(3) * sqrt(4) + exp(0) * x", [](double x, double, double) { return -6.0 + 1.0 * x; }},
+        {"0.01 * 2 + 0", [](double, double, double) { return 0.01 * 2 + 0; }},
+    };
+    for (const auto& c : cases) {
+        const SizingExpression r(c.text);
+        for (double x : {0.0, 0.3, 1.7, 1.9999})
+            for (double y : {0.0, 0.6, 0.123}) {
+                INFO(c.text << " at (" << x << ", " << y << ")");
+                const double dx = x - 1, dy = y - 0.5;
+                CHECK(r(x, y, box) == c.expected(x, y, std::sqrt(dx * dx + dy * dy)));
             }
     }
 }

@@ -39,9 +39,12 @@ public:
     enum class Op : std::uint8_t {
         Number, X, Y, D, W, H, Add, Sub, Mul, Div, Pow, Neg, Abs, Min, Max, Sqrt, Sin, Cos, Exp, Log, Clamp
     };
+    // Where a binary operator's constant operand is: both on the stack, or one of them `value`.
+    enum class Constant : std::uint8_t { None, Right, Left };
     struct Step {
         Op op;
-        double value;  // Number's
+        double value;  // Number's, or a binary operator's constant operand
+        Constant constant = Constant::None;
     };
 
 private:

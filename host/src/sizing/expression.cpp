@@ -11,6 +11,7 @@
 #include <charconv>
 #include <cmath>
 #include <numbers>
+#include <type_traits>
 
 #include <fmt/format.h>
 
@@ -19,6 +20,7 @@ namespace {
 
 using Op = SizingExpression::Op;
 using Step = SizingExpression::Step;
+using Constant = SizingExpression::Constant;
 
 constexpr std::size_t kMaxLength = 4096;  // characters
 constexpr int kMaxNesting = 64;           // parentheses, calls and unary signs, so recursion stays shallow
@@ -37,6 +39,105 @@ struct Variable {
     Op op;
 };
 constexpr Variable kVariables[] = {{"x", Op::X}, {"y", Op::Y}, {"d", Op::D}, {"w", Op::W}, {"h", Op::H}};
+
+bool is_binary(Op op) { return (op >= Op::Add && op <= Op::Pow) || op == Op::Min || op == Op::Max; }
+bool is_unary(Op op) { return op == Op::Neg || op == Op::Abs || (op >= Op::Sqrt && op <= Op::Log); }
+
+// The operators' arithmetic, the one definition both the evaluation and the folding of constant
+// operands use, so a folded program gives the unfolded one's doubles.
+inline double binary(Op op, double a, double b) {
+    switch (op) {
+        case Op::Add:
+            return a + b;
+        case Op::Sub:
+            return a - b;
+        case Op::Mul:
+            return a * b;
+        case Op::Div:
+            return a / b;
+        case Op::Pow:
+            return std::pow(a, b);
+        case Op::Min:
+            return std::min(a, b);
+        default:
+            return std::max(a, b);
+    }
+}
+inline double unary(Op op, double a) {
+    switch (op) {
+        case Op::Neg:
+            return -a;
+        case Op::Abs:
+            return std::abs(a);
+        case Op::Sqrt:
+            return std::sqrt(a);
+        case Op::Sin:
+            return std::sin(a);
+        case Op::Cos:
+            return std::cos(a);
+        case Op::Exp:
+            return std::exp(a);
+        default:
+            return std::log(a);
+    }
+}
+
+// The parser's program with its constant operands folded: an operator on constants becomes their
+// value, and a binary operator with one constant operand takes it as its step's value instead of
+// from the stack. The same operations on the same doubles, in the same order, with fewer steps.
+std::vector<Step> fold(const std::vector<Step>& program) {
+    // The stack as the program leaves it: each entry a constant not yet emitted, or computed by
+    // the steps of `out` from `start` on.
+    struct Entry {
+        bool constant;
+        double value;
+        std::size_t start;
+    };
+    std::vector<Entry> stack;
+    std::vector<Step> out;
+    // Emits constant entry k in its place; the later entries' steps move one on.
+    auto materialize = [&](std::size_t k) {
+        Entry& e = stack[k];
+        if (!e.constant) return;
+        out.insert(out.begin() + std::ptrdiff_t(e.start), Step{Op::Number, e.value});
+        e.constant = false;
+        for (std::size_t j = k + 1; j < stack.size(); ++j) ++stack[j].start;
+    };
+    for (const Step& s : program) {
+        if (s.op == Op::Number) {
+            stack.push_back({true, s.value, out.size()});
+        } else if (s.op <= Op::H) {
+            stack.push_back({false, 0, out.size()});
+            out.push_back(s);
+        } else if (is_unary(s.op)) {
+            Entry& a = stack.back();
+            if (a.constant)
+                a.value = unary(s.op, a.value);
+            else
+                out.push_back(s);
+        } else if (is_binary(s.op)) {
+            const Entry b = stack.back();
+            stack.pop_back();
+            Entry& a = stack.back();
+            if (a.constant && b.constant) {
+                a.value = binary(s.op, a.value, b.value);
+            } else if (b.constant) {
+                out.push_back({s.op, b.value, Constant::Right});
+            } else if (a.constant) {
+                out.push_back({s.op, a.value, Constant::Left});
+                a = {false, 0, b.start};
+            } else {
+                out.push_back(s);
+            }
+        } else {  // Clamp: its three operands on the stack
+            for (std::size_t k = stack.size() - 3; k < stack.size(); ++k) materialize(k);
+            stack.resize(stack.size() - 2);
+            out.push_back(s);
+        }
+    }
+    materialize(0);
+    return out;
+}
 
 class Parser {
 public:
@@ -181,14 +282,15 @@ private:
 
 }  // namespace
 
-SizingExpression::SizingExpression(std::string text) : text_(std::move(text)), program_(Parser(text_).parse()) {
-    // The stack depth the program reaches: a value pushes one, an operator pops its arity less one.
+SizingExpression::SizingExpression(std::string text) : text_(std::move(text)), program_(fold(Parser(text_).parse())) {
+    // The stack depth the program reaches: a value pushes one, an operator pops its arity less one
+    // (a binary operator with a constant operand takes one from the stack).
     std::size_t depth = 0;
     for (const Step& s : program_) {
         if (s.op <= Op::H) {
             ++depth;  // Number and the variables
-        } else if (s.op <= Op::Pow || s.op == Op::Min || s.op == Op::Max) {
-            --depth;  // binary operators
+        } else if (is_binary(s.op)) {
+            if (s.constant == Constant::None) --depth;
         } else if (s.op == Op::Clamp) {
             depth -= 2;
         }
@@ -204,15 +306,26 @@ void SizingExpression::run(const double* x, const double* y, double* out, std::s
                            double* stack, const Box& box) const {
     std::size_t n = 0;  // entries on the stack
     auto row = [&](std::size_t k) { return stack + k * stride; };
-    auto binary = [&](auto op) {
-        --n;
+    // A binary operator: both operands on the stack, or one of them the step's constant. Each
+    // operator's body is instantiated on its own (`op` a constant), so the loops stay tight.
+    auto apply_binary = [&](auto op, const Step& s) {
+        if (s.constant == Constant::None) {
+            --n;
+            double* a = row(n - 1);
+            const double* b = row(n);
+            for (std::size_t i = 0; i < m; ++i) a[i] = binary(op(), a[i], b[i]);
+            return;
+        }
         double* a = row(n - 1);
-        const double* b = row(n);
-        for (std::size_t i = 0; i < m; ++i) a[i] = op(a[i], b[i]);
+        const double c = s.value;
+        if (s.constant == Constant::Right)
+            for (std::size_t i = 0; i < m; ++i) a[i] = binary(op(), a[i], c);
+        else
+            for (std::size_t i = 0; i < m; ++i) a[i] = binary(op(), c, a[i]);
     };
-    auto unary = [&](auto op) {
+    auto apply_unary = [&](auto op) {
         double* a = row(n - 1);
-        for (std::size_t i = 0; i < m; ++i) a[i] = op(a[i]);
+        for (std::size_t i = 0; i < m; ++i) a[i] = unary(op(), a[i]);
     };
     auto push = [&](auto value) {
         double* a = row(n++);
@@ -233,20 +346,48 @@ void SizingExpression::run(const double* x, const double* y, double* out, std::s
             break;
         case Op::W: push([&](std::size_t) { return box.width; }); break;
         case Op::H: push([&](std::size_t) { return box.height; }); break;
-        case Op::Add: binary([](double a, double b) { return a + b; }); break;
-        case Op::Sub: binary([](double a, double b) { return a - b; }); break;
-        case Op::Mul: binary([](double a, double b) { return a * b; }); break;
-        case Op::Div: binary([](double a, double b) { return a / b; }); break;
-        case Op::Pow: binary([](double a, double b) { return std::pow(a, b); }); break;
-        case Op::Min: binary([](double a, double b) { return std::min(a, b); }); break;
-        case Op::Max: binary([](double a, double b) { return std::max(a, b); }); break;
-        case Op::Neg: unary([](double a) { return -a; }); break;
-        case Op::Abs: unary([](double a) { return std::abs(a); }); break;
-        case Op::Sqrt: unary([](double a) { return std::sqrt(a); }); break;
-        case Op::Sin: unary([](double a) { return std::sin(a); }); break;
-        case Op::Cos: unary([](double a) { return std::cos(a); }); break;
-        case Op::Exp: unary([](double a) { return std::exp(a); }); break;
-        case Op::Log: unary([](double a) { return std::log(a); }); break;
+        case Op::Add:
+            apply_binary(std::integral_constant<Op, Op::Add>{}, s);
+            break;
+        case Op::Sub:
+            apply_binary(std::integral_constant<Op, Op::Sub>{}, s);
+            break;
+        case Op::Mul:
+            apply_binary(std::integral_constant<Op, Op::Mul>{}, s);
+            break;
+        case Op::Div:
+            apply_binary(std::integral_constant<Op, Op::Div>{}, s);
+            break;
+        case Op::Pow:
+            apply_binary(std::integral_constant<Op, Op::Pow>{}, s);
+            break;
+        case Op::Min:
+            apply_binary(std::integral_constant<Op, Op::Min>{}, s);
+            break;
+        case Op::Max:
+            apply_binary(std::integral_constant<Op, Op::Max>{}, s);
+            break;
+        case Op::Neg:
+            apply_unary(std::integral_constant<Op, Op::Neg>{});
+            break;
+        case Op::Abs:
+            apply_unary(std::integral_constant<Op, Op::Abs>{});
+            break;
+        case Op::Sqrt:
+            apply_unary(std::integral_constant<Op, Op::Sqrt>{});
+            break;
+        case Op::Sin:
+            apply_unary(std::integral_constant<Op, Op::Sin>{});
+            break;
+        case Op::Cos:
+            apply_unary(std::integral_constant<Op, Op::Cos>{});
+            break;
+        case Op::Exp:
+            apply_unary(std::integral_constant<Op, Op::Exp>{});
+            break;
+        case Op::Log:
+            apply_unary(std::integral_constant<Op, Op::Log>{});
+            break;
         case Op::Clamp: {
             n -= 2;
             double* a = row(n - 1);
