@@ -104,6 +104,23 @@ double hierarchy_start(const SampleOptions& o) {
     return o.hierarchy.continuous ? 10.0 : double(o.hierarchy.steps);
 }
 
+std::vector<glm::uvec2> given_on_lattice(const SampleOptions& o, double quantum, const shared::Lattice& lattice) {
+    // Rounding up to the box's side wraps round a torus, and stays on the last point of a free box.
+    auto axis = [&](double v, std::uint32_t extent) {
+        const double u = std::round(v / quantum);
+        return u >= double(extent) ? (lattice.periodic ? 0u : extent - 1) : std::uint32_t(u);
+    };
+    std::vector<glm::uvec2> out(o.initial.size());
+    for (std::size_t i = 0; i < o.initial.size(); ++i) {
+        const glm::dvec2 p = o.initial[i];
+        if (!(p.x >= 0 && p.y >= 0 && p.x < o.box.width && p.y < o.box.height))
+            throw Error(fmt::format("given sample {} ({}, {}) is outside the box [0,{}) x [0,{})", i + 1, p.x, p.y,
+                                    o.box.width, o.box.height));
+        out[i] = {axis(p.x, lattice.extent_x), axis(p.y, lattice.extent_y)};
+    }
+    return out;
+}
+
 std::vector<HierarchyStep> hierarchy_steps(const SampleOptions& o) {
     const unsigned steps = o.hierarchy.steps;
     if (steps == 0) return {{1.0, 1.0}};

@@ -34,6 +34,10 @@ bool periodic_tiling(double width, double height, double max_side, std::uint64_t
 // A hierarchy's S (HierarchyOptions::start, or K if that is 0).
 double hierarchy_start(const SampleOptions& options);
 
+// The given samples (SampleOptions::initial) on a lattice of spacing `quantum`, each at the
+// lattice point nearest it. Throws Error for one outside the box.
+std::vector<glm::uvec2> given_on_lattice(const SampleOptions& options, double quantum, const shared::Lattice& lattice);
+
 // A discrete hierarchy's steps in order: t_k = 1 - (1 - 1/S) k / (K - 1) and the radii's scale
 // S t_k, each as one division of exact numerators for whole S (so S = K = 10 gives t = 0.2, not
 // 0.19999...). A direct run is one step at t = 1, scale 1.

@@ -136,19 +136,7 @@ std::uint32_t run_to_maximal(Engine& engine, const Plan& plan, std::uint64_t act
 // exactly: inside the box and no pair closer than Rf.
 std::vector<glm::uvec2> initial_samples(const SampleOptions& o, const Plan& plan) {
     const shared::Domain& d = plan.domain;
-    std::vector<glm::uvec2> out(o.initial.size());
-    for (std::size_t i = 0; i < o.initial.size(); ++i) {
-        const glm::dvec2 p = o.initial[i];
-        if (!(p.x >= 0 && p.y >= 0 && p.x < o.box.width && p.y < o.box.height))
-            throw Error(fmt::format("given sample {} ({}, {}) is outside the box [0,{}) x [0,{})", i + 1, p.x, p.y,
-                                    o.box.width, o.box.height));
-        const double x = std::round(p.x / plan.quantum), y = std::round(p.y / plan.quantum);
-        // Rounding up to the box's side wraps round a torus, and stays on the last point of a free box.
-        auto axis = [&](double v, std::uint32_t extent) {
-            return v >= double(extent) ? (d.lattice.periodic ? 0u : extent - 1) : std::uint32_t(v);
-        };
-        out[i] = {axis(x, d.lattice.extent_x), axis(y, d.lattice.extent_y)};
-    }
+    const std::vector<glm::uvec2> out = detail::given_on_lattice(o, plan.quantum, d.lattice);
     std::vector<std::uint32_t> owner(plan.base_cells, ~0u);
     auto conflict = [&](std::size_t i, std::size_t j) {
         const glm::dvec2 a = o.initial[std::min(i, j)], b = o.initial[std::max(i, j)];

@@ -357,30 +357,6 @@ Sampling FieldSampler::run(const std::vector<uvec2>& given, bool checked, std::u
 
 }  // namespace field
 
-namespace {
-
-// The given samples (SampleOptions::initial) on the table's lattice, each at the lattice point
-// nearest it. Throws Error for one outside the box.
-std::vector<glm::uvec2> given_on_lattice(const FieldTable& t, const SampleOptions& o) {
-    const shared::Lattice& l = t.lattice;
-    // Rounding up to the box's side wraps round a torus, and stays on the last point of a free box.
-    auto axis = [&](double v, std::uint32_t extent) {
-        const double u = std::round(v / t.quantum);
-        return u >= double(extent) ? (l.periodic ? 0u : extent - 1) : std::uint32_t(u);
-    };
-    std::vector<glm::uvec2> out(o.initial.size());
-    for (std::size_t i = 0; i < o.initial.size(); ++i) {
-        const glm::dvec2 q = o.initial[i];
-        if (!(q.x >= 0 && q.y >= 0 && q.x < o.box.width && q.y < o.box.height))
-            throw Error(fmt::format("given sample {} ({}, {}) is outside the box [0,{}) x [0,{})", i + 1, q.x, q.y,
-                                    o.box.width, o.box.height));
-        out[i] = {axis(q.x, l.extent_x), axis(q.y, l.extent_y)};
-    }
-    return out;
-}
-
-}  // namespace
-
 Sampling sample_field(const SampleOptions& o, const FieldTable& t) {
     // tabulate() refused a field whose expected samples exceed memory; the leaves stay within a
     // 64th of it besides.
@@ -388,7 +364,7 @@ Sampling sample_field(const SampleOptions& o, const FieldTable& t) {
     using Clock = std::chrono::steady_clock;
     const auto start = Clock::now();
     Sampling out;
-    std::vector<glm::uvec2> samples = given_on_lattice(t, o);
+    std::vector<glm::uvec2> samples = given_on_lattice(o, t.quantum, t.lattice);
     // A hierarchy's levels (a direct run is one): the field scaled by S t_k on t's lattice, each
     // level completing the last one's samples, its darts from the rounds after the last one's.
     // r only shrinks from level to level, so the earlier samples stay conflict-free.
