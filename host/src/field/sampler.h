@@ -91,11 +91,10 @@ public:
         bytes_ = tree_.build_bytes();
     }
 
-    // Samples until maximal, from `given` (lattice points, first in the output, in their order),
-    // giving the samples and the stats (sample_field fills in the rest);
-    // its rounds' darts are those of rounds first_round on (a hierarchy's levels go on counting).
-    // Unless the caller knows them conflict-free (`checked`), throws Error if a given sample
-    // conflicts with an earlier one under the rule.
+    // Samples until maximal from `given` (lattice points, first in the output, in their order),
+    // with the darts of rounds first_round on (a hierarchy's levels go on counting); gives the
+    // samples and the stats, and sample_field the rest. Unless the caller knows the given samples
+    // conflict-free (`checked`), throws Error if one conflicts with an earlier one under the rule.
     Sampling run(const std::vector<uvec2>& given, bool checked, std::uint32_t first_round);
 
 private:
@@ -266,8 +265,8 @@ private:
     // in it (UINT32_MAX when it is empty).
     std::uint32_t refine();
     // Makes the given samples the first ones, in their order, each tested exactly against those
-    // before it under the rule (the test a dart takes); then drops the leaves they cover, as a
-    // round's refinement does.
+    // before it under the rule (the test a dart takes) unless `checked`; then drops the leaves
+    // they cover, as a round's refinement does.
     void place_given(const std::vector<uvec2>& given, bool checked);
     // Notes the arrays' bytes now, with `extra` held outside them, for the peak.
     void note_bytes(std::uint64_t extra) {
