@@ -159,19 +159,14 @@ void complete_bounds(FieldTable& t, ThreadPool& pool) {
     // Over the box, r's extremes are at the corners of the table cells clipped to it: the nodes
     // inside, the points where node lines meet the far edges, and the far corner. The
     // interpolant's L: its steepest gradient over the cells (patch_bounds takes a patched cell's).
-    // Both by rows of nodes on the pool's threads, each chunk's joined after (min and max are
-    // exact, so in any order).
-    struct Part {
-        std::uint32_t lo = UINT32_MAX, hi = 0;
-        double steepest = 0;
-    };
+    // Both by rows of nodes on the pool's threads, each chunk's joined after.
     const std::size_t rows = std::size_t(t.cells_y) + 1;
-    std::vector<Part> parts(pool.chunks(rows, kRowGrain));
+    std::vector<BoundsPart> parts(pool.chunks(rows, kRowGrain));
     const std::uint32_t last_x = t.lattice.extent_x - 1, last_y = t.lattice.extent_y - 1;
     pool.parallel_for(
         rows,
         [&](std::size_t begin, std::size_t end, unsigned chunk) {
-            Part part;
+            BoundsPart part;
             for (std::uint32_t j = std::uint32_t(begin); j < end; ++j) {
                 for (std::uint32_t i = 0; i <= t.cells_x; ++i) {
                     const std::uint64_t x = std::uint64_t(i) << t.cell_bits, y = std::uint64_t(j) << t.cell_bits;
@@ -192,16 +187,12 @@ void complete_bounds(FieldTable& t, ThreadPool& pool) {
             parts[chunk] = part;
         },
         kRowGrain);
-    t.box_lo = UINT32_MAX;
-    t.box_hi = 0;
-    double steepest = 0;
-    for (const Part& part : parts) {
-        t.box_lo = std::min(t.box_lo, part.lo);
-        t.box_hi = std::max(t.box_hi, part.hi);
-        steepest = std::max(steepest, part.steepest);
-    }
-    patch_bounds(t, steepest, pool);
-    t.lipschitz = steepest / double(1u << t.cell_bits);
+    BoundsPart bounds;
+    for (const BoundsPart& part : parts) bounds.join(part);
+    patch_bounds(t, bounds, pool);
+    t.box_lo = bounds.lo;
+    t.box_hi = bounds.hi;
+    t.lipschitz = bounds.steepest / double(1u << t.cell_bits);
     build_pyramids(t, pool);
 }
 

@@ -291,18 +291,10 @@ void FieldSampler::place_given(const std::vector<uvec2>& given, bool checked) {
     }
     // Stamped as one round's samples, they drop the leaves they cover; the rest stay, each tested
     // against every sample of its time, as the rounds' refinement keeps its cells.
-    auto each_sample = [&](auto&& body) {
-        pool_.parallel_for(
-            lattice_.size(),
-            [&](std::size_t begin, std::size_t end, unsigned) {
-                for (std::size_t s = begin; s < end; ++s) body(std::uint32_t(s));
-            },
-            kCellGrain);
-    };
-    each_sample([&](std::uint32_t s) { touch(s); });
+    for_fresh([&](std::uint32_t s) { touch(s); });
     got_.assign(cells_.size(), 0);
     refine();
-    each_sample([&](std::uint32_t s) { tree_.settle(lattice_[s]); });
+    for_fresh([&](std::uint32_t s) { tree_.settle(lattice_[s]); });
 }
 
 Sampling FieldSampler::run(const std::vector<uvec2>& given, bool checked, std::uint32_t first_round) {
@@ -338,12 +330,7 @@ Sampling FieldSampler::run(const std::vector<uvec2>& given, bool checked, std::u
         phase("refine", [&] { least_bits = refine(); });
         ++round;
         if (!cells_.empty()) deepest = std::max(deepest, t_.tile_bits - least_bits);
-        pool_.parallel_for(
-            lattice_.size() - round_first_,
-            [&](std::size_t begin, std::size_t end, unsigned) {
-                for (std::size_t s = begin; s < end; ++s) tree_.settle(lattice_[round_first_ + s]);
-            },
-            kCellGrain);
+        for_fresh([&](std::uint32_t s) { tree_.settle(lattice_[s]); });
     }
     Sampling s;
     s.lattice.assign(lattice_.begin(), lattice_.end());

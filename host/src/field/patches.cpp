@@ -363,7 +363,7 @@ void install_patches(FieldTable& t, const std::vector<PatchDraft>& patches) {
     }
 }
 
-void patch_bounds(FieldTable& t, double& steepest, ThreadPool& pool) {
+void patch_bounds(const FieldTable& t, BoundsPart& bounds, ThreadPool& pool) {
     const std::uint32_t last_x = t.lattice.extent_x - 1, last_y = t.lattice.extent_y - 1;
     // Each patch's table cell, in patch order.
     std::vector<std::uint32_t> cells;
@@ -371,17 +371,11 @@ void patch_bounds(FieldTable& t, double& steepest, ThreadPool& pool) {
     for (std::size_t w = 0; w < t.patched.size(); ++w)
         for (std::uint64_t word = t.patched[w]; word != 0; word &= word - 1)
             cells.push_back(std::uint32_t(w * 64 + std::size_t(std::countr_zero(word))));
-    // Per chunk of patches: the box's least and greatest r at their nodes, and their steepest
-    // gradient, joined after (min and max are exact, so in any order).
-    struct Part {
-        std::uint32_t lo = UINT32_MAX, hi = 0;
-        double steepest = 0;
-    };
-    std::vector<Part> parts(pool.chunks(cells.size(), 4));
+    std::vector<BoundsPart> parts(pool.chunks(cells.size(), 4));
     pool.parallel_for(
         cells.size(),
         [&](std::size_t begin, std::size_t end, unsigned chunk) {
-            Part part;
+            BoundsPart part;
             for (std::size_t k = begin; k < end; ++k) {
                 const std::size_t c = cells[k];
                 const FieldTable::Patch& q = t.patches[k];
@@ -417,11 +411,7 @@ void patch_bounds(FieldTable& t, double& steepest, ThreadPool& pool) {
             parts[chunk] = part;
         },
         4);
-    for (const Part& part : parts) {
-        t.box_lo = std::min(t.box_lo, part.lo);
-        t.box_hi = std::max(t.box_hi, part.hi);
-        steepest = std::max(steepest, part.steepest);
-    }
+    for (const BoundsPart& part : parts) bounds.join(part);
 }
 
 }  // namespace vrpd::detail

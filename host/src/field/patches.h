@@ -89,9 +89,21 @@ std::vector<PatchDraft> draft_patches(ThreadPool& pool, const FieldSource& f, co
 // Gives t (its lattice and quantum set) the patches' nodes in lattice units, indexed by cell.
 void install_patches(FieldTable& t, const std::vector<PatchDraft>& patches);
 
-// Adds the patches to t's bounds: the box's least and greatest r at the nodes (as its table
-// nodes are taken, clipped to the box), and `steepest`, the largest gradient over their cells
-// (in node units per table cell). The patches go to the pool's threads.
-void patch_bounds(FieldTable& t, double& steepest, ThreadPool& pool);
+// A table's bounds as a chunk of its cells or patches sees them: the box's least and greatest r,
+// and the steepest gradient (in node units per table cell). Chunks join in any order: min and
+// max are exact.
+struct BoundsPart {
+    std::uint32_t lo = UINT32_MAX, hi = 0;
+    double steepest = 0;
+    void join(const BoundsPart& o) {
+        lo = std::min(lo, o.lo);
+        hi = std::max(hi, o.hi);
+        steepest = std::max(steepest, o.steepest);
+    }
+};
+
+// Joins the patches' bounds into `bounds`: r at their nodes (as the table's nodes are taken,
+// clipped to the box) and their cells' gradients. The patches go to the pool's threads.
+void patch_bounds(const FieldTable& t, BoundsPart& bounds, ThreadPool& pool);
 
 }  // namespace vrpd::detail

@@ -268,6 +268,16 @@ private:
     // before it under the rule (the test a dart takes) unless `checked`; then drops the leaves
     // they cover, as a round's refinement does.
     void place_given(const std::vector<uvec2>& given, bool checked);
+    // Calls body(s) for each of this round's samples s (from round_first_ on), on the pool's threads.
+    template <typename Body>
+    void for_fresh(Body&& body) {
+        pool_.parallel_for(
+            lattice_.size() - round_first_,
+            [&](std::size_t begin, std::size_t end, unsigned) {
+                for (std::size_t s = begin; s < end; ++s) body(std::uint32_t(round_first_ + s));
+            },
+            kCellGrain);
+    }
     // Notes the arrays' bytes now, with `extra` held outside them, for the peak.
     void note_bytes(std::uint64_t extra) {
         bytes_ = std::max<std::uint64_t>(bytes_, tree_.bytes() + cells_.bytes() + darts_.capacity() * sizeof(Dart) +
