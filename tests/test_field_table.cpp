@@ -7,12 +7,17 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <random>
 #include <tuple>
 
 #include "cpu/thread_pool.h"
 #include "field/table.h"
+#include "field_table_probe.h"
 #include "vrpd/sizing.h"
+#include "vulkan/buffer.h"
+#include "vulkan/device.h"
+#include "vulkan/kernel.h"
 
 using namespace vrpd;
 
@@ -129,8 +134,9 @@ TEST_CASE("the table and its bounds do not depend on the tabulation's thread cou
     const detail::FieldTable one = detail::tabulate(s, box, 1), three = detail::tabulate(s, box, 3);
     CHECK(one.nodes.size() > 10000);
     CHECK(one.nodes == three.nodes);
-    CHECK(one.lo == three.lo);
-    CHECK(one.hi == three.hi);
+    CHECK(one.pyramid_lo == three.pyramid_lo);
+    CHECK(one.pyramid_hi == three.pyramid_hi);
+    CHECK(one.pyramid_start == three.pyramid_start);
     CHECK(one.tabulation_error == three.tabulation_error);
     CHECK(one.lipschitz == three.lipschitz);
 }
@@ -204,5 +210,92 @@ TEST_CASE(
                     REQUIRE(least[k] == t.min_over({(k & 1) ? m.x : a.x, (k >> 1) ? m.y : a.y},
                                                    {(k & 1) ? cut.x : e.x, (k >> 1) ? cut.y : e.y}));
         }
+    }
+}
+
+TEST_CASE("the device reads a table as the host does: r at points and its bounds over blocks", "[field][gpu]") {
+    // The probe kernel runs shared/field_table.h's lookups on each block; the host's FieldTable
+    // answers from the same header compiled as C++. A smooth field, one with patches along a
+    // kink, and that one scaled (a hierarchy's level); blocks from one lattice point to most of
+    // the box, a third of them starting in the kink's patched cells.
+    Sizing smooth, kink;
+    smooth.expression = "0.02 + 0.01*sin(9*x)*cos(7*y)";
+    kink.expression = "0.02 + 0.1*abs(x - 0.3)";
+    detail::ThreadPool pool(2);
+    detail::VulkanContext ctx("");
+    constexpr std::uint32_t kResults = 6;  // PROBE_RESULTS of field_table_probe.comp
+    detail::Kernel probe(ctx, "field_table_probe", {spirv_field_table_probe, std::size(spirv_field_table_probe)}, 104,
+                         64);
+    for (const auto& [s, box, scale] :
+         {std::tuple{smooth, Box{1, 1, Boundary::Periodic}, 1.0}, std::tuple{kink, Box{1, 0.8, Boundary::Free}, 1.0},
+          std::tuple{kink, Box{1, 0.8, Boundary::Free}, 2.5}}) {
+        const detail::FieldTable base = detail::tabulate(s, box);
+        const detail::FieldTable t = scale == 1 ? base : detail::scaled(base, scale, pool);
+        INFO(s.expression << " times " << scale);
+        REQUIRE(t.patches.empty() == (s.expression == smooth.expression));
+        // The table's arrays in buffers of their own (at least one word: an empty one too).
+        std::vector<detail::Buffer> arrays;
+        auto upload = [&](const void* data, std::size_t bytes) {
+            detail::Buffer& b = arrays.emplace_back(ctx, std::max<std::size_t>(bytes, 8), true);
+            if (bytes > 0) std::memcpy(b.mapped(), data, bytes);
+            return b.address();
+        };
+        auto words = [&](const std::vector<std::uint32_t>& v) { return upload(v.data(), v.size() * 4); };
+        struct {
+            std::uint32_t cell_bits, cells_x, cells_y, patch_count;
+            std::uint64_t nodes, patched, patch_rank, patches, patch_nodes, pyramid_lo, pyramid_hi, pyramid_start;
+            std::uint64_t blocks, results;
+            std::uint32_t count;
+        } push{};
+        static_assert(offsetof(decltype(push), nodes) == 16 && offsetof(decltype(push), count) == 96);
+        const shared::FieldTableView v = t.view();
+        push.cell_bits = v.cell_bits;
+        push.cells_x = v.cells_x;
+        push.cells_y = v.cells_y;
+        push.patch_count = v.patch_count;
+        push.nodes = words(t.nodes);
+        push.patched = upload(t.patched.data(), t.patched.size() * 8);
+        push.patch_rank = words(t.patch_rank);
+        push.patches = upload(t.patches.data(), t.patches.size() * sizeof(detail::FieldTable::Patch));
+        push.patch_nodes = words(t.patch_nodes);
+        push.pyramid_lo = words(t.pyramid_lo);
+        push.pyramid_hi = words(t.pyramid_hi);
+        push.pyramid_start = words(t.pyramid_start);
+        std::mt19937_64 rng(11);
+        std::vector<glm::uvec4> blocks;
+        for (int i = 0; i < 6000; ++i) {
+            const std::uint32_t side = 1u + std::uint32_t(rng() % (std::uint64_t(1) << (rng() % 29)));
+            const glm::uvec2 w(std::min(side, t.lattice.extent_x), std::min(side, t.lattice.extent_y));
+            glm::uvec2 a(std::uint32_t(rng() % (t.lattice.extent_x - w.x + 1)),
+                         std::uint32_t(rng() % (t.lattice.extent_y - w.y + 1)));
+            if (!t.patches.empty() && i % 3 == 0)
+                a.x = std::min(std::uint32_t(0.3 / t.quantum) - std::uint32_t(rng() % w.x), t.lattice.extent_x - w.x);
+            blocks.emplace_back(a, a + w - glm::uvec2(1));
+        }
+        push.blocks = upload(blocks.data(), blocks.size() * sizeof(glm::uvec4));
+        detail::Buffer out(ctx, blocks.size() * kResults * 4, true);
+        push.results = out.address();
+        push.count = std::uint32_t(blocks.size());
+        ctx.begin();
+        ctx.dispatch(probe, &push, std::uint32_t((blocks.size() + 63) / 64));
+        ctx.barrier();  // results before the host reads them
+        ctx.submit_and_wait();
+        ctx.check_validation();
+        const auto* got = static_cast<const std::uint32_t*>(out.mapped());
+        std::size_t patched = 0, one_cell = 0;
+        for (std::size_t i = 0; i < blocks.size(); ++i) {
+            const glm::uvec2 a(blocks[i].x, blocks[i].y), b(blocks[i].z, blocks[i].w);
+            INFO("block (" << a.x << ", " << a.y << ") to (" << b.x << ", " << b.y << ")");
+            const auto [lo, hi] = t.extremes_over(a, b);
+            const std::array<std::uint32_t, kResults> host{t.radius(a),      t.radius(b), t.min_over(a, b),
+                                                           t.max_over(a, b), lo,          hi};
+            for (std::uint32_t k = 0; k < kResults; ++k) REQUIRE(got[i * kResults + k] == host[k]);
+            patched += t.patch(a.x >> t.cell_bits, a.y >> t.cell_bits) != nullptr;
+            one_cell += (a.x >> t.cell_bits) == (b.x >> t.cell_bits) && (a.y >> t.cell_bits) == (b.y >> t.cell_bits);
+        }
+        // Both kinds of block, and on the kinked tables blocks in patched cells, were asked.
+        CHECK(one_cell > blocks.size() / 10);
+        CHECK(blocks.size() - one_cell > blocks.size() / 10);
+        if (!t.patches.empty()) CHECK(patched > blocks.size() / 8);
     }
 }

@@ -38,7 +38,9 @@ using std::uint64_t;
 #define VRPD_FN inline
 // A rarely taken path: kept out of line, so compilers do not compute it on every call.
 #define VRPD_COLD_FN [[gnu::cold, gnu::noinline]] inline
-// An output (or in-out) parameter, and a variable private to each invocation (each host thread).
+// An input read by reference on the host (a struct too large to copy per call), an output (or
+// in-out) parameter, and a variable private to each invocation (each host thread).
+#define VRPD_IN(T) const T&
 #define VRPD_OUT(T) T&
 #define VRPD_INOUT(T) T&
 #define VRPD_PRIVATE constinit inline thread_local
@@ -49,6 +51,7 @@ using std::uint64_t;
 #define VRPD_BUFFER(T) T
 #define VRPD_FN
 #define VRPD_COLD_FN
+#define VRPD_IN(T) T
 #define VRPD_OUT(T) out T
 #define VRPD_INOUT(T) inout T
 #define VRPD_PRIVATE

@@ -14,145 +14,56 @@ namespace {
 // holds hundreds of cells or more).
 constexpr std::size_t kRowGrain = 2;
 
-// The pyramid level and block range holding table cells [i0, i1] x [j0, j1] in at most 2 x 2 blocks;
-// a patched cell of level 0 gives its patch's bound (of_patch).
-template <typename Pick, typename OfPatch>
-std::uint32_t over_blocks(const FieldTable& t, const std::vector<std::vector<std::uint32_t>>& pyr, glm::uvec2 a,
-                          glm::uvec2 b, std::uint32_t init, Pick pick, OfPatch of_patch) {
-    std::uint32_t i0 = a.x >> t.cell_bits, i1 = b.x >> t.cell_bits, j0 = a.y >> t.cell_bits, j1 = b.y >> t.cell_bits;
-    std::uint32_t k = 0;
-    while ((i1 >> k) - (i0 >> k) > 1 || (j1 >> k) - (j0 >> k) > 1) ++k;
-    const std::uint32_t w = (t.cells_x + (1u << k) - 1) >> k;
-    std::uint32_t v = init;
-    for (std::uint32_t j = j0 >> k; j <= j1 >> k; ++j)
-        for (std::uint32_t i = i0 >> k; i <= i1 >> k; ++i) {
-            if (k > 0) {
-                v = pick(v, pyr[k][std::size_t(j) * w + i]);
-                continue;
-            }
-            if (const FieldTable::Patch* q = t.patch(i, j)) {
-                v = pick(v, of_patch(*q));
-                continue;
-            }
-            const glm::uvec4 n = t.cell_nodes(i, j);
-            v = pick(pick(v, n.x), pick(pick(n.y, n.z), n.w));
-        }
-    return v;
-}
-
-// Does [a, b] lie in one table cell? Then the interpolant's extremes over it are at its corners,
-// since it is linear along each axis.
-bool in_one_cell(const FieldTable& t, glm::uvec2 a, glm::uvec2 b) {
-    return (a.x >> t.cell_bits) == (b.x >> t.cell_bits) && (a.y >> t.cell_bits) == (b.y >> t.cell_bits);
-}
-
-// The least and largest of the interpolant of nodes v over a cell of side 2^bits at the four
-// corners of the block [fa, fb] (offsets in the cell), where its extremes lie.
-[[gnu::always_inline]] inline std::pair<std::uint32_t, std::uint32_t> corner_extremes(glm::uvec4 v, std::uint32_t bits,
-                                                                                      glm::uvec2 fa, glm::uvec2 fb) {
-    // field_interpolate at the four corners, each row's interpolant along x taken once per x.
-    const std::uint64_t a0 = shared::field_row(v.x, v.y, fa.x, bits), a1 = shared::field_row(v.z, v.w, fa.x, bits);
-    const std::uint64_t b0 = shared::field_row(v.x, v.y, fb.x, bits), b1 = shared::field_row(v.z, v.w, fb.x, bits);
-    const auto [lo, hi] =
-        std::minmax({shared::field_blend(a0, a1, fa.y, bits), shared::field_blend(a0, a1, fb.y, bits),
-                     shared::field_blend(b0, b1, fa.y, bits), shared::field_blend(b0, b1, fb.y, bits)});
-    return {lo, hi};
-}
-
-// The same for [fa, fb] (offsets) in table cell (i, j), which holds patch q: exact, but for a
-// block across many cells of the patch.
-[[gnu::noinline]] std::pair<std::uint32_t, std::uint32_t> patch_extremes(const FieldTable& t,
-                                                                         const FieldTable::Patch* q, std::uint32_t i,
-                                                                         std::uint32_t j, glm::uvec2 fa,
-                                                                         glm::uvec2 fb) {
-    const std::uint32_t bits = t.cell_bits - q->depth, n = (1u << q->depth) + 1;
-    const glm::uvec2 ka(fa.x >> bits, fa.y >> bits), kb(fb.x >> bits, fb.y >> bits);
-    if (ka == kb) {
-        const FieldTable::PatchCell c = t.patch_cell(*q, fa);
-        return corner_extremes(c.v, bits, fa - c.corner, fb - c.corner);
-    }
-    // The interpolant is bilinear on each piece of the block that the patch's cell lines cut:
-    // its extremes are at the pieces' corners, where those lines meet the block's edges and each
-    // other. Past a few lines each way, the least and largest node of the patch cells met bound it.
-    const glm::uvec2 lines = kb - ka;
-    std::uint32_t lo = UINT32_MAX, hi = 0;
-    if (lines.x <= 8 && lines.y <= 8) {
-        const glm::uvec2 cell(i << t.cell_bits, j << t.cell_bits);
-        for (std::uint32_t y = 0; y <= lines.y + 1; ++y)
-            for (std::uint32_t x = 0; x <= lines.x + 1; ++x) {
-                // The block's edges (0 and lines + 1) and the cell lines inside it.
-                const glm::uvec2 f(x == 0        ? fa.x
-                                   : x > lines.x ? fb.x
-                                                 : (ka.x + x) << bits,
-                                   y == 0        ? fa.y
-                                   : y > lines.y ? fb.y
-                                                 : (ka.y + y) << bits);
-                const std::uint32_t v = t.radius(cell + f);
-                lo = std::min(lo, v);
-                hi = std::max(hi, v);
-            }
-        return {lo, hi};
-    }
-    for (std::uint32_t y = ka.y; y <= kb.y + 1; ++y)
-        for (std::uint32_t x = ka.x; x <= kb.x + 1; ++x) {
-            const std::uint32_t v = t.patch_nodes[q->first + std::size_t(y) * n + x];
-            lo = std::min(lo, v);
-            hi = std::max(hi, v);
-        }
-    return {lo, hi};
-}
-
-// The least and largest r over [a, b], which lies in one table cell.
-inline std::pair<std::uint32_t, std::uint32_t> corner_extremes(const FieldTable& t, glm::uvec2 a, glm::uvec2 b) {
-    const std::uint32_t mask = (1u << t.cell_bits) - 1u;
-    const glm::uvec2 fa(a.x & mask, a.y & mask), fb(b.x & mask, b.y & mask);
-    const std::uint32_t i = a.x >> t.cell_bits, j = a.y >> t.cell_bits;
-    if (const FieldTable::Patch* q = t.patch(i, j)) [[unlikely]]
-        return patch_extremes(t, q, i, j, fa, fb);
-    return corner_extremes(t.cell_nodes(i, j), t.cell_bits, fa, fb);
-}
 // Level 0 (one table cell) is read from the cell's four nodes (or its patch's bounds); level
 // k >= 1 holds the least and greatest node over blocks of 2^k x 2^k cells, each row of blocks
 // made on one of the pool's threads.
 void build_pyramids(FieldTable& t, ThreadPool& pool) {
-    t.lo.assign(1, {});
-    t.hi.assign(1, {});
+    // Level k's blocks, ceil(cells / 2^k) a side, one after another from level 1.
+    t.pyramid_start.assign(2, 0);
+    for (std::uint32_t k = 1; (t.cells_x - 1) >> (k - 1) > 0 || (t.cells_y - 1) >> (k - 1) > 0; ++k) {
+        const std::uint64_t w = (std::uint64_t(t.cells_x) + (1u << k) - 1) >> k,
+                            h = (std::uint64_t(t.cells_y) + (1u << k) - 1) >> k;
+        t.pyramid_start.push_back(std::uint32_t(t.pyramid_start.back() + w * h));
+    }
+    t.pyramid_lo.assign(t.pyramid_start.back(), UINT32_MAX);
+    t.pyramid_hi.assign(t.pyramid_start.back(), 0);
     std::uint32_t w = t.cells_x, h = t.cells_y;
-    while (w > 1 || h > 1) {
-        const std::uint32_t pw = w, ph = h, nw = (w + 1) / 2, nh = (h + 1) / 2;
-        const bool cells = t.lo.size() == 1;
-        std::vector<std::uint32_t> nlo(std::size_t(nw) * nh, UINT32_MAX), nhi(nlo.size(), 0);
-        const std::vector<std::uint32_t>&plo = t.lo.back(), &phi = t.hi.back();
-        pool.parallel_for(
-            nh,
-            [&](std::size_t begin, std::size_t end, unsigned) {
-                for (std::size_t row = begin; row < end; ++row)
-                    for (std::uint32_t j = std::uint32_t(2 * row); j < std::min<std::uint32_t>(ph, 2 * row + 2); ++j)
-                        for (std::uint32_t i = 0; i < pw; ++i) {
-                            const std::size_t to = row * nw + i / 2, from = std::size_t(j) * pw + i;
-                            if (const FieldTable::Patch* q = cells ? t.patch(i, j) : nullptr) {
-                                nlo[to] = std::min(nlo[to], q->lo);
-                                nhi[to] = std::max(nhi[to], q->hi);
-                            } else if (cells) {
-                                const glm::uvec4 v = t.cell_nodes(i, j);
-                                nlo[to] = std::min({nlo[to], v.x, v.y, v.z, v.w});
-                                nhi[to] = std::max({nhi[to], v.x, v.y, v.z, v.w});
-                            } else {
-                                nlo[to] = std::min(nlo[to], plo[from]);
-                                nhi[to] = std::max(nhi[to], phi[from]);
-                            }
-                        }
-            },
-            kRowGrain);
-        t.lo.push_back(std::move(nlo));
-        t.hi.push_back(std::move(nhi));
+    for (std::size_t k = 1; k + 1 < t.pyramid_start.size(); ++k) {
+        const std::uint32_t pw = w, ph = h, nw = (w + 1) / 2;
+        std::uint32_t* const nlo = t.pyramid_lo.data() + t.pyramid_start[k];
+        std::uint32_t* const nhi = t.pyramid_hi.data() + t.pyramid_start[k];
+        const std::uint32_t* const plo = t.pyramid_lo.data() + t.pyramid_start[k - 1];
+        const std::uint32_t* const phi = t.pyramid_hi.data() + t.pyramid_start[k - 1];
+        const bool cells = k == 1;
+        pool.parallel_for((h + 1) / 2,
+                          [&](std::size_t begin, std::size_t end, unsigned) {
+                              for (std::size_t row = begin; row < end; ++row)
+                                  for (std::uint32_t j = std::uint32_t(2 * row);
+                                       j < std::min<std::uint32_t>(ph, 2 * row + 2); ++j)
+                                      for (std::uint32_t i = 0; i < pw; ++i) {
+                                          const std::size_t to = row * nw + i / 2, from = std::size_t(j) * pw + i;
+                                          if (const FieldTable::Patch* q = cells ? t.patch(i, j) : nullptr) {
+                                              nlo[to] = std::min(nlo[to], q->lo);
+                                              nhi[to] = std::max(nhi[to], q->hi);
+                                          } else if (cells) {
+                                              const glm::uvec4 v = t.cell_nodes(i, j);
+                                              nlo[to] = std::min({nlo[to], v.x, v.y, v.z, v.w});
+                                              nhi[to] = std::max({nhi[to], v.x, v.y, v.z, v.w});
+                                          } else {
+                                              nlo[to] = std::min(nlo[to], plo[from]);
+                                              nhi[to] = std::max(nhi[to], phi[from]);
+                                          }
+                                      }
+                          },
+                          kRowGrain);
         w = nw;
-        h = nh;
+        h = (h + 1) / 2;
     }
 }
 }  // namespace
 
 void complete_bounds(FieldTable& t, ThreadPool& pool) {
+    t.refresh_view();
     t.r_lo = *std::min_element(t.nodes.begin(), t.nodes.end());
     t.r_hi = *std::max_element(t.nodes.begin(), t.nodes.end());
     for (const FieldTable::Patch& q : t.patches) t.r_lo = std::min(t.r_lo, q.lo), t.r_hi = std::max(t.r_hi, q.hi);
@@ -194,26 +105,22 @@ void complete_bounds(FieldTable& t, ThreadPool& pool) {
     t.box_hi = bounds.hi;
     t.lipschitz = bounds.steepest / double(1u << t.cell_bits);
     build_pyramids(t, pool);
+    t.refresh_view();
 }
 
-std::uint32_t FieldTable::min_over(glm::uvec2 a, glm::uvec2 b) const {
-    if (in_one_cell(*this, a, b)) return corner_extremes(*this, a, b).first;
-    return over_blocks(
-        *this, lo, a, b, UINT32_MAX, [](std::uint32_t x, std::uint32_t y) { return std::min(x, y); },
-        [](const Patch& q) { return q.lo; });
-}
+std::uint32_t FieldTable::min_over(glm::uvec2 a, glm::uvec2 b) const { return shared::field_min_over(view(), a, b); }
 
-std::uint32_t FieldTable::max_over(glm::uvec2 a, glm::uvec2 b) const {
-    if (in_one_cell(*this, a, b)) return corner_extremes(*this, a, b).second;
-    return over_blocks(
-        *this, hi, a, b, 0u, [](std::uint32_t x, std::uint32_t y) { return std::max(x, y); },
-        [](const Patch& q) { return q.hi; });
+std::uint32_t FieldTable::max_over(glm::uvec2 a, glm::uvec2 b) const { return shared::field_max_over(view(), a, b); }
+
+std::pair<std::uint32_t, std::uint32_t> FieldTable::extremes_over(glm::uvec2 a, glm::uvec2 b) const {
+    const glm::uvec2 e = shared::field_extremes_over(view(), a, b);
+    return {e.x, e.y};
 }
 
 std::array<std::uint32_t, 4> FieldTable::children_min(glm::uvec2 a, glm::uvec2 e, glm::uvec2 m, glm::uvec2 b,
                                                       std::uint32_t open) const {
     std::array<std::uint32_t, 4> least{};
-    if (!in_one_cell(*this, a, b) || patch(a.x >> cell_bits, a.y >> cell_bits)) {
+    if (!shared::field_in_one_cell(view(), a, b) || patch(a.x >> cell_bits, a.y >> cell_bits)) {
         for (std::uint32_t k = 0; k < 4; ++k)
             if (open >> k & 1)
                 least[k] =
@@ -237,10 +144,6 @@ std::array<std::uint32_t, 4> FieldTable::children_min(glm::uvec2 a, glm::uvec2 e
         least[k] = std::min({r(i, j), r(i + 1, j), r(i, j + 1), r(i + 1, j + 1)});
     }
     return least;
-}
-
-std::pair<std::uint32_t, std::uint32_t> FieldTable::extremes_over(glm::uvec2 a, glm::uvec2 b) const {
-    return in_one_cell(*this, a, b) ? corner_extremes(*this, a, b) : std::pair{min_over(a, b), max_over(a, b)};
 }
 
 std::uint32_t FieldTable::max_near(glm::uvec2 p, std::uint64_t reach) const {

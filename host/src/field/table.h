@@ -11,7 +11,7 @@
 #include <utility>
 #include <vector>
 
-#include "shared/field.h"
+#include "shared/field_table.h"
 #include "../cpu/thread_pool.h"
 #include "shared/lattice.h"
 #include "vrpd/vrpd.h"
@@ -24,7 +24,8 @@ using FieldSource = std::function<void(const double* x, const double* y, double*
 // The source a Sizing names: its expression, or its image (loaded, checked greyscale), over the box.
 FieldSource field_source(const Sizing& sizing, const Box& box);
 
-struct FieldTable {
+// A table's data; FieldTable adds the view of its vectors that the lookups read.
+struct FieldTableData {
     shared::Lattice lattice;
     double quantum = 0;           // lattice spacing in box units
     std::uint32_t tile_bits = 0;  // quadtree roots (tiles) span 2^tile_bits lattice units
@@ -32,10 +33,8 @@ struct FieldTable {
     std::uint32_t cell_bits = 0;             // table cells span 2^cell_bits lattice units
     std::uint32_t cells_x = 0, cells_y = 0;  // table cells over the tiles
     std::vector<std::uint32_t> nodes;        // (cells_x + 1) x (cells_y + 1), row by row
-    // lo[k], hi[k] (k >= 1): the least and greatest node over blocks of 2^k x 2^k table cells
-    // (their boundary nodes included), cells_x >> k (rounded up) per row; lo[0] and hi[0] are
-    // empty (a cell's four nodes give them).
-    std::vector<std::vector<std::uint32_t>> lo, hi;
+    // The min/max pyramids, level k >= 1 from pyramid_start[k] (shared/field_table.h).
+    std::vector<std::uint32_t> pyramid_lo, pyramid_hi, pyramid_start;
     std::uint32_t r_lo = 0, r_hi = 0;      // over all nodes (a free box's outer ones too)
     std::uint32_t box_lo = 0, box_hi = 0;  // r's least and greatest over the box's lattice points
     double lipschitz = 0;                  // of the interpolant, exact
@@ -56,44 +55,53 @@ struct FieldTable {
     std::vector<std::uint32_t> patch_rank;   // per word of `patched`: the patches of the cells before it
     std::vector<Patch> patches;              // in cell order
     std::vector<std::uint32_t> patch_nodes;  // the patches' nodes
+};
+
+struct FieldTable : FieldTableData {
+    FieldTable() = default;
+    // A copy or a move views its own vectors.
+    FieldTable(const FieldTable& o) : FieldTableData(o) { refresh_view(); }
+    FieldTable(FieldTable&& o) noexcept : FieldTableData(std::move(o)) { refresh_view(); }
+    FieldTable& operator=(const FieldTable& o) {
+        FieldTableData::operator=(o);
+        refresh_view();
+        return *this;
+    }
+    FieldTable& operator=(FieldTable&& o) noexcept {
+        FieldTableData::operator=(std::move(o));
+        refresh_view();
+        return *this;
+    }
 
     std::uint32_t node(std::uint32_t i, std::uint32_t j) const { return nodes[std::size_t(j) * (cells_x + 1) + i]; }
-    // The four nodes of table cell (i, j), in field_interpolate's order.
-    glm::uvec4 cell_nodes(std::uint32_t i, std::uint32_t j) const {
-        const std::uint32_t* v = &nodes[std::size_t(j) * (cells_x + 1) + i];
-        return {v[0], v[1], v[cells_x + 1], v[cells_x + 2]};
+    // The table as the shared lookups read it (shared/field_table.h): pointers into its vectors,
+    // set again by refresh_view whenever they change (complete_bounds does, and every copy).
+    const shared::FieldTableView& view() const { return view_; }
+    void refresh_view() {
+        static_assert(sizeof(Patch) == 4 * shared::FIELD_PATCH_WORDS && offsetof(Patch, first) == 0 &&
+                      offsetof(Patch, depth) == 4 && offsetof(Patch, lo) == 8 && offsetof(Patch, hi) == 12);
+        view_ = {cell_bits,
+                 cells_x,
+                 cells_y,
+                 std::uint32_t(patched.empty() ? 0 : patches.size()),
+                 {nodes.data()},
+                 {patched.data()},
+                 {patch_rank.data()},
+                 {reinterpret_cast<const std::uint32_t*>(patches.data())},
+                 {patch_nodes.data()},
+                 {pyramid_lo.data()},
+                 {pyramid_hi.data()},
+                 {pyramid_start.data()}};
     }
+    // The four nodes of table cell (i, j), in field_interpolate's order.
+    glm::uvec4 cell_nodes(std::uint32_t i, std::uint32_t j) const { return shared::field_cell_nodes(view(), i, j); }
     // Table cell (i, j)'s patch, or nullptr.
     const Patch* patch(std::uint32_t i, std::uint32_t j) const {
-        if (patched.empty()) [[likely]]
-            return nullptr;
-        const std::size_t c = std::size_t(j) * cells_x + i;
-        const std::uint64_t word = patched[c >> 6], below = (std::uint64_t(1) << (c & 63)) - 1;
-        if (!(word >> (c & 63) & 1)) return nullptr;
-        return &patches[patch_rank[c >> 6] + std::size_t(std::popcount(word & below))];
-    }
-    // The cell of a patch holding offset f (inside its table cell), its nodes and its side's bits.
-    struct PatchCell {
-        glm::uvec4 v;
-        glm::uvec2 corner;  // its offset in the table cell
-        std::uint32_t bits;
-    };
-    PatchCell patch_cell(const Patch& q, glm::uvec2 f) const {
-        const std::uint32_t bits = cell_bits - q.depth, n = (1u << q.depth) + 1;
-        const glm::uvec2 k(f.x >> bits, f.y >> bits);
-        const std::uint32_t* v = &patch_nodes[q.first + std::size_t(k.y) * n + k.x];
-        return {{v[0], v[1], v[n], v[n + 1]}, {k.x << bits, k.y << bits}, bits};
+        const int q = shared::field_patch(view(), i, j);
+        return q < 0 ? nullptr : &patches[std::size_t(q)];
     }
     // r at lattice point p (inside the lattice).
-    std::uint32_t radius(glm::uvec2 p) const {
-        const std::uint32_t mask = (1u << cell_bits) - 1u;
-        const glm::uvec2 f(p.x & mask, p.y & mask);
-        if (const Patch* q = patch(p.x >> cell_bits, p.y >> cell_bits)) [[unlikely]] {
-            const PatchCell c = patch_cell(*q, f);
-            return shared::field_interpolate(c.v, f - c.corner, c.bits);
-        }
-        return shared::field_interpolate(cell_nodes(p.x >> cell_bits, p.y >> cell_bits), f, cell_bits);
-    }
+    std::uint32_t radius(glm::uvec2 p) const { return shared::field_radius(view(), p); }
     // Starts fetching the nodes radius(p) reads.
     void prefetch(glm::uvec2 p) const {
         const std::uint32_t* v = &nodes[std::size_t(p.y >> cell_bits) * (cells_x + 1) + (p.x >> cell_bits)];
@@ -119,9 +127,12 @@ struct FieldTable {
     std::uint64_t bytes() const {
         std::uint64_t n = nodes.capacity() + patch_nodes.capacity() + patch_rank.capacity() + 2 * patched.capacity() +
                           patches.capacity() * sizeof(Patch) / 4;
-        for (std::size_t k = 0; k < lo.size(); ++k) n += lo[k].capacity() + hi[k].capacity();
+        n += pyramid_lo.capacity() + pyramid_hi.capacity() + pyramid_start.capacity();
         return 4 * n;
     }
+
+private:
+    shared::FieldTableView view_{};
 };
 
 // Sets t's bounds from its nodes and patches, on the pool's threads: r_lo, r_hi, box_lo, box_hi,
