@@ -12,8 +12,10 @@
 #include <tuple>
 
 #include "cpu/thread_pool.h"
+#include "field/quadtree.h"
 #include "field/table.h"
 #include "field_table_probe.h"
+#include "field_tree_probe.h"
 #include "vrpd/sizing.h"
 #include "vulkan/buffer.h"
 #include "vulkan/device.h"
@@ -298,4 +300,57 @@ TEST_CASE("the device reads a table as the host does: r at points and its bounds
         CHECK(blocks.size() - one_cell > blocks.size() / 10);
         if (!t.patches.empty()) CHECK(patched > blocks.size() / 8);
     }
+}
+
+TEST_CASE("the device descends a field's leaf tree as the host does", "[field][gpu]") {
+    // The probe kernel runs shared/field_tree.h's descent for random lattice points of a tree
+    // whose leaves span several depths; each leaf's index and side must be the host's.
+    Sizing s;
+    s.expression = "0.002 + 0.05*abs(sin(6*x))*y";
+    const detail::FieldTable t = detail::tabulate(s, {1.5, 1, Boundary::Free});
+    detail::ThreadPool pool(2);
+    const detail::FieldQuadtree tree(t, 1u << 26, pool);
+    detail::VulkanContext ctx("");
+    detail::Kernel probe(ctx, "field_tree_probe", {spirv_field_tree_probe, std::size(spirv_field_tree_probe)}, 48, 64);
+    const shared::FieldTreeView v = tree.view();
+    std::vector<detail::Buffer> arrays;
+    auto upload = [&](const void* data, std::size_t bytes) {
+        detail::Buffer& b = arrays.emplace_back(ctx, std::max<std::size_t>(bytes, 8), true);
+        std::memcpy(b.mapped(), data, bytes);
+        return b.address();
+    };
+    std::mt19937_64 rng(3);
+    std::vector<glm::uvec2> points(20000);
+    for (glm::uvec2& p : points)
+        p = {std::uint32_t(rng() % t.lattice.extent_x), std::uint32_t(rng() % t.lattice.extent_y)};
+    struct {
+        std::uint32_t tile_bits, tiles_x;
+        std::uint64_t roots, nodes, points, leaves;
+        std::uint32_t count;
+    } push{v.tile_bits,
+           v.tiles_x,
+           upload(tree.root_words().data(), tree.root_words().size_bytes()),
+           upload(tree.node_words().data(), tree.node_words().size_bytes()),
+           upload(points.data(), points.size() * 8),
+           0,
+           std::uint32_t(points.size())};
+    static_assert(offsetof(decltype(push), roots) == 8 && offsetof(decltype(push), count) == 40);
+    detail::Buffer out(ctx, points.size() * 8, true);
+    push.leaves = out.address();
+    ctx.begin();
+    ctx.dispatch(probe, &push, std::uint32_t((points.size() + 63) / 64));
+    ctx.barrier();  // results before the host reads them
+    ctx.submit_and_wait();
+    ctx.check_validation();
+    const auto* got = static_cast<const glm::uvec2*>(out.mapped());
+    std::uint32_t least = UINT32_MAX, most = 0;
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        const detail::FieldQuadtree::Leaf leaf = tree.leaf_at(points[i]);
+        INFO("point (" << points[i].x << ", " << points[i].y << ")");
+        REQUIRE(leaf.holds(points[i]));
+        REQUIRE(got[i] == glm::uvec2(leaf.index, leaf.bits));
+        least = std::min(least, leaf.bits);
+        most = std::max(most, leaf.bits);
+    }
+    CHECK(most >= least + 3);  // leaves of four sides or more were met
 }

@@ -92,15 +92,9 @@ void FieldQuadtree::set_sample(std::uint32_t leaf, glm::uvec2 p, std::uint32_t s
 }
 
 FieldQuadtree::Leaf FieldQuadtree::leaf_at(glm::uvec2 p) const {
-    std::uint32_t node = roots_[std::size_t(p.y >> t_.tile_bits) * t_.tiles_x + (p.x >> t_.tile_bits)];
-    std::uint32_t bits = t_.tile_bits;
-    while (!(node & kLeaf)) {
-        const std::uint32_t k = ((p.x >> (bits - 1)) & 1) | ((p.y >> (bits - 1)) & 1) << 1;
-        node = nodes_[(node & kIndex) + k];
-        --bits;
-    }
-    const std::uint32_t mask = ~((std::uint32_t(1) << bits) - 1);  // bits < 32: a leaf is within a tile
-    return {node & kIndex, bits, {p.x & mask, p.y & mask}};
+    const glm::uvec2 leaf = shared::field_leaf_at(view(), p);
+    const std::uint32_t mask = ~((std::uint32_t(1) << leaf.y) - 1);  // bits < 32: a leaf is within a tile
+    return {leaf.x, leaf.y, {p.x & mask, p.y & mask}};
 }
 
 void FieldQuadtree::mark(glm::uvec2 c, std::uint32_t flag, bool on) {
@@ -113,8 +107,7 @@ void FieldQuadtree::mark(glm::uvec2 c, std::uint32_t flag, bool on) {
         if (on && (w & flag) != flag) word.fetch_or(flag, std::memory_order_relaxed);
         if (!on && (w & flag) != 0) word.fetch_and(~flag, std::memory_order_relaxed);
         if (w & kLeaf) return;
-        const std::uint32_t k = ((c.x >> (bits - 1)) & 1) | ((c.y >> (bits - 1)) & 1) << 1;
-        node = &nodes_[(w & kIndex) + k];
+        node = &nodes_[(w & kIndex) + shared::field_child_of(c, bits)];
     }
 }
 

@@ -6,10 +6,12 @@
 #include <algorithm>
 #include <atomic>
 #include <cstdint>
+#include <span>
 #include <type_traits>
 #include <vector>
 
 #include "table.h"
+#include "shared/field_tree.h"
 #include "../cpu/thread_pool.h"
 
 namespace vrpd::detail {
@@ -46,6 +48,11 @@ public:
     };
     // The leaf holding lattice point p, found by descent from its tile's root.
     Leaf leaf_at(glm::uvec2 p) const;
+    // The tree's words as the shared descent reads them (shared/field_tree.h), and the arrays
+    // they point into.
+    shared::FieldTreeView view() const { return {t_.tile_bits, t_.tiles_x, {roots_.data()}, {nodes_.data()}}; }
+    std::span<const std::uint32_t> root_words() const { return roots_; }
+    std::span<const std::uint32_t> node_words() const { return nodes_; }
     std::uint32_t leaf_of(glm::uvec2 p) const { return leaf_at(p).index; }
     std::uint32_t sample(std::uint32_t leaf) const { return sample_[leaf]; }
     // A leaf with darts of the round holds no sample: while a resolution runs, its sample's slot
@@ -113,20 +120,18 @@ private:
     void mark(glm::uvec2 p, std::uint32_t flag, bool on);
 
     const FieldTable& t_;
-    // A node: kOutside, or kLeaf | its leaf or its first child, with kOccupied where a leaf of its
-    // subtree holds a sample and kFresh where one is fresh (mark_fresh, set_sample).
+    // The node words (shared/field_tree.h): a root per tile, and the inner nodes' children.
     std::vector<std::uint32_t> roots_, nodes_;
     std::vector<std::uint32_t> sample_;
     std::uint32_t depth_ = 0;
     std::uint64_t build_bytes_ = 0;
 
-    static constexpr std::uint32_t kLeaf = 0x80000000u;
-    static constexpr std::uint32_t kOccupied = 0x40000000u;
-    static constexpr std::uint32_t kFresh = 0x20000000u;
-    static constexpr std::uint32_t kIndex = 0x1FFFFFFFu;
-    // A block outside the lattice: a leaf word no leaf has (indices stay below kIndex), without
-    // the flags, so a search for flagged subtrees passes over it by its flag test alone.
-    static constexpr std::uint32_t kOutside = kLeaf | kIndex;
+    // The node words' layout (shared/field_tree.h).
+    static constexpr std::uint32_t kLeaf = shared::FIELD_LEAF;
+    static constexpr std::uint32_t kOccupied = shared::FIELD_OCCUPIED;
+    static constexpr std::uint32_t kFresh = shared::FIELD_FRESH;
+    static constexpr std::uint32_t kIndex = shared::FIELD_INDEX;
+    static constexpr std::uint32_t kOutside = shared::FIELD_OUTSIDE;
     static_assert((kOutside & (kOccupied | kFresh)) == 0);
     // Query bounds: the lattice square [lo, hi] per axis (unwrapped), or the whole axis.
     struct Query {

@@ -59,9 +59,12 @@ struct FieldTableData {
 
 struct FieldTable : FieldTableData {
     FieldTable() = default;
-    // A copy or a move views its own vectors.
+    // A copy or a move views its own vectors (and a table moved from, its emptied ones).
     FieldTable(const FieldTable& o) : FieldTableData(o) { refresh_view(); }
-    FieldTable(FieldTable&& o) noexcept : FieldTableData(std::move(o)) { refresh_view(); }
+    FieldTable(FieldTable&& o) noexcept : FieldTableData(std::move(o)) {
+        refresh_view();
+        o.refresh_view();
+    }
     FieldTable& operator=(const FieldTable& o) {
         FieldTableData::operator=(o);
         refresh_view();
@@ -70,6 +73,7 @@ struct FieldTable : FieldTableData {
     FieldTable& operator=(FieldTable&& o) noexcept {
         FieldTableData::operator=(std::move(o));
         refresh_view();
+        o.refresh_view();
         return *this;
     }
 
