@@ -215,6 +215,40 @@ TEST_CASE(
     }
 }
 
+TEST_CASE("a table copied, moved or assigned views its own arrays", "[field]") {
+    // The lookups read the table through its view: each copy must point into its own vectors,
+    // and a table moved from into its emptied ones, or a copy would read freed memory.
+    Sizing s;
+    s.expression = "0.02 + 0.1*abs(x - 0.3)";  // patched: every array is in use
+    const detail::FieldTable original = detail::tabulate(s, {1, 1, Boundary::Free});
+    REQUIRE_FALSE(original.patches.empty());
+    auto owns = [](const detail::FieldTable& t) {
+        const shared::FieldTableView& v = t.view();
+        return v.nodes.value == t.nodes.data() && v.patched.value == t.patched.data() &&
+               v.patch_rank.value == t.patch_rank.data() &&
+               v.patches.value == reinterpret_cast<const std::uint32_t*>(t.patches.data()) &&
+               v.patch_nodes.value == t.patch_nodes.data() && v.pyramid_lo.value == t.pyramid_lo.data() &&
+               v.pyramid_hi.value == t.pyramid_hi.data() && v.pyramid_start.value == t.pyramid_start.data() &&
+               v.patch_count == t.patches.size() && v.cells_x == t.cells_x && v.cell_bits == t.cell_bits;
+    };
+    const glm::uvec2 p(std::uint32_t(0.3 / original.quantum), 12345);
+    const std::uint32_t r = original.radius(p);
+    detail::FieldTable copy = original;
+    CHECK(owns(copy));
+    detail::FieldTable moved = std::move(copy);
+    CHECK(owns(moved));
+    CHECK(owns(copy));
+    detail::FieldTable assigned;
+    assigned = moved;
+    CHECK(owns(assigned));
+    detail::FieldTable move_assigned;
+    move_assigned = std::move(assigned);
+    CHECK(owns(move_assigned));
+    CHECK(owns(assigned));
+    CHECK(move_assigned.radius(p) == r);
+    CHECK(moved.radius(p) == r);
+}
+
 TEST_CASE("the device reads a table as the host does: r at points and its bounds over blocks", "[field][gpu]") {
     // The probe kernel runs shared/field_table.h's lookups on each block; the host's FieldTable
     // answers from the same header compiled as C++. A smooth field, one with patches along a
