@@ -249,6 +249,58 @@ TEST_CASE("a table copied, moved or assigned views its own arrays", "[field]") {
     CHECK(moved.radius(p) == r);
 }
 
+TEST_CASE("a leaf search meets exactly the leaves that meet its square, read as a window or by descent", "[field]") {
+    // Tiles whose leaves are all of one side are read as a window, the others by descent: on a
+    // torus and on a free box (whose edge tiles have blocks outside the lattice), each search
+    // must meet every leaf that meets its square, each once, and near_samples those of them with
+    // a sample. The square is checked against each leaf's block and its torus images.
+    detail::ThreadPool pool(2);
+    for (const Box& box : {Box{1, 1, Boundary::Periodic}, Box{1.3, 1, Boundary::Free}}) {
+        Sizing s;
+        s.expression = "0.004 + (0.0015 - 0.004)*abs(sin(5*pi*d))";
+        const detail::FieldTable t = detail::tabulate(s, box);
+        detail::FieldQuadtree tree(t, 1u << 26, pool);
+        INFO((box.boundary == Boundary::Periodic ? "periodic" : "free"));
+        REQUIRE(tree.flat_tiles() > 0);
+        REQUIRE(tree.flat_tiles() < tree.tiles());
+        std::vector<std::pair<glm::uvec2, std::uint32_t>> blocks(tree.leaves());
+        tree.each_leaf([&](std::uint32_t leaf, glm::uvec2 corner, std::uint32_t bits) {
+            blocks[leaf] = {corner, bits};
+        });
+        std::mt19937_64 rng(9);
+        for (std::uint32_t leaf = 0; leaf < tree.leaves(); leaf += 1 + std::uint32_t(rng() % 5))
+            tree.set_sample(leaf, blocks[leaf].first, leaf);
+        const bool periodic = box.boundary == Boundary::Periodic;
+        auto meets = [&](std::int64_t c, std::int64_t side, std::int64_t lo, std::int64_t hi, std::int64_t extent) {
+            for (const std::int64_t shift : {std::int64_t(0), extent, -extent})
+                if ((shift == 0 || periodic) && c + shift <= hi && c + shift + side - 1 >= lo) return true;
+            return false;
+        };
+        for (int q = 0; q < 150; ++q) {
+            const glm::uvec2 p(std::uint32_t(rng() % t.lattice.extent_x), std::uint32_t(rng() % t.lattice.extent_y));
+            const std::int64_t reach = std::int64_t(rng() % (std::uint64_t(t.r_hi) * 3));
+            std::vector<std::uint32_t> all, with_sample, want_all, want_sample;
+            tree.near(p, p, std::uint64_t(reach), [&](std::uint32_t leaf) { return all.push_back(leaf), false; });
+            tree.near_samples(p, p, std::uint64_t(reach),
+                              [&](std::uint32_t leaf) { return with_sample.push_back(leaf), false; });
+            for (std::uint32_t leaf = 0; leaf < tree.leaves(); ++leaf) {
+                const auto [c, bits] = blocks[leaf];
+                const std::int64_t side = std::int64_t(1) << bits;
+                if (!meets(c.x, side, p.x - reach, p.x + reach, t.lattice.extent_x) ||
+                    !meets(c.y, side, p.y - reach, p.y + reach, t.lattice.extent_y))
+                    continue;
+                want_all.push_back(leaf);
+                if (tree.sample(leaf) != detail::FieldQuadtree::kNone) want_sample.push_back(leaf);
+            }
+            std::sort(all.begin(), all.end());
+            std::sort(with_sample.begin(), with_sample.end());
+            INFO("query " << q << " at (" << p.x << ", " << p.y << "), reach " << reach);
+            REQUIRE(all == want_all);
+            REQUIRE(with_sample == want_sample);
+        }
+    }
+}
+
 TEST_CASE("the device reads a table as the host does: r at points and its bounds over blocks", "[field][gpu]") {
     // The probe kernel runs shared/field_table.h's lookups on each block; the host's FieldTable
     // answers from the same header compiled as C++. A smooth field, one with patches along a

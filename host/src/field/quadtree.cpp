@@ -51,6 +51,27 @@ FieldQuadtree::FieldQuadtree(const FieldTable& t, std::uint64_t max_leaves, Thre
         part.arrays = {};
     }
     sample_.assign(leaf_count, kNone);
+    flat_bits_.assign(tiles, kMixed);
+    flat_first_.assign(tiles, 0);
+    pool.parallel_for(
+        tiles,
+        [&](std::size_t begin, std::size_t end, unsigned) {
+            for (std::size_t k = begin; k < end; ++k) {
+                std::uint32_t first = kNone, bits = kNone, count = 0;
+                bool one_side = true;
+                each_leaf(k, k + 1, [&](std::uint32_t leaf, glm::uvec2, std::uint32_t b) {
+                    if (first == kNone) first = leaf, bits = b;
+                    one_side &= b == bits;
+                    ++count;
+                });
+                const std::uint32_t span = t.tile_bits - bits;
+                if (first != kNone && one_side && span < 16 && count == 1u << (2 * span)) {
+                    flat_bits_[k] = std::uint8_t(bits);
+                    flat_first_[k] = first;
+                }
+            }
+        },
+        kTileGrain);
 }
 
 std::uint32_t FieldQuadtree::build(Arrays& out, glm::uvec2 c, std::uint32_t bits, std::uint32_t floor,

@@ -73,6 +73,11 @@ public:
     // leaf, it ends their freshness.
     void settle(glm::uvec2 p) { mark(p, kFresh, false); }
     std::uint32_t depth() const { return depth_; }
+    // The tiles whose leaves a plain search reads as a window (all of one side).
+    std::size_t flat_tiles() const {
+        return std::size_t(
+            std::count_if(flat_bits_.begin(), flat_bits_.end(), [](std::uint8_t b) { return b != kMixed; }));
+    }
     // The most the build held at once (the chunks' arrays and the tree they are copied into).
     std::uint64_t build_bytes() const { return build_bytes_; }
     std::uint64_t bytes() const { return nodes_.capacity() * 4 + sample_.capacity() * 4 + roots_.capacity() * 4; }
@@ -123,6 +128,11 @@ private:
     // The node words (shared/field_tree.h): a root per tile, and the inner nodes' children.
     std::vector<std::uint32_t> roots_, nodes_;
     std::vector<std::uint32_t> sample_;
+    // Per tile whose leaves are all of one side, none outside the lattice: that side's bits, and
+    // its first leaf (the leaves follow in Morton order: x in the even bits); kMixed elsewhere.
+    static constexpr std::uint8_t kMixed = 0xFF;
+    std::vector<std::uint8_t> flat_bits_;
+    std::vector<std::uint32_t> flat_first_;
     std::uint32_t depth_ = 0;
     std::uint64_t build_bytes_ = 0;
 
@@ -190,6 +200,29 @@ bool FieldQuadtree::descend(std::uint32_t root, std::int64_t root_x, std::int64_
     const std::uint32_t lo_x = q.all[0] ? 0 : clip(q.lo[0], root_x), hi_x = q.all[0] ? last : clip(q.hi[0], root_x);
     const std::uint32_t lo_y = q.all[1] ? 0 : clip(q.lo[1], root_y), hi_y = q.all[1] ? last : clip(q.hi[1], root_y);
     const std::uint32_t mid_x = clip((q.lo[0] + q.hi[0]) / 2, root_x), mid_y = clip((q.lo[1] + q.hi[1]) / 2, root_y);
+    // A plain search of a tile whose leaves are all of one side reads the leaves that meet the
+    // query as a window, row by row, not by descent.
+    if constexpr (std::is_same_v<Enter, EnterAll> && kNeed != kFresh) {
+        const std::size_t k = std::size_t(tile.y >> t_.tile_bits) * t_.tiles_x + (tile.x >> t_.tile_bits);
+        if (const std::uint32_t b = flat_bits_[k]; b != kMixed) {
+            auto spread = [](std::uint32_t v) {
+                v = (v | v << 8) & 0x00FF00FFu;
+                v = (v | v << 4) & 0x0F0F0F0Fu;
+                v = (v | v << 2) & 0x33333333u;
+                return (v | v << 1) & 0x55555555u;
+            };
+            const std::uint32_t first = flat_first_[k], i0 = lo_x >> b, i1 = hi_x >> b;
+            for (std::uint32_t j = lo_y >> b; j <= hi_y >> b; ++j) {
+                const std::uint32_t row = first + (spread(j) << 1);
+                for (std::uint32_t i = i0; i <= i1; ++i) {
+                    const std::uint32_t leaf = row + spread(i);
+                    if (kNeed == kOccupied && sample_[leaf] == kNone) continue;
+                    if (visit(leaf)) return true;
+                }
+            }
+            return false;
+        }
+    }
     struct Item {
         std::uint32_t node, bits, x, y;
     };
