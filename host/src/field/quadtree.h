@@ -95,7 +95,8 @@ public:
     bool near(glm::uvec2 a, glm::uvec2 b, std::uint64_t reach, Visit&& visit, Enter enter = {}) const {
         return search<0>(a, b, reach, visit, enter);
     }
-    // The same over the leaves that hold a sample only: subtrees without one are not entered.
+    // The same over the leaves that hold a sample only: subtrees without one are not entered. Not
+    // while a resolution holds first darts in the leaves' sample slots: a flat tile reads them.
     template <typename Visit, typename Enter = EnterAll>
     bool near_samples(glm::uvec2 a, glm::uvec2 b, std::uint64_t reach, Visit&& visit, Enter enter = {}) const {
         return search<kOccupied>(a, b, reach, visit, enter);
