@@ -23,6 +23,29 @@
 
 using namespace vrpd;
 
+namespace {
+// Copies of host arrays in host-visible buffers of their own for a probe kernel (at least one
+// word each: an empty array too), by device address.
+struct DeviceCopies {
+    detail::VulkanContext& ctx;
+    std::vector<detail::Buffer> buffers;
+    std::uint64_t operator()(const void* data, std::size_t bytes) {
+        detail::Buffer& b = buffers.emplace_back(ctx, std::max<std::size_t>(bytes, 8), true);
+        if (bytes > 0) std::memcpy(b.mapped(), data, bytes);
+        return b.address();
+    }
+};
+
+// Runs a probe kernel (workgroups of 64) over `count` items and waits for its results.
+void run_probe(detail::VulkanContext& ctx, const detail::Kernel& probe, const void* push, std::size_t count) {
+    ctx.begin();
+    ctx.dispatch(probe, push, std::uint32_t((count + 63) / 64));
+    ctx.barrier();  // results before the host reads them
+    ctx.submit_and_wait();
+    ctx.check_validation();
+}
+}  // namespace
+
 TEST_CASE("field_interpolate is the floor of the exact bilinear interpolant", "[field]") {
     std::mt19937_64 rng(7);
     for (int i = 0; i < 20000; ++i) {
@@ -321,13 +344,7 @@ TEST_CASE("the device reads a table as the host does: r at points and its bounds
         const detail::FieldTable t = scale == 1 ? base : detail::scaled(base, scale, pool);
         INFO(s.expression << " times " << scale);
         REQUIRE(t.patches.empty() == (s.expression == smooth.expression));
-        // The table's arrays in buffers of their own (at least one word: an empty one too).
-        std::vector<detail::Buffer> arrays;
-        auto upload = [&](const void* data, std::size_t bytes) {
-            detail::Buffer& b = arrays.emplace_back(ctx, std::max<std::size_t>(bytes, 8), true);
-            if (bytes > 0) std::memcpy(b.mapped(), data, bytes);
-            return b.address();
-        };
+        DeviceCopies upload{ctx, {}};
         auto words = [&](const std::vector<std::uint32_t>& v) { return upload(v.data(), v.size() * 4); };
         struct {
             std::uint32_t cell_bits, cells_x, cells_y, patch_count;
@@ -364,11 +381,7 @@ TEST_CASE("the device reads a table as the host does: r at points and its bounds
         detail::Buffer out(ctx, blocks.size() * kResults * 4, true);
         push.results = out.address();
         push.count = std::uint32_t(blocks.size());
-        ctx.begin();
-        ctx.dispatch(probe, &push, std::uint32_t((blocks.size() + 63) / 64));
-        ctx.barrier();  // results before the host reads them
-        ctx.submit_and_wait();
-        ctx.check_validation();
+        run_probe(ctx, probe, &push, blocks.size());
         const auto* got = static_cast<const std::uint32_t*>(out.mapped());
         std::size_t patched = 0, one_cell = 0;
         for (std::size_t i = 0; i < blocks.size(); ++i) {
@@ -399,12 +412,7 @@ TEST_CASE("the device descends a field's leaf tree as the host does", "[field][g
     detail::VulkanContext ctx("");
     detail::Kernel probe(ctx, "field_tree_probe", {spirv_field_tree_probe, std::size(spirv_field_tree_probe)}, 48, 64);
     const shared::FieldTreeView v = tree.view();
-    std::vector<detail::Buffer> arrays;
-    auto upload = [&](const void* data, std::size_t bytes) {
-        detail::Buffer& b = arrays.emplace_back(ctx, std::max<std::size_t>(bytes, 8), true);
-        std::memcpy(b.mapped(), data, bytes);
-        return b.address();
-    };
+    DeviceCopies upload{ctx, {}};
     std::mt19937_64 rng(3);
     std::vector<glm::uvec2> points(20000);
     for (glm::uvec2& p : points)
@@ -423,11 +431,7 @@ TEST_CASE("the device descends a field's leaf tree as the host does", "[field][g
     static_assert(offsetof(decltype(push), roots) == 8 && offsetof(decltype(push), count) == 40);
     detail::Buffer out(ctx, points.size() * 8, true);
     push.leaves = out.address();
-    ctx.begin();
-    ctx.dispatch(probe, &push, std::uint32_t((points.size() + 63) / 64));
-    ctx.barrier();  // results before the host reads them
-    ctx.submit_and_wait();
-    ctx.check_validation();
+    run_probe(ctx, probe, &push, points.size());
     const auto* got = static_cast<const glm::uvec2*>(out.mapped());
     std::uint32_t least = UINT32_MAX, most = 0;
     for (std::size_t i = 0; i < points.size(); ++i) {
