@@ -80,7 +80,10 @@ public:
     }
     // The most the build held at once (the chunks' arrays and the tree they are copied into).
     std::uint64_t build_bytes() const { return build_bytes_; }
-    std::uint64_t bytes() const { return nodes_.capacity() * 4 + sample_.capacity() * 4 + roots_.capacity() * 4; }
+    std::uint64_t bytes() const {
+        return nodes_.capacity() * 4 + sample_.capacity() * 4 + roots_.capacity() * 4 + flat_bits_.capacity() +
+               flat_first_.capacity() * 4;
+    }
 
     // A search's test before it enters a subtree (see near): this one enters every subtree.
     struct EnterAll {
