@@ -152,6 +152,14 @@ VRPD_COLD_FN uvec2 field_patch_extremes(VRPD_IN(FieldTableView) t, int q, uint i
     return uvec2(lo, hi);
 }
 
+// The least (x) and greatest (y) node of table cell (i, j): its patch's, or of its four nodes.
+VRPD_FN uvec2 field_cell_range(VRPD_IN(FieldTableView) t, uint i, uint j) {
+    int q = field_patch(t, i, j);
+    if (q >= 0) return uvec2(field_patch_word(t, q, 2u), field_patch_word(t, q, 3u));
+    uvec4 n = field_cell_nodes(t, i, j);
+    return uvec2(min(min(n.x, n.y), min(n.z, n.w)), max(max(n.x, n.y), max(n.z, n.w)));
+}
+
 // Does [a, b] lie in one table cell?
 VRPD_FN bool field_in_one_cell(VRPD_IN(FieldTableView) t, uvec2 a, uvec2 b) {
     return (a.x >> t.cell_bits) == (b.x >> t.cell_bits) && (a.y >> t.cell_bits) == (b.y >> t.cell_bits);
@@ -170,8 +178,7 @@ VRPD_FN uvec2 field_cell_extremes(VRPD_IN(FieldTableView) t, uvec2 a, uvec2 b) {
 }
 
 // A bound of r over [a, b] from the table cells it meets, in at most 2 x 2 blocks of the
-// pyramid's level: the least node (upper == false) or the greatest. A patched cell of level 0
-// gives its patch's bound.
+// pyramid's level: the least node (upper == false) or the greatest; at level 0, the cells' ranges.
 VRPD_FN uint field_bound_over_blocks(VRPD_IN(FieldTableView) t, uvec2 a, uvec2 b, bool upper) {
     uint i0 = a.x >> t.cell_bits;
     uint i1 = b.x >> t.cell_bits;
@@ -192,14 +199,8 @@ VRPD_FN uint field_bound_over_blocks(VRPD_IN(FieldTableView) t, uvec2 a, uvec2 b
     }
     for (uint j = j0; j <= j1; j++)
         for (uint i = i0; i <= i1; i++) {
-            int q = field_patch(t, i, j);
-            if (q >= 0) {
-                uint bound = field_patch_word(t, q, upper ? 3u : 2u);
-                v = upper ? max(v, bound) : min(v, bound);
-                continue;
-            }
-            uvec4 n = field_cell_nodes(t, i, j);
-            v = upper ? max(v, max(max(n.x, n.y), max(n.z, n.w))) : min(v, min(min(n.x, n.y), min(n.z, n.w)));
+            uvec2 range = field_cell_range(t, i, j);
+            v = upper ? max(v, range.y) : min(v, range.x);
         }
     return v;
 }

@@ -14,9 +14,9 @@ namespace {
 // holds hundreds of cells or more).
 constexpr std::size_t kRowGrain = 2;
 
-// Level 0 (one table cell) is read from the cell's four nodes (or its patch's bounds); level
-// k >= 1 holds the least and greatest node over blocks of 2^k x 2^k cells, each row of blocks
-// made on one of the pool's threads.
+// Level 0 (one table cell) is read from the cell's range (shared/field_table.h); level k >= 1
+// holds the least and greatest node over blocks of 2^k x 2^k cells, each row of blocks made on
+// one of the pool's threads.
 void build_pyramids(FieldTable& t, ThreadPool& pool) {
     // Level k's blocks, ceil(cells / 2^k) a side, one after another from level 1.
     t.pyramid_start.assign(2, 0);
@@ -34,25 +34,22 @@ void build_pyramids(FieldTable& t, ThreadPool& pool) {
         std::uint32_t* const nhi = t.pyramid_hi.data() + t.pyramid_start[k];
         const std::uint32_t* const plo = t.pyramid_lo.data() + t.pyramid_start[k - 1];
         const std::uint32_t* const phi = t.pyramid_hi.data() + t.pyramid_start[k - 1];
-        const bool cells = k == 1;
+        // Level 1 from the cells' ranges, the others from the level below.
+        auto range = [&](std::uint32_t i, std::uint32_t j) {
+            if (k == 1) return shared::field_cell_range(t.view(), i, j);
+            const std::size_t from = std::size_t(j) * pw + i;
+            return glm::uvec2(plo[from], phi[from]);
+        };
         pool.parallel_for((h + 1) / 2,
                           [&](std::size_t begin, std::size_t end, unsigned) {
                               for (std::size_t row = begin; row < end; ++row)
                                   for (std::uint32_t j = std::uint32_t(2 * row);
                                        j < std::min<std::uint32_t>(ph, 2 * row + 2); ++j)
                                       for (std::uint32_t i = 0; i < pw; ++i) {
-                                          const std::size_t to = row * nw + i / 2, from = std::size_t(j) * pw + i;
-                                          if (const FieldTable::Patch* q = cells ? t.patch(i, j) : nullptr) {
-                                              nlo[to] = std::min(nlo[to], q->lo);
-                                              nhi[to] = std::max(nhi[to], q->hi);
-                                          } else if (cells) {
-                                              const glm::uvec4 v = t.cell_nodes(i, j);
-                                              nlo[to] = std::min({nlo[to], v.x, v.y, v.z, v.w});
-                                              nhi[to] = std::max({nhi[to], v.x, v.y, v.z, v.w});
-                                          } else {
-                                              nlo[to] = std::min(nlo[to], plo[from]);
-                                              nhi[to] = std::max(nhi[to], phi[from]);
-                                          }
+                                          const std::size_t to = row * nw + i / 2;
+                                          const glm::uvec2 r = range(i, j);
+                                          nlo[to] = std::min(nlo[to], r.x);
+                                          nhi[to] = std::max(nhi[to], r.y);
                                       }
                           },
                           kRowGrain);
