@@ -16,35 +16,13 @@
 #include "field/table.h"
 #include "field_table_probe.h"
 #include "field_tree_probe.h"
+#include "probe_support.h"
 #include "vrpd/sizing.h"
-#include "vulkan/buffer.h"
-#include "vulkan/device.h"
-#include "vulkan/kernel.h"
 
 using namespace vrpd;
 
-namespace {
-// Copies of host arrays in host-visible buffers of their own for a probe kernel (at least one
-// word each: an empty array too), by device address.
-struct DeviceCopies {
-    detail::VulkanContext& ctx;
-    std::vector<detail::Buffer> buffers;
-    std::uint64_t operator()(const void* data, std::size_t bytes) {
-        detail::Buffer& b = buffers.emplace_back(ctx, std::max<std::size_t>(bytes, 8), true);
-        if (bytes > 0) std::memcpy(b.mapped(), data, bytes);
-        return b.address();
-    }
-};
-
-// Runs a probe kernel (workgroups of 64) over `count` items and waits for its results.
-void run_probe(detail::VulkanContext& ctx, const detail::Kernel& probe, const void* push, std::size_t count) {
-    ctx.begin();
-    ctx.dispatch(probe, push, std::uint32_t((count + 63) / 64));
-    ctx.barrier();  // results before the host reads them
-    ctx.submit_and_wait();
-    ctx.check_validation();
-}
-}  // namespace
+using test::DeviceCopies;
+using test::run_probe;
 
 TEST_CASE("field_interpolate is the floor of the exact bilinear interpolant", "[field]") {
     std::mt19937_64 rng(7);
@@ -410,7 +388,7 @@ TEST_CASE("the device descends a field's leaf tree as the host does", "[field][g
     detail::ThreadPool pool(2);
     const detail::FieldQuadtree tree(t, 1u << 26, pool);
     detail::VulkanContext ctx("");
-    detail::Kernel probe(ctx, "field_tree_probe", {spirv_field_tree_probe, std::size(spirv_field_tree_probe)}, 48, 64);
+    detail::Kernel probe(ctx, "field_tree_probe", {spirv_field_tree_probe, std::size(spirv_field_tree_probe)}, 56, 64);
     const shared::FieldTreeView v = tree.view();
     DeviceCopies upload{ctx, {}};
     std::mt19937_64 rng(3);
@@ -418,17 +396,18 @@ TEST_CASE("the device descends a field's leaf tree as the host does", "[field][g
     for (glm::uvec2& p : points)
         p = {std::uint32_t(rng() % t.lattice.extent_x), std::uint32_t(rng() % t.lattice.extent_y)};
     struct {
-        std::uint32_t tile_bits, tiles_x;
+        std::uint32_t tile_bits, tiles_x, tiles_y;
         std::uint64_t roots, nodes, points, leaves;
         std::uint32_t count;
     } push{v.tile_bits,
            v.tiles_x,
+           v.tiles_y,
            upload(tree.root_words().data(), tree.root_words().size_bytes()),
            upload(tree.node_words().data(), tree.node_words().size_bytes()),
            upload(points.data(), points.size() * 8),
            0,
            std::uint32_t(points.size())};
-    static_assert(offsetof(decltype(push), roots) == 8 && offsetof(decltype(push), count) == 40);
+    static_assert(offsetof(decltype(push), roots) == 16 && offsetof(decltype(push), count) == 48);
     detail::Buffer out(ctx, points.size() * 8, true);
     push.leaves = out.address();
     run_probe(ctx, probe, &push, points.size());

@@ -21,6 +21,7 @@ const uint FIELD_OUTSIDE = FIELD_LEAF | FIELD_INDEX;
 struct FieldTreeView {
     uint tile_bits;  // tiles span 2^tile_bits lattice units
     uint tiles_x;    // tiles per row
+    uint tiles_y;    // rows of tiles
     FieldWords roots;  // a node word per tile, row by row
     FieldWords nodes;  // the inner nodes' children, four words each
 };

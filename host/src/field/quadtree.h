@@ -50,7 +50,9 @@ public:
     Leaf leaf_at(glm::uvec2 p) const;
     // The tree's words as the shared descent reads them (shared/field_tree.h), and the arrays
     // they point into.
-    shared::FieldTreeView view() const { return {t_.tile_bits, t_.tiles_x, {roots_.data()}, {nodes_.data()}}; }
+    shared::FieldTreeView view() const {
+        return {t_.tile_bits, t_.tiles_x, t_.tiles_y, {roots_.data()}, {nodes_.data()}};
+    }
     std::span<const std::uint32_t> root_words() const { return roots_; }
     std::span<const std::uint32_t> node_words() const { return nodes_; }
     std::uint32_t leaf_of(glm::uvec2 p) const { return leaf_at(p).index; }
