@@ -143,8 +143,8 @@ void check_rows(const std::vector<DeviceSample>& rows, const Sampling& expected)
 }  // namespace
 
 TEST_CASE(
-    "a varying sizing field's hierarchy on the application's device: the host samples it, each row has its "
-    "level's r at it",
+    "a varying sizing field on the application's device: the host samples its hierarchy, each row with its "
+    "level's r at it, and its kernels a direct run",
     "[vulkan][gpu][field]") {
     Application app;
     const VulkanTarget target = app.target();
@@ -176,7 +176,15 @@ TEST_CASE(
 
     SampleOptions gpu = o, cpu = o;
     gpu.backend = Backend::Gpu;
-    CHECK_THROWS_WITH(sample_on(target, gpu), Catch::Contains("Vulkan kernels are not built"));
+    CHECK_THROWS_WITH(sample_on(target, gpu), Catch::Contains("built on the cpu and serial backends"));
+    // Without the hierarchy the field's kernels run there, with the cpu backend's points.
+    SampleOptions direct = gpu, direct_cpu = on_cpu;
+    direct.hierarchy = direct_cpu.hierarchy = {};
+    const DeviceSamples on_device = sample_on(target, direct);
+    CHECK(on_device.sampling.lattice == sample(direct_cpu).lattice);
+    CHECK(on_device.sampling.backend == Backend::Gpu);
+    app.vk.vkDestroyBuffer(app.device, on_device.buffer, nullptr);
+    app.vk.vkFreeMemory(app.device, on_device.memory, nullptr);
     cpu.backend = Backend::Cpu;
     CHECK_THROWS_WITH(sample_on(target, cpu), Catch::Contains("needs the gpu backend"));
     app.vk.vkDestroyDevice(app.device, nullptr);

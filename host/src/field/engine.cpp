@@ -16,9 +16,11 @@
 
 #include "field.h"
 #include "power_sum.h"
+#include "rate.h"
 #include "sampler.h"
 #include "vrpd/sizing.h"
 #include "../plan.h"
+#include "../vulkan/field_engine.h"
 
 namespace vrpd::detail {
 
@@ -27,11 +29,6 @@ namespace field {
 namespace {
 using Clock = std::chrono::steady_clock;
 
-// Poisson mean of darts per active cell per round, and the most one cell takes before it is split.
-// Below one: a leaf holds one sample, and the first round's leaves are several per sample, so at
-// one dart a cell most darts of a round would land in leaves taken earlier in it.
-constexpr double kLambda = 0.3;
-constexpr double kSplitAbove = 4.0;
 constexpr std::uint32_t kMaxRounds = 1000000;  // a bug guard, far above any run
 constexpr int kExpBias = kExponentBias;        // exp_neg_'s index: the weighted area's exponent + 64
 constexpr std::size_t kExponents = std::tuple_size_v<ExponentCounts>;
@@ -147,8 +144,7 @@ double FieldSampler::balance() {
 
 void FieldSampler::throw_darts(std::uint32_t round) {
     const double rate = balance();
-    for (int e = 0; e < 128; ++e)
-        exp_neg_[e] = std::uint32_t(std::floor(std::exp(-rate * std::ldexp(1.0, e - kExpBias)) * 4294967296.0));
+    exp_neg_table(rate, exp_neg_);
     const std::uint32_t key = shared::round_key(seed_, round);
     // First each cell's count of darts, kept in got_ (kRecount: count again) and summed per chunk.
     // The dart list is then allocated once, at the darts thrown, and each chunk writes the darts
@@ -371,11 +367,20 @@ Sampling sample_field(const SampleOptions& o, const FieldTable& t) {
         }
         const FieldTable& level = own ? *own : t;
         const auto built = Clock::now();
-        field::FieldSampler sampler(level, o, std::uint64_t(double(limit.bytes) / 64));
-        phases.add("leaves", since(built));
-        // Given samples from the options are checked against each other; a level's given
-        // samples, the earlier levels', are conflict-free by the scales' order.
-        Sampling s = sampler.run(samples, k > 0, out.stats.rounds);
+        const std::uint64_t max_leaves = std::uint64_t(double(limit.bytes) / 64);
+        Sampling s;
+        if (o.backend == Backend::Gpu) {
+            // One level, from no samples (sample_sized refuses the rest).
+            s = sample_field_vulkan(o, level, max_leaves);
+            out.device = s.device;
+            out.stats.round_trips = s.stats.round_trips;
+        } else {
+            field::FieldSampler sampler(level, o, max_leaves);
+            phases.add("leaves", since(built));
+            // Given samples from the options are checked against each other; a level's given
+            // samples, the earlier levels', are conflict-free by the scales' order.
+            s = sampler.run(samples, k > 0, out.stats.rounds);
+        }
         out.stats.rounds += s.stats.rounds;
         out.stats.darts += s.stats.darts;
         out.stats.levels = std::max(out.stats.levels, s.stats.levels);
@@ -396,8 +401,8 @@ Sampling sample_field(const SampleOptions& o, const FieldTable& t) {
     out.stats.seconds = std::chrono::duration<double>(Clock::now() - start).count();
     if (o.profile) out.stats.profile = phases.phases();
     out.box = o.box;
-    out.backend = o.backend == Backend::Serial ? Backend::Serial : Backend::Cpu;
-    out.device = "host";
+    out.backend = o.backend == Backend::Serial || o.backend == Backend::Gpu ? o.backend : Backend::Cpu;
+    if (o.backend != Backend::Gpu) out.device = "host";
     return out;
 }
 

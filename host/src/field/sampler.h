@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "quadtree.h"
+#include "rate.h"
 #include "../cpu/thread_pool.h"
 #include "../cpu/uninitialised.h"
 #include "../phase_times.h"
@@ -61,10 +62,6 @@ private:
     std::vector<uvec2, Uninitialised<uvec2>> words_;
     std::vector<std::uint8_t, Uninitialised<std::uint8_t>> weights_;
 };
-
-// Cells counted by the exponent of their weighted area (engine.cpp), entry e + kExponentBias.
-constexpr int kExponentBias = 64;
-using ExponentCounts = std::array<std::uint64_t, 128>;
 
 // A dart still undecided after its throw, in throwing order (cell order, then index in the cell):
 // the tie-break of equal keys. It carries its cell's leaf: the textbook resolution reads it in
@@ -215,8 +212,6 @@ private:
         return 2 * int(bits) - (density_ ? 2 * int(weight) : 0);
     }
     int exponent(std::size_t i) const { return exponent(cells_.bits(i), cells_.weight(i)); }
-    // 2^e, exactly, for |e| < 1023 (std::ldexp's value without its call).
-    static double pow2(int e) { return std::bit_cast<double>(std::uint64_t(1023 + e) << 52); }
     // Splits cells expecting more than kSplitAbove darts at this round's rate; returns the rate.
     double balance();
     // The cells' weighted area: the sum of 2^exponent over the list, in list order.

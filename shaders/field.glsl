@@ -1,0 +1,48 @@
+// Included by the field sampler's kernels (shaders/field_*.comp) after common.glsl: their push
+// constants (shared/field_run.h's FieldArgs), the buffers they address, and the steps every
+// kernel shares.
+#include "shared/darts.h"
+#include "shared/field_run.h"
+layout(local_size_x_id = 0) in;
+layout(push_constant) uniform Push { FieldArgs a; };
+layout(buffer_reference, std430, buffer_reference_align = 8) buffer FieldRunRef { FieldRun value; };
+layout(buffer_reference, std430, buffer_reference_align = 16) buffer FieldCells { uvec4 value[]; };
+
+// This invocation's item, or a value >= a.count past the list.
+uint field_item() { return a.first + gl_GlobalInvocationID.x; }
+
+FieldRun field_run() { return FieldRunRef(a.run).value; }
+
+// The exponent of a cell's weighted area, biased: 2 bits, less 2 weight under Eq. 12 (density: 1).
+uint field_exponent(uvec4 cell, uint density) {
+    return FIELD_EXPONENT_BIAS + 2u * cell.z - (density != 0u ? 2u * cell.w : 0u);
+}
+
+// The cell of side 2^bits at `corner`, with its weight under Eq. 12: the most w <= 31 with
+// r_lo 2^w <= the least r over the cell.
+uvec4 field_make_cell(FieldRun run, uvec2 corner, uint bits, uint density) {
+    uint w = 0u;
+    if (density != 0u) {
+        uint lo = field_min_over(run.table, corner, field_far_corner(run.lattice, corner, bits));
+        while (w < 31u && (uint64_t(run.r_lo) << (w + 1u)) <= uint64_t(lo)) w++;
+    }
+    return uvec4(corner, bits, w);
+}
+
+// Sets (on) or clears `flag` on the node words from the tile's root down to the leaf holding p.
+void field_mark(FieldRun run, uvec2 p, uint flag, bool on) {
+    FieldTreeView t = run.tree;
+    uint at = (p.y >> t.tile_bits) * t.tiles_x + (p.x >> t.tile_bits);
+    uint w = on ? atomicOr(t.roots.value[at], flag) : atomicAnd(t.roots.value[at], ~flag);
+    uint bits = t.tile_bits;
+    while ((w & FIELD_LEAF) == 0u) {
+        at = (w & FIELD_INDEX) + field_child_of(p, bits);
+        w = on ? atomicOr(t.nodes.value[at], flag) : atomicAnd(t.nodes.value[at], ~flag);
+        bits--;
+    }
+}
+
+// Records a search past its budget for the host.
+void field_note_budget(FieldBudget budget) {
+    if (budget.overflow != 0u) atomicOr(FieldWords(a.counters).value[FIELD_COUNTER_OVERFLOW], 1u);
+}

@@ -1,0 +1,14 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+#include "common.glsl"
+#include "field.glsl"
+// Each active cell's darts this round (words0, scanned next): a Poisson count at its weighted
+// area's rate, from its stream. p0: the round's key; p1: Eq. 12's weighting; words1: e^-lambda
+// per biased exponent, in 2^-32 units.
+void main() {
+    uint i = field_item();
+    if (i >= a.count) return;
+    uvec4 cell = FieldCells(a.cells).value[i];
+    uint stream = cell_stream(a.p0, cell.xy);
+    FieldWords(a.words0).value[i] = dart_count(stream, FieldWords(a.words1).value[field_exponent(cell, a.p1)]);
+}

@@ -1,0 +1,40 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+#include "common.glsl"
+#include "field.glsl"
+// Each active cell's fate (words1) and the cells it leaves in the next list (words0, scanned
+// next): dropped (0), kept whole (FIELD_KEEP), or split (FIELD_SPLIT | the mask of its open
+// children). p0: Eq. 12's weighting; p1: 0 to balance the list, 1 to refine it after a round.
+// Balancing splits the cells whose biased exponent is p2 or more (and whose side is above one
+// lattice unit); the children a sample covers drop. Refining drops a cell that a sample of this
+// round covers or whose leaf holds a sample, keeps one that took no dart (or of one lattice
+// unit), and splits the others (words2: the round's dart counts, scanned; their total in p2).
+const uint FIELD_KEEP = 0x10u;
+const uint FIELD_SPLIT = 0x20u;
+
+void main() {
+    uint i = field_item();
+    if (i >= a.count) return;
+    FieldRun run = field_run();
+    uvec4 cell = FieldCells(a.cells).value[i];
+    FieldBudget budget = FieldBudget(run.budget, 0u);
+    uint fate = FIELD_KEEP;
+    if (a.p1 == 0u) {
+        if (cell.z > 0u && field_exponent(cell, a.p0) >= a.p2)
+            fate = FIELD_SPLIT | field_open_children(run, cell.xy, cell.z, budget);
+    } else {
+        FieldWords offsets = FieldWords(a.words2);
+        uint end = i + 1u < a.count ? offsets.value[i + 1u] : a.p2;
+        bool got = end > offsets.value[i];
+        uvec2 far = field_far_corner(run.lattice, cell.xy, cell.z);
+        uint leaf = field_leaf_at(run.tree, cell.xy).x;
+        if (run.leaf_sample.value[leaf] != FIELD_NO_SAMPLE || field_covered(run, cell.xy, far, FIELD_FRESH, budget))
+            fate = 0u;
+        else if (got && cell.z > 0u)
+            fate = FIELD_SPLIT | field_open_children(run, cell.xy, cell.z, budget);
+    }
+    field_note_budget(budget);
+    if ((fate & FIELD_SPLIT) != 0u) atomicAdd(FieldWords(a.counters).value[FIELD_COUNTER_SPLITS], 1u);
+    FieldWords(a.words1).value[i] = fate;
+    FieldWords(a.words0).value[i] = fate == FIELD_KEEP ? 1u : uint(bitCount(fate & 0xFu));
+}

@@ -1,0 +1,15 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+#include "common.glsl"
+#include "field.glsl"
+// The darts (cells: point, key, leaf) come in cell order, so a leaf's darts are consecutive: each
+// leaf's first dart is recorded in words0 (per leaf) and its path marked fresh, so that the
+// resolution's searches meet only the leaves with darts.
+void main() {
+    uint j = field_item();
+    if (j >= a.count) return;
+    uvec4 d = FieldCells(a.cells).value[j];
+    if (j > 0u && FieldCells(a.cells).value[j - 1u].w == d.w) return;
+    FieldWords(a.words0).value[d.w] = j;
+    field_mark(field_run(), d.xy, FIELD_FRESH, true);
+}

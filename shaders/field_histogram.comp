@@ -1,0 +1,12 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+#include "common.glsl"
+#include "field.glsl"
+// The active list's cells per exponent of their weighted area, added into the counters
+// (p0: Eq. 12's weighting).
+void main() {
+    uint i = field_item();
+    if (i >= a.count) return;
+    uint e = field_exponent(FieldCells(a.cells).value[i], a.p0);
+    atomicAdd(FieldWords(a.counters).value[FIELD_COUNTER_EXPONENTS + e], 1u);
+}

@@ -1,0 +1,31 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+#include "common.glsl"
+#include "field.glsl"
+// Writes each active cell's fate (words1) into the next list (target) from its offset (words0,
+// scanned): itself, or its open children in order. Counts the written cells per exponent and
+// keeps their least side's bits (p0: Eq. 12's weighting).
+void main() {
+    uint i = field_item();
+    if (i >= a.count) return;
+    uint fate = FieldWords(a.words1).value[i];
+    if (fate == 0u) return;
+    FieldRun run = field_run();
+    uvec4 cell = FieldCells(a.cells).value[i];
+    uint at = FieldWords(a.words0).value[i];
+    FieldWords counters = FieldWords(a.counters);
+    if ((fate & 0x20u) == 0u) {
+        FieldCells(a.target).value[at] = cell;
+        atomicAdd(counters.value[FIELD_COUNTER_EXPONENTS + field_exponent(cell, a.p0)], 1u);
+        atomicMin(counters.value[FIELD_COUNTER_LEAST_BITS], cell.z);
+        return;
+    }
+    uint side = 1u << (cell.z - 1u);
+    for (uint k = 0u; k < 4u; k++) {
+        if ((fate >> k & 1u) == 0u) continue;
+        uvec4 child = field_make_cell(run, uvec2(cell.x + (k & 1u) * side, cell.y + (k >> 1u) * side), cell.z - 1u, a.p0);
+        FieldCells(a.target).value[at++] = child;
+        atomicAdd(counters.value[FIELD_COUNTER_EXPONENTS + field_exponent(child, a.p0)], 1u);
+    }
+    if ((fate & 0xFu) != 0u) atomicMin(counters.value[FIELD_COUNTER_LEAST_BITS], cell.z - 1u);
+}

@@ -1,0 +1,36 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+#include "common.glsl"
+#include "field.glsl"
+// Each active cell's darts (words0: the counts' offsets, scanned; their total in p2), written at
+// their slots in `target` as (point, key, leaf), each with a flag in words1: 1 if it stays, 0 if it
+// falls outside the lattice, is thinned by Eq. 12 (p1), lands in a leaf with a sample or
+// conflicts with one. p0: the round's key.
+void main() {
+    uint i = field_item();
+    if (i >= a.count) return;
+    FieldRun run = field_run();
+    uvec4 cell = FieldCells(a.cells).value[i];
+    FieldWords offsets = FieldWords(a.words0);
+    uint first = offsets.value[i];
+    uint end = i + 1u < a.count ? offsets.value[i + 1u] : a.p2;
+    if (end == first) return;
+    uint stream = cell_stream(a.p0, cell.xy);
+    uint leaf = field_leaf_at(run.tree, cell.xy).x;
+    bool taken = run.leaf_sample.value[leaf] != FIELD_NO_SAMPLE;
+    uint bound = uint(min(uint64_t(run.r_lo) << cell.w, uint64_t(0xFFFFFFFFu)));
+    FieldBudget budget = FieldBudget(run.budget, 0u);
+    for (uint j = 0u; j < end - first; j++) {
+        uvec4 d = make_dart(stream, j, cell.xy, 1u << cell.z);
+        uvec2 p = d.xy;
+        uint stays = 0u;
+        if (!taken && in_lattice(run.lattice, p)) {
+            uint r = field_radius(run.table, p);
+            if (a.p1 == 0u || keep_weighted(hash_mix(hash_mix(stream, 0xD1B54A35u), j), bound, r))
+                stays = field_conflicts(run, p, r, budget) ? 0u : 1u;
+        }
+        FieldCells(a.target).value[first + j] = uvec4(p, d.z, leaf);
+        FieldWords(a.words1).value[first + j] = stays;
+    }
+    field_note_budget(budget);
+}

@@ -1,0 +1,42 @@
+// The sizing-field sampler's Vulkan kernels (vulkan/field_engine.cpp): the same points as the
+// host's sampler, byte for byte, under every rule and weighting on both boundaries.
+#include <catch2/catch.hpp>
+
+#include <string>
+
+#include "field_support.h"
+
+using namespace vrpd;
+using test::field_options;
+
+TEST_CASE("a sizing field samples the same points on gpu, cpu and serial under each rule and weighting",
+          "[field][gpu]") {
+    // A ramp on a free box (leaves of several sides, blocks outside the lattice at its edges) and
+    // a smooth field on a torus (searches across its seams).
+    struct Case {
+        std::string expression;
+        Boundary boundary;
+    };
+    for (const Case& c :
+         {Case{"0.006 + 0.05*x", Boundary::Free}, Case{"0.02 + 0.012*sin(2*pi*x)*cos(2*pi*y)", Boundary::Periodic}})
+        for (const SizingRule rule : test::kRules)
+            for (const Weighting w : {Weighting::Uniform, Weighting::Density}) {
+                SampleOptions o = field_options(c.expression, rule, c.boundary, 11);
+                o.sizing->weighting = w;
+                INFO(c.expression << ", rule " << sizing_rule_name(rule) << ", "
+                                  << (w == Weighting::Density ? "density" : "uniform"));
+                const Sampling cpu = sample(o);
+                o.backend = Backend::Gpu;
+                const Sampling gpu = sample(o);
+                o.backend = Backend::Serial;
+                const Sampling serial = sample(o);
+                REQUIRE(cpu.size() > 300);
+                CHECK(gpu.backend == Backend::Gpu);
+                CHECK(gpu.stats.rounds == cpu.stats.rounds);
+                CHECK(gpu.stats.darts == cpu.stats.darts);
+                CHECK(gpu.stats.levels == cpu.stats.levels);
+                REQUIRE(gpu.lattice == cpu.lattice);
+                REQUIRE(serial.lattice == cpu.lattice);
+                CHECK(gpu.local_radius == cpu.local_radius);
+            }
+}
