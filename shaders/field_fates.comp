@@ -8,7 +8,8 @@
 // Balancing splits the cells whose biased exponent is p2 or more (and whose side is above one
 // lattice unit); the children a sample covers drop. Refining drops a cell that a sample of this
 // round covers or whose leaf holds a sample, keeps one that took no dart (or of one lattice
-// unit), and splits the others (words2: the round's dart counts, scanned; their total in p2).
+// unit), and splits the others (words2: the round's dart counts, scanned; their total in p2;
+// p3: the round's stamp in FieldRun::touched).
 const uint FIELD_KEEP = 0x10u;
 const uint FIELD_SPLIT = 0x20u;
 
@@ -26,12 +27,18 @@ void main() {
         FieldWords offsets = FieldWords(a.words2);
         uint end = i + 1u < a.count ? offsets.value[i + 1u] : a.p2;
         bool got = end > offsets.value[i];
-        uvec2 far = field_far_corner(run.lattice, cell.xy, cell.z);
         uint leaf = field_leaf_at(run.tree, cell.xy).x;
-        if (run.leaf_sample.value[leaf] != FIELD_NO_SAMPLE || field_covered(run, cell.xy, far, FIELD_FRESH, budget))
-            fate = 0u;
-        else if (got && cell.z > 0u)
-            fate = FIELD_SPLIT | field_open_children(run, cell.xy, cell.z, budget);
+        // Only a cell that took darts, or that one of this round's samples is near (touched this
+        // round, p3), can change.
+        bool near = run.touched.value[leaf] == a.p3;
+        if (near || got) {
+            uvec2 far = field_far_corner(run.lattice, cell.xy, cell.z);
+            if (run.leaf_sample.value[leaf] != FIELD_NO_SAMPLE ||
+                (near && field_covered(run, cell.xy, far, FIELD_FRESH, budget)))
+                fate = 0u;
+            else if (got && cell.z > 0u)
+                fate = FIELD_SPLIT | field_open_children(run, cell.xy, cell.z, budget);
+        }
     }
     field_note_budget(budget);
     if ((fate & FIELD_SPLIT) != 0u) atomicAdd(FieldWords(a.counters).value[FIELD_COUNTER_SPLITS], 1u);

@@ -18,6 +18,8 @@ void main() {
     uint stream = cell_stream(a.p0, cell.xy);
     uint leaf = field_leaf_at(run.tree, cell.xy).x;
     bool taken = run.leaf_sample.value[leaf] != FIELD_NO_SAMPLE;
+    // No sample can conflict with a point of a leaf none has touched.
+    bool untouched = run.touched.value[leaf] == 0u;
     uint bound = uint(min(uint64_t(run.r_lo) << cell.w, uint64_t(0xFFFFFFFFu)));
     FieldBudget budget = FieldBudget(run.budget, 0u);
     for (uint j = 0u; j < end - first; j++) {
@@ -27,7 +29,7 @@ void main() {
         if (!taken && in_lattice(run.lattice, p)) {
             uint r = field_radius(run.table, p);
             if (a.p1 == 0u || keep_weighted(hash_mix(hash_mix(stream, 0xD1B54A35u), j), bound, r))
-                stays = field_conflicts(run, p, r, budget) ? 0u : 1u;
+                stays = untouched || !field_conflicts(run, p, r, budget) ? 1u : 0u;
         }
         FieldCells(a.target).value[first + j] = uvec4(p, d.z, leaf);
         FieldWords(a.words1).value[first + j] = stays;

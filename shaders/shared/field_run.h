@@ -40,11 +40,14 @@ struct FieldRun {
     FieldWords leaf_sample;  // per leaf: its sample, or FIELD_NO_SAMPLE
     FieldPoints points;      // per sample: its lattice point
     FieldWords radii;        // and its r
+    // Per leaf, the last round (from 1) one of whose samples may cover part of it, or conflict
+    // with a point of it (field_touch.comp); 0 if none has yet.
+    FieldWords touched;
 };
 
 // The push constants of the field sampler's kernels (shaders/field_*.comp): the run, the buffers
 // each kernel reads and writes (by its own reading of them), the host's counters, and items
-// [first, count) of the dispatch, with up to three parameters.
+// [first, count) of the dispatch, with up to four parameters.
 struct FieldArgs {
     uint64_t run;     // the FieldRun
     uint64_t cells;   // the active list (uvec4: corner, side's bits, weight)
@@ -58,6 +61,7 @@ struct FieldArgs {
     uint p0;
     uint p1;
     uint p2;
+    uint p3;
 };
 
 // The counters' words: a search past its budget, darts left undecided by a resolution pass, the
@@ -166,6 +170,13 @@ VRPD_FN uint field_reach(VRPD_IN(FieldRun) run, uvec2 a, uvec2 b, uint r_hi) {
         rho = m;
     }
     return rho;
+}
+
+// How far a sample x of radius r may cover a point y, or conflict with a later point y: f <= r
+// under prior and smaller; else f <= max(r, r(y)), y within the reach.
+VRPD_FN uint field_cover_reach(VRPD_IN(FieldRun) run, uvec2 x, uint r) {
+    if (run.rule == RULE_PRIOR || run.rule == RULE_SMALLER) return r;
+    return field_reach(run, x, x, r);
 }
 
 // The squared distance from x to the farthest point of [a, b]: the larger gap along each axis (on

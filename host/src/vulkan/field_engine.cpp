@@ -26,6 +26,7 @@
 #include "field_resolve.h"
 #include "field_scatter.h"
 #include "field_throw.h"
+#include "field_touch.h"
 #include "field_unmark.h"
 #include "shared/field_run.h"
 #include "shared/kernels.h"
@@ -42,7 +43,7 @@ using namespace shared;
 using field::ExponentCounts;
 
 static_assert(sizeof(FieldArgs) == 80 && offsetof(FieldArgs, count) == 56 && offsetof(FieldArgs, p2) == 72);
-static_assert(sizeof(FieldRun) == 168 && offsetof(FieldRun, tree) == 80 && offsetof(FieldRun, lattice) == 112 &&
+static_assert(sizeof(FieldRun) == 176 && offsetof(FieldRun, tree) == 80 && offsetof(FieldRun, lattice) == 112 &&
               offsetof(FieldRun, leaf_sample) == 144);
 
 constexpr std::uint32_t kMaxGroups = 65535;  // the least maxComputeWorkGroupCount[0] Vulkan allows
@@ -82,6 +83,7 @@ public:
           VRPD_KERNEL(field_unmark, FieldArgs, WORKGROUP_SIZE),
           VRPD_KERNEL(field_accepted, FieldArgs, WORKGROUP_SIZE),
           VRPD_KERNEL(field_emit, FieldArgs, WORKGROUP_SIZE),
+          VRPD_KERNEL(field_touch, FieldArgs, WORKGROUP_SIZE),
           density_(o.sizing->weighting == Weighting::Density) {
         if (o.profile) ctx_.start_profile();
     }
@@ -121,9 +123,9 @@ private:
     double weighted_area(const ExponentCounts& e);
     // Balances the active list as the host's balance does; returns the round's rate.
     double balance();
-    // Writes each cell's fate (p1: 0 balance, 1 refine; p2 its parameter) into the next list;
-    // returns whether any cell split, and afterwards the new list is the active one.
-    bool refine_list(std::uint32_t mode, std::uint32_t param, std::uint64_t darts_offsets);
+    // Writes each cell's fate (p1: 0 balance, 1 refine; p2 and p3 its parameters) into the next
+    // list, which becomes the active one; returns false, keeping the list, if balance split none.
+    bool refine_list(std::uint32_t mode, std::uint32_t param, std::uint32_t stamp, std::uint64_t darts_offsets);
     void throw_and_resolve(std::uint32_t round);
     void write_run();
 
@@ -133,10 +135,10 @@ private:
     Buffer counters_;
     Primitives primitives_;
     Kernel field_histogram_, field_fates_, field_scatter_, field_count_darts_, field_throw_, field_compact_,
-        field_first_darts_, field_resolve_, field_unmark_, field_accepted_, field_emit_;
+        field_first_darts_, field_resolve_, field_unmark_, field_accepted_, field_emit_, field_touch_;
     bool density_;
     std::vector<Buffer> tables_;  // the table's arrays
-    Buffer run_, roots_, nodes_, leaf_sample_, leaf_first_, points_, radii_;
+    Buffer run_, roots_, nodes_, leaf_sample_, leaf_first_, touched_, points_, radii_;
     Buffer cells_, next_, fates_, counts_, offsets_, raw_, flags_, darts_, states_, pairs_, keys_, sort_tmp_;
     std::uint64_t active_ = 0, samples_ = 0, capacity_ = 0, darts_thrown_ = 0, thrown_ = 0;  // thrown_: this round's
     std::uint32_t least_bits_ = UINT32_MAX;
@@ -189,7 +191,8 @@ double FieldVulkan::weighted_area(const ExponentCounts& e) {
     return area;
 }
 
-bool FieldVulkan::refine_list(std::uint32_t mode, std::uint32_t param, std::uint64_t darts_offsets) {
+bool FieldVulkan::refine_list(std::uint32_t mode, std::uint32_t param, std::uint32_t stamp,
+                              std::uint64_t darts_offsets) {
     grow(ctx_, fates_, active_ * 4);
     grow(ctx_, counts_, active_ * 4);
     primitives_.reserve_scan(active_);
@@ -203,6 +206,7 @@ bool FieldVulkan::refine_list(std::uint32_t mode, std::uint32_t param, std::uint
     a.p0 = density_ ? 1 : 0;
     a.p1 = mode;
     a.p2 = param;
+    a.p3 = stamp;
     dispatch(field_fates_, a, 0, active_);
     ctx_.barrier();
     primitives_.scan(counts_.address(), active_, kCellsTotal);
@@ -232,7 +236,7 @@ double FieldVulkan::balance() {
         while (top > 0 && e[top - 1] == 0) --top;
         const int split = field::split_exponent(rate);
         if (top == 0 || int(top) - 1 < split) return rate;
-        if (!refine_list(0, std::uint32_t(split), 0)) return rate;
+        if (!refine_list(0, std::uint32_t(split), 0, 0)) return rate;
     }
 }
 
@@ -349,7 +353,13 @@ void FieldVulkan::throw_and_resolve(std::uint32_t round) {
     e.p0 = std::uint32_t(samples_);
     dispatch(field_emit_, e, 0, accepted);
     ctx_.barrier();
+    // The leaves the new samples may cover or conflict with, stamped with the round (from 1).
+    FieldArgs t = args();
+    t.p0 = round + 1;
+    dispatch(field_touch_, t, samples_, samples_ + accepted);
+    ctx_.barrier();
     ctx_.submit_and_wait();
+    check_budget();
     samples_ += accepted;
 }
 
@@ -403,11 +413,14 @@ Sampling FieldVulkan::run(const FieldQuadtree& tree) {
     run_args_.budget = ctx_.device_name().find("llvmpipe") != std::string::npos ? kLavapipeBudget : UINT32_MAX - 1;
     leaf_sample_ = Buffer(ctx_, std::max<std::uint64_t>(tree.leaves(), 4) * 4, false);
     leaf_first_ = Buffer(ctx_, std::max<std::uint64_t>(tree.leaves(), 4) * 4, false);
+    touched_ = Buffer(ctx_, std::max<std::uint64_t>(tree.leaves(), 4) * 4, false);
+    run_args_.touched = device_ref<FieldWords>(touched_.address());
     points_ = Buffer(ctx_, capacity_ * 8, false);
     radii_ = Buffer(ctx_, capacity_ * 4, false);
     run_args_.leaf_sample = device_ref<FieldWords>(leaf_sample_.address());
     write_run();
     ctx_.vk().vkCmdFillBuffer(ctx_.recording(), leaf_sample_.handle(), 0, VK_WHOLE_SIZE, FIELD_NO_SAMPLE);
+    ctx_.vk().vkCmdFillBuffer(ctx_.recording(), touched_.handle(), 0, VK_WHOLE_SIZE, 0);
     ctx_.vk().vkCmdFillBuffer(ctx_.recording(), counters_.handle(), 0, FIELD_COUNTER_WORDS * 4, 0);
     ctx_.barrier();
     FieldArgs h = args();
@@ -423,7 +436,7 @@ Sampling FieldVulkan::run(const FieldQuadtree& tree) {
         const std::uint64_t first = samples_;
         throw_and_resolve(round);
         // Refinement, then this round's samples settle (their fresh marks cleared).
-        refine_list(1, std::uint32_t(thrown_), offsets_.address());
+        refine_list(1, std::uint32_t(thrown_), round + 1, offsets_.address());
         if (active_ > 0) deepest = std::max(deepest, t_.tile_bits - least_bits_);
         if (samples_ > first) {
             ctx_.begin();
