@@ -11,17 +11,20 @@ using test::field_options;
 
 TEST_CASE("a sizing field samples the same points on gpu, cpu and serial under each rule and weighting",
           "[field][gpu]") {
-    // A ramp on a free box (leaves of several sides, blocks outside the lattice at its edges) and
-    // a smooth field on a torus (searches across its seams).
+    // A ramp on a free box (leaves of several sides, blocks outside the lattice at its edges), a
+    // smooth field on a torus (searches across its seams), and a rectified sine on a 2 x 1 torus
+    // (kinks in patched table cells, L 0.39: cover reaches grow well past a sample's own r).
     struct Case {
         std::string expression;
-        Boundary boundary;
+        Box box;
     };
-    for (const Case& c :
-         {Case{"0.006 + 0.05*x", Boundary::Free}, Case{"0.02 + 0.012*sin(2*pi*x)*cos(2*pi*y)", Boundary::Periodic}})
+    for (const Case& c : {Case{"0.006 + 0.05*x", {1, 1, Boundary::Free}},
+                          Case{"0.02 + 0.012*sin(2*pi*x)*cos(2*pi*y)", {1, 1, Boundary::Periodic}},
+                          Case{"0.04 + (0.01 - 0.04)*abs(sin(4*pi*d))", {2, 1, Boundary::Periodic}}})
         for (const SizingRule rule : test::kRules)
             for (const Weighting w : {Weighting::Uniform, Weighting::Density}) {
-                SampleOptions o = field_options(c.expression, rule, c.boundary, 11);
+                SampleOptions o = field_options(c.expression, rule, c.box.boundary, 11);
+                o.box = c.box;
                 o.sizing->weighting = w;
                 INFO(c.expression << ", rule " << sizing_rule_name(rule) << ", "
                                   << (w == Weighting::Density ? "density" : "uniform"));

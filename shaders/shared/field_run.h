@@ -157,12 +157,10 @@ VRPD_FN uint field_max_near(VRPD_IN(FieldRun) run, uvec2 a, uvec2 b, uint64_t re
     return m;
 }
 
-// How far from [a, b] an earlier sample x can be when f(r(x), r(y)) passes its distance to some
-// point y of [a, b], given r_hi >= r over [a, b]: r_hi where f is at most the later point's r
-// (current, smaller); else (prior, bigger) f <= max(r(x), r_hi), and r(x) is at most the largest
-// r within the reach found so far: from the field's largest, shrunk while that shrinks it.
-VRPD_FN uint field_reach(VRPD_IN(FieldRun) run, uvec2 a, uvec2 b, uint r_hi) {
-    if (run.rule == RULE_CURRENT || run.rule == RULE_SMALLER) return r_hi;
+// How far from [a, b] a sample x can be whose r(x) matters, when f <= max(r(x), r_hi) and r_hi
+// >= r over [a, b]: r(x) is at most the largest r within the reach found so far, from the
+// field's largest, shrunk while that shrinks it.
+VRPD_FN uint field_grown_reach(VRPD_IN(FieldRun) run, uvec2 a, uvec2 b, uint r_hi) {
     uint rho = max(run.r_hi, r_hi);
     for (uint k = 0u; k < 3u; k++) {
         uint m = max(field_max_near(run, a, b, uint64_t(rho)), r_hi);
@@ -172,11 +170,19 @@ VRPD_FN uint field_reach(VRPD_IN(FieldRun) run, uvec2 a, uvec2 b, uint r_hi) {
     return rho;
 }
 
+// How far from [a, b] an earlier sample x can be when f(r(x), r(y)) passes its distance to some
+// point y of [a, b], given r_hi >= r over [a, b]: r_hi where f is at most the later point's r
+// (current, smaller); else (prior, bigger) f <= max(r(x), r_hi), the grown reach.
+VRPD_FN uint field_reach(VRPD_IN(FieldRun) run, uvec2 a, uvec2 b, uint r_hi) {
+    if (run.rule == RULE_CURRENT || run.rule == RULE_SMALLER) return r_hi;
+    return field_grown_reach(run, a, b, r_hi);
+}
+
 // How far a sample x of radius r may cover a point y, or conflict with a later point y: f <= r
-// under prior and smaller; else f <= max(r, r(y)), y within the reach.
+// under prior and smaller; else (current, bigger) f <= max(r, r(y)), the grown reach.
 VRPD_FN uint field_cover_reach(VRPD_IN(FieldRun) run, uvec2 x, uint r) {
     if (run.rule == RULE_PRIOR || run.rule == RULE_SMALLER) return r;
-    return field_reach(run, x, x, r);
+    return field_grown_reach(run, x, x, r);
 }
 
 // The squared distance from x to the farthest point of [a, b]: the larger gap along each axis (on
