@@ -2,8 +2,8 @@
 // meet the square `reach` around a block [a, b] (on a torus, around any image), as an iterator a
 // kernel steps through with field_search_next. It meets the leaves the host's search
 // (FieldQuadtree::near, near_samples, near_fresh) meets, tile by tile in the same ranges; inside a
-// tile it descends with the path of node words from the root, 33 words an invocation holds, where
-// the host keeps a stack of siblings to visit (field/quadtree.h) that a device cannot hold.
+// tile it holds only the current node and finds a parent's word again by descent from the root,
+// where the host keeps a stack of siblings to visit (field/quadtree.h) that a device cannot hold.
 //
 // A search counts its steps (each pass of its loops) and stops at a budget, giving
 // FIELD_SEARCH_OVERFLOW: lavapipe ends every loop of an invocation after 65 535 passes in all
@@ -21,8 +21,6 @@ VRPD_BEGIN
 // What field_search_next gives when no leaf is left, and when the budget ran out first.
 const uint FIELD_SEARCH_DONE = 0xFFFFFFFFu;
 const uint FIELD_SEARCH_OVERFLOW = 0xFFFFFFFEu;
-// Tiles span at most 2^FIELD_SEARCH_MAX_BITS lattice units, so a path has at most that many steps.
-const uint FIELD_SEARCH_MAX_BITS = 31u;
 // The search's state of `depth`: no node (between tiles), or a node not yet visited.
 const uint FIELD_SEARCH_BETWEEN = 0xFFFFFFFFu;
 
@@ -51,12 +49,13 @@ struct FieldSearch {
     uint clip_hi_y;
     // The current node: its depth below the tile's root (FIELD_SEARCH_BETWEEN: none), its corner
     // in offsets from the tile's, whether it is visited (a leaf given, or an inner node's children
-    // entered), and the node words from the root down to it.
+    // entered), its word, and the tile's root word (a parent's word is found again from it).
     uint depth;
     uint x;
     uint y;
     uint visited;
-    uint path[FIELD_SEARCH_MAX_BITS + 2u];
+    uint word;
+    uint root;
     // The steps taken, and the most allowed.
     uint steps;
     uint budget;
@@ -74,6 +73,8 @@ VRPD_FN FieldSearch field_search_begin(VRPD_IN(FieldTreeView) t, Lattice l, uvec
     s.x = 0u;
     s.y = 0u;
     s.visited = 0u;
+    s.word = 0u;
+    s.root = 0u;
     s.clip_lo_x = 0u;
     s.clip_hi_x = 0u;
     s.clip_lo_y = 0u;
@@ -109,7 +110,6 @@ VRPD_FN FieldSearch field_search_begin(VRPD_IN(FieldTreeView) t, Lattice l, uvec
     s.tile_x = int(x0) - 1;
     s.tile_y = int(y0);
     if (x1 < x0) s.tile_y = int(y1) + 1;  // no column: no tile
-    for (uint k = 0u; k < FIELD_SEARCH_MAX_BITS + 2u; k++) s.path[k] = 0u;
     return s;
 }
 
@@ -124,10 +124,9 @@ VRPD_FN bool field_search_meets(VRPD_IN(FieldSearch) s, uint x, uint y, uint bit
     return x <= s.clip_hi_x && x + last >= s.clip_lo_x && y <= s.clip_hi_y && y + last >= s.clip_lo_y;
 }
 
-// The first child, from child `from` on, of the inner node at the current depth that meets the
-// square and is entered: made the current node (unvisited). False if none is.
-VRPD_FN bool field_search_child(VRPD_IN(FieldTreeView) t, VRPD_INOUT(FieldSearch) s, uint from) {
-    uint node = s.path[s.depth];
+// The first child, from child `from` on, of inner node `node` at the current depth that meets
+// the square and is entered: made the current node (unvisited). False if none is.
+VRPD_FN bool field_search_child(VRPD_IN(FieldTreeView) t, VRPD_INOUT(FieldSearch) s, uint node, uint from) {
     uint side = 1u << (t.tile_bits - s.depth - 1u);
     for (uint c = from; c < 4u; c++) {
         s.steps++;
@@ -136,13 +135,25 @@ VRPD_FN bool field_search_child(VRPD_IN(FieldTreeView) t, VRPD_INOUT(FieldSearch
         uint cy = s.y + (c >> 1u) * side;
         if (!field_search_enters(s, word) || !field_search_meets(s, cx, cy, t.tile_bits - s.depth - 1u)) continue;
         s.depth++;
-        s.path[s.depth] = word;
+        s.word = word;
         s.x = cx;
         s.y = cy;
         s.visited = 0u;
         return true;
     }
     return false;
+}
+
+// The word of the current node, found again by descent from the tile's root.
+VRPD_FN uint field_search_word(VRPD_IN(FieldTreeView) t, VRPD_INOUT(FieldSearch) s) {
+    uint word = s.root;
+    uint bits = t.tile_bits;
+    for (uint d = 0u; d < s.depth; d++) {
+        s.steps++;
+        word = t.nodes.value[(word & FIELD_INDEX) + field_child_of(uvec2(s.x, s.y), bits)];
+        bits--;
+    }
+    return word;
 }
 
 // Steps to the next tile in range whose root is entered, made the current node; false when none
@@ -172,7 +183,8 @@ VRPD_FN bool field_search_next_tile(VRPD_IN(FieldTreeView) t, VRPD_INOUT(FieldSe
         s.clip_lo_y = s.all_y != 0u ? 0u : uint(clamp(s.lo_y - oy, int64_t(0), last));
         s.clip_hi_y = s.all_y != 0u ? uint(last) : uint(clamp(s.hi_y - oy, int64_t(0), last));
         s.depth = 0u;
-        s.path[0] = root;
+        s.root = root;
+        s.word = root;
         s.x = 0u;
         s.y = 0u;
         s.visited = 0u;
@@ -194,11 +206,10 @@ VRPD_FN uint field_search_next(VRPD_IN(FieldTreeView) t, VRPD_INOUT(FieldSearch)
             if (!field_search_next_tile(t, s)) return s.steps > s.budget ? FIELD_SEARCH_OVERFLOW : FIELD_SEARCH_DONE;
             continue;
         }
-        uint word = s.path[s.depth];
         if (s.visited == 0u) {
             s.visited = 1u;
-            if ((word & FIELD_LEAF) != 0u) return word & FIELD_INDEX;
-            if (field_search_child(t, s, 0u)) continue;
+            if ((s.word & FIELD_LEAF) != 0u) return s.word & FIELD_INDEX;
+            if (field_search_child(t, s, s.word, 0u)) continue;
         }
         // The current node is done: on to its next sibling, else up to its parent (done too).
         if (s.depth == 0u) {
@@ -210,7 +221,9 @@ VRPD_FN uint field_search_next(VRPD_IN(FieldTreeView) t, VRPD_INOUT(FieldSearch)
         s.x &= ~((2u << bits) - 1u);
         s.y &= ~((2u << bits) - 1u);
         s.depth--;
-        if (field_search_child(t, s, c + 1u)) continue;
+        uint parent = field_search_word(t, s);
+        s.word = parent;
+        if (field_search_child(t, s, parent, c + 1u)) continue;
         s.visited = 1u;
     }
 }
