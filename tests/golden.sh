@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Golden hashes: the SHA-256 of `vrpd sample`'s CSV for a table of cases (one and two radii,
-# hierarchies, both boundaries, several boxes), on every device. A change that moves a point
-# fails here, so moving one is always deliberate: rerun with --print to get the new table, and
-# say why in the commit.
+# sizing fields under each rule, hierarchies, both boundaries, several boxes), on every device.
+# A change that moves a point fails here, so moving one is always deliberate: rerun with --print
+# to get the new table, and say why in the commit.
 # Usage: golden.sh VRPD [--print] [DEVICE...]   (devices default to cpu gpu serial)
 set -uo pipefail
 set -f  # the sizing expressions hold * and ( ): never globs
@@ -30,16 +30,16 @@ aeb0c3ec6bb26cba695373bfc0a4eb894ec33e404d908ec45f2902229d5f0f99 | --rf 0.02 --r
 3be2ba203644358cb0c3bf6849a97cdd3e8f0e517e538a371e3c4c76c1b48ccf | --rf 2 --rc 3 --extent 160,90 --seed 6
 b654a9b63d8a73f4387a343d2917c748af1d509737dcd29396969545fc9e5c5b | --radius 0.01 --hierarchy discrete:10 --seed 9
 29b470702e2f08e324d42cc54aaf7516be16036cb6b27cfe62d291cb5298afea | --radius 0.01 --hierarchy discrete:5 --boundary free --extent 1.2,1 --seed 4
-EOF
-)
-# Sizing fields (paper section 5) run on the host backends only: cpu and serial.
-host_table=$(cat <<'EOF'
 6445d02f403236d8c740e00cfe0c9409f362899868afa7429620fa1fed852269 | --sizing 0.01+0.05*x --rule smaller --boundary free --seed 1
 ead010cfc33d2c50610d090c6f9adc0c2f2136064fede01955edd2059e8b85fa | --sizing 0.02+0.01*sin(2*pi*x)*cos(2*pi*y) --rule prior --seed 2
 48385631d31631728d0acdf69f92d00a320375a773b6c11038bf839666780066 | --sizing 0.004+0.02*d --rule bigger --weighting density --seed 3
 72ad00f78cd7805039eeae3afbaf76c09bddf165bbb9ad50b0230ea328aec298 | --sizing 0.03+(0.006-0.03)*abs(sin(4*pi*d)) --rule current --extent 2,1 --seed 4
 7e8b1403f55b739eb3df5bfec8542a2e282cda0be6423c1956fb7917a22189b0 | --sizing 0.002+0.04*x*y --rule prior --boundary free --extent 1.5,1 --seed 8
 29ebb9f4c1618e08ccac8cd19426df0c63f37dd50511ccd71ea0bdb8607657d2 | --sizing 0.3+0.1*sin(2*pi*x) --rule current --seed 7
+EOF
+)
+# A sizing field's hierarchies run on the host backends only: cpu and serial.
+host_table=$(cat <<'EOF'
 2765ed49edc504f5e9194efc09a5dcb1e2af5cdc13abb51bb52a3f27cbf5df97 | --sizing 0.006+0.003*sin(2*pi*x)*cos(2*pi*y) --rule bigger --hierarchy discrete:4:3 --seed 5
 EOF
 )
