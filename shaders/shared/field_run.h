@@ -37,6 +37,7 @@ struct FieldRun {
     uint r_hi;               // the field's largest r
     uint r_lo;               // and least
     uint budget;             // the search steps an invocation may take (field_search.h)
+    uint growth;             // 1 / (1 - L) in 2^-16 units, rounded up; 0 where L >= 1
     FieldWords leaf_sample;  // per leaf: its sample, or FIELD_NO_SAMPLE
     FieldPoints points;      // per sample: its lattice point
     FieldWords radii;        // and its r
@@ -158,11 +159,14 @@ VRPD_FN uint field_max_near(VRPD_IN(FieldRun) run, uvec2 a, uvec2 b, uint64_t re
 }
 
 // How far from [a, b] a sample x can be whose r(x) matters, when f <= max(r(x), r_hi) and r_hi
-// >= r over [a, b]: r(x) is at most the largest r within the reach found so far, from the
-// field's largest, shrunk while that shrinks it.
+// >= r over [a, b]: from the Lipschitz growth (r(z) <= r_hi + L |z - [a, b]| + 1, L the table's,
+// so such an x is within (r_hi + 1) / (1 - L)) or the field's largest r, then the largest r
+// within the reach found so far, while that shrinks it.
 VRPD_FN uint field_grown_reach(VRPD_IN(FieldRun) run, uvec2 a, uvec2 b, uint r_hi) {
     uint rho = max(run.r_hi, r_hi);
-    for (uint k = 0u; k < 3u; k++) {
+    if (run.growth != 0u)
+        rho = uint(min(uint64_t(rho), ((uint64_t(r_hi) + 1u) * uint64_t(run.growth) + 0xFFFFu) / 65536u + 2u));
+    for (uint k = 0u; k < 4u; k++) {
         uint m = max(field_max_near(run, a, b, uint64_t(rho)), r_hi);
         if (m >= rho) break;
         rho = m;

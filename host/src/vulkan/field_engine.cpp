@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstring>
 
 #include <fmt/format.h>
@@ -410,6 +411,9 @@ Sampling FieldVulkan::run(const FieldQuadtree& tree) {
     run_args_.rule = t_.rule;
     run_args_.r_hi = t_.r_hi;
     run_args_.r_lo = t_.r_lo;
+    // 1 / (1 - L) rounded up in 2^-16 units (a larger factor only widens the searches).
+    if (t_.lipschitz < 1 && 65536.0 / (1 - t_.lipschitz) < 4294967295.0)
+        run_args_.growth = std::uint32_t(std::ceil(65536.0 / (1 - t_.lipschitz)));
     run_args_.budget = ctx_.device_name().find("llvmpipe") != std::string::npos ? kLavapipeBudget : UINT32_MAX - 1;
     leaf_sample_ = Buffer(ctx_, std::max<std::uint64_t>(tree.leaves(), 4) * 4, false);
     leaf_first_ = Buffer(ctx_, std::max<std::uint64_t>(tree.leaves(), 4) * 4, false);
