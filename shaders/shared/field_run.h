@@ -268,6 +268,7 @@ VRPD_FN uint field_open_children(VRPD_IN(FieldRun) run, uvec2 corner, uint bits,
     for (uint leaf = field_search_next(run.tree, s); leaf < FIELD_SEARCH_OVERFLOW && open != 0u;
          leaf = field_search_next(run.tree, s)) {
         uint x = run.leaf_sample.value[leaf];
+        s.steps += 4u;  // the passes over the children
         for (uint k = 0u; k < 4u; k++)
             if ((open >> k & 1u) != 0u && field_covers(run, x, lo[k], ka[k], kb[k])) open &= ~(1u << k);
     }

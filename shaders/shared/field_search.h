@@ -5,11 +5,11 @@
 // tile it holds only the current node and finds a parent's word again by descent from the root,
 // where the host keeps a stack of siblings to visit (field/quadtree.h) that a device cannot hold.
 //
-// A search counts its steps (each pass of its loops) and stops at a budget, giving
-// FIELD_SEARCH_OVERFLOW: lavapipe ends every loop of an invocation after 65 535 passes in all
-// (llvmpipe's LP_MAX_TGSI_LOOP_ITERATIONS, shared by the loops of a SIMD vector of invocations),
-// so a longer search would end early there without a sign. The budget makes the stop
-// deterministic and seen, the same on every device and on the host.
+// A search counts its steps (each pass of its loops, and its caller's pass over each leaf) and
+// stops at a budget, giving FIELD_SEARCH_OVERFLOW: lavapipe ends every loop of an invocation
+// after 65 535 passes in all (llvmpipe's LP_MAX_TGSI_LOOP_ITERATIONS, shared by the loops of a
+// SIMD vector of invocations), so a longer search would end early there without a sign. The
+// budget makes the stop deterministic and seen, the same on every device and on the host.
 #ifndef VRPD_FIELD_SEARCH_H
 #define VRPD_FIELD_SEARCH_H
 #include "bridge.h"
@@ -208,7 +208,10 @@ VRPD_FN uint field_search_next(VRPD_IN(FieldTreeView) t, VRPD_INOUT(FieldSearch)
         }
         if (s.visited == 0u) {
             s.visited = 1u;
-            if ((s.word & FIELD_LEAF) != 0u) return s.word & FIELD_INDEX;
+            if ((s.word & FIELD_LEAF) != 0u) {
+                s.steps++;  // the caller's pass over the leaf
+                return s.word & FIELD_INDEX;
+            }
             if (field_search_child(t, s, s.word, 0u)) continue;
         }
         // The current node is done: on to its next sibling, else up to its parent (done too).

@@ -51,7 +51,9 @@ constexpr std::uint32_t kMaxGroups = 65535;  // the least maxComputeWorkGroupCou
 constexpr std::uint32_t kPassesPerSubmit = 4;
 constexpr std::uint32_t kMaxRounds = 1000000;  // a bug guard, far above any run
 // Search steps an invocation may take on lavapipe, whose loops stop after 65 535 passes of a
-// SIMD vector of 8 invocations (shared/field_search.h); elsewhere searches are not cut short.
+// SIMD vector of 8 invocations (shared/field_search.h): a vector passes its loops at most as often
+// as its lanes do in all, and a lane's passes are its steps and a few hundred in loops of fixed
+// length, so 8 x (6 000 + 500) stays below the limit. Elsewhere searches are not cut short.
 constexpr std::uint32_t kLavapipeBudget = 6000;
 // Cell fates (field_fates.comp).
 constexpr std::uint32_t kKeep = 0x10;
