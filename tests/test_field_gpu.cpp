@@ -43,3 +43,23 @@ TEST_CASE("a sizing field samples the same points on gpu, cpu and serial under e
                 CHECK(gpu.local_radius == cpu.local_radius);
             }
 }
+
+TEST_CASE("a sizing field's discrete hierarchy gives the same levels on gpu as on cpu under each rule",
+          "[field][gpu]") {
+    // Each level starts from the earlier levels' samples on its own table and leaves: the device
+    // places them, drops the cells they cover and numbers its rounds on.
+    for (const SizingRule rule : test::kRules) {
+        SampleOptions o = field_options("0.012 + 0.006*sin(2*pi*x)*cos(2*pi*y)", rule, Boundary::Periodic, 3);
+        o.hierarchy = {3, 2.5};
+        o.sizing->weighting = rule == SizingRule::Bigger ? Weighting::Density : Weighting::Uniform;
+        INFO("rule " << sizing_rule_name(rule));
+        const Sampling cpu = sample(o);
+        o.backend = Backend::Gpu;
+        const Sampling gpu = sample(o);
+        REQUIRE(cpu.size() > 1000);
+        CHECK(gpu.stats.rounds == cpu.stats.rounds);
+        CHECK(gpu.stats.darts == cpu.stats.darts);
+        REQUIRE(gpu.lattice == cpu.lattice);
+        REQUIRE(gpu.birth == cpu.birth);
+    }
+}

@@ -320,7 +320,7 @@ int main(int argc, char** argv) {
     bench_cmd->add_option("--radii", bench.radii, "one-radius rows: r on the unit torus (default 0.01 0.002 0.001)");
     bench_cmd->add_option("--fields", bench.fields,
                           "rows of sizing fields under each rule: ramp (0.001 + 0.3 x, free), sine (0.015 down to "
-                          "0.0015, periodic); their hierarchies on cpu and serial only");
+                          "0.0015, periodic)");
     bench_cmd->add_option("--rc", bench.coverage_radii, "two-radii rows: Rc (default 0.002)");
     bench_cmd->add_option("--rc-ratio", bench.coverage_ratio, "two-radii rows: Rf = Rc / ratio (default 2)");
     bench_cmd->add_option(

@@ -357,6 +357,9 @@ Sampling sample_field(const SampleOptions& o, const FieldTable& t) {
     // The levels' tables are scaled on threads of their own (the samplers' come and go).
     std::optional<ThreadPool> pool;
     if (steps.size() > 1) pool.emplace(o.backend == Backend::Serial ? 1 : o.threads);
+    // On a Vulkan device, one context and its kernels serve every level.
+    std::optional<FieldDevice> device;
+    if (o.backend == Backend::Gpu) device.emplace(o);
     for (std::size_t k = 0; k < steps.size(); ++k) {
         const auto [birth, scale] = steps[k];
         std::optional<FieldTable> own;
@@ -369,11 +372,9 @@ Sampling sample_field(const SampleOptions& o, const FieldTable& t) {
         const auto built = Clock::now();
         const std::uint64_t max_leaves = std::uint64_t(double(limit.bytes) / 64);
         Sampling s;
-        if (o.backend == Backend::Gpu) {
-            // One level, from no samples (sample_sized refuses the rest).
-            s = sample_field_vulkan(o, level, max_leaves);
-            out.device = s.device;
-            out.stats.round_trips = s.stats.round_trips;
+        if (device) {
+            // Given samples are a hierarchy's earlier levels (sample_sized refuses --from).
+            s = device->run(level, max_leaves, samples, out.stats.rounds);
         } else {
             field::FieldSampler sampler(level, o, max_leaves);
             phases.add("leaves", since(built));
@@ -399,10 +400,16 @@ Sampling sample_field(const SampleOptions& o, const FieldTable& t) {
     out.field = t.stats();
     out.hierarchy_start = o.hierarchy.steps != 0 ? hierarchy_start(o) : 1.0;
     out.stats.seconds = std::chrono::duration<double>(Clock::now() - start).count();
-    if (o.profile) out.stats.profile = phases.phases();
     out.box = o.box;
     out.backend = o.backend == Backend::Serial || o.backend == Backend::Gpu ? o.backend : Backend::Cpu;
-    if (o.backend != Backend::Gpu) out.device = "host";
+    out.device = "host";
+    if (device) {
+        out.device = device->device_name();
+        out.stats.round_trips = device->round_trips();
+        if (o.profile)
+            for (const PhaseTime& p : device->profile()) phases.add(p);
+    }
+    if (o.profile) out.stats.profile = phases.phases();
     return out;
 }
 

@@ -24,6 +24,7 @@
 #include "field_fates.h"
 #include "field_first_darts.h"
 #include "field_histogram.h"
+#include "field_place.h"
 #include "field_resolve.h"
 #include "field_scatter.h"
 #include "field_throw.h"
@@ -67,11 +68,12 @@ T device_ref(std::uint64_t address) {
     return T{reinterpret_cast<decltype(T::value)>(address)};
 }
 
+}  // namespace
+
 class FieldVulkan {
 public:
-    FieldVulkan(const FieldTable& t, const SampleOptions& o)
-        : t_(t),
-          o_(o),
+    explicit FieldVulkan(const SampleOptions& o)
+        : o_(o),
           ctx_(o.device, o.vulkan),
           counters_(ctx_, FIELD_COUNTER_WORDS * 4, true),
           primitives_(ctx_, counters_),
@@ -87,11 +89,15 @@ public:
           VRPD_KERNEL(field_accepted, FieldArgs, WORKGROUP_SIZE),
           VRPD_KERNEL(field_emit, FieldArgs, WORKGROUP_SIZE),
           VRPD_KERNEL(field_touch, FieldArgs, WORKGROUP_SIZE),
+          VRPD_KERNEL(field_place, FieldArgs, WORKGROUP_SIZE),
           density_(o.sizing->weighting == Weighting::Density) {
         if (o.profile) ctx_.start_profile();
     }
 
-    Sampling run(const FieldQuadtree& tree);
+    // One run (a hierarchy's level) on the field t and its leaves, from `given` (FieldDevice::run).
+    Sampling run(const FieldTable& t, const FieldQuadtree& tree, const std::vector<glm::uvec2>& given,
+                 std::uint32_t first_round);
+    VulkanContext& context() { return ctx_; }
 
 private:
     // Records kernel k over items [begin, end) (chunks of at most kMaxGroups workgroups).
@@ -129,16 +135,20 @@ private:
     // Writes each cell's fate (p1: 0 balance, 1 refine; p2 and p3 its parameters) into the next
     // list, which becomes the active one; returns false, keeping the list, if balance split none.
     bool refine_list(std::uint32_t mode, std::uint32_t param, std::uint32_t stamp, std::uint64_t darts_offsets);
-    void throw_and_resolve(std::uint32_t round);
+    // Throws and resolves the darts of round `round` (its key), stamping its samples' leaves with
+    // `stamp`.
+    void throw_and_resolve(std::uint32_t round, std::uint32_t stamp);
+    // Places the given samples, stamps their leaves with `stamp` and drops the cells they cover.
+    void place_given(const std::vector<glm::uvec2>& given, std::uint32_t stamp);
     void write_run();
 
-    const FieldTable& t_;
+    const FieldTable* t_ = nullptr;  // the run's
     const SampleOptions& o_;
     VulkanContext ctx_;
     Buffer counters_;
     Primitives primitives_;
     Kernel field_histogram_, field_fates_, field_scatter_, field_count_darts_, field_throw_, field_compact_,
-        field_first_darts_, field_resolve_, field_unmark_, field_accepted_, field_emit_, field_touch_;
+        field_first_darts_, field_resolve_, field_unmark_, field_accepted_, field_emit_, field_touch_, field_place_;
     bool density_;
     std::vector<Buffer> tables_;  // the table's arrays
     Buffer run_, roots_, nodes_, leaf_sample_, leaf_first_, touched_, points_, radii_;
@@ -243,7 +253,7 @@ double FieldVulkan::balance() {
     }
 }
 
-void FieldVulkan::throw_and_resolve(std::uint32_t round) {
+void FieldVulkan::throw_and_resolve(std::uint32_t round, std::uint32_t stamp) {
     const double rate = balance();
     std::uint32_t exp_neg[128];
     field::exp_neg_table(rate, exp_neg);
@@ -356,9 +366,9 @@ void FieldVulkan::throw_and_resolve(std::uint32_t round) {
     e.p0 = std::uint32_t(samples_);
     dispatch(field_emit_, e, 0, accepted);
     ctx_.barrier();
-    // The leaves the new samples may cover or conflict with, stamped with the round (from 1).
+    // The leaves the new samples may cover or conflict with, stamped.
     FieldArgs t = args();
-    t.p0 = round + 1;
+    t.p0 = stamp;
     dispatch(field_touch_, t, samples_, samples_ + accepted);
     ctx_.barrier();
     ctx_.submit_and_wait();
@@ -366,42 +376,78 @@ void FieldVulkan::throw_and_resolve(std::uint32_t round) {
     samples_ += accepted;
 }
 
-Sampling FieldVulkan::run(const FieldQuadtree& tree) {
+void FieldVulkan::place_given(const std::vector<glm::uvec2>& given, std::uint32_t stamp) {
+    const std::uint64_t n = given.size();
+    Buffer staging(ctx_, n * 8, true);
+    std::memcpy(staging.mapped(), given.data(), n * 8);
+    grow(ctx_, offsets_, active_ * 4);
+    ctx_.begin();
+    const VkBufferCopy all{0, 0, n * 8};
+    ctx_.vk().vkCmdCopyBuffer(ctx_.recording(), staging.handle(), points_.handle(), 1, &all);
+    // No cell took a dart: the refinement's dart offsets are all 0.
+    ctx_.vk().vkCmdFillBuffer(ctx_.recording(), offsets_.handle(), 0, VK_WHOLE_SIZE, 0);
+    ctx_.barrier();
+    FieldArgs p = args();
+    dispatch(field_place_, p, 0, n);
+    ctx_.barrier();
+    FieldArgs t = args();
+    t.p0 = stamp;
+    dispatch(field_touch_, t, 0, n);
+    ctx_.barrier();
+    ctx_.submit_and_wait();
+    check_budget();
+    samples_ = n;
+    refine_list(1, 0, stamp, offsets_.address());
+    ctx_.begin();
+    FieldArgs u = args();
+    u.p0 = 1;
+    dispatch(field_unmark_, u, 0, n);
+    ctx_.barrier();
+    ctx_.submit_and_wait();
+}
+
+Sampling FieldVulkan::run(const FieldTable& table, const FieldQuadtree& tree, const std::vector<glm::uvec2>& given,
+                          std::uint32_t first_round) {
     const auto start = std::chrono::steady_clock::now();
+    t_ = &table;
+    tables_.clear();
+    samples_ = darts_thrown_ = thrown_ = 0;
+    least_bits_ = UINT32_MAX;
+    run_args_ = {};
     // The table, the tree's words and every leaf as an active cell (in leaf order, as the host's).
     std::vector<glm::uvec4> cells(tree.leaves());
     tree.each_leaf([&](std::uint32_t leaf, glm::uvec2 corner, std::uint32_t bits) {
         std::uint32_t w = 0;
         if (density_) {
             const glm::uvec2 far(std::uint32_t(std::min<std::uint64_t>(corner.x + (std::uint64_t(1) << bits) - 1,
-                                                                       t_.lattice.extent_x - 1)),
+                                                                       t_->lattice.extent_x - 1)),
                                  std::uint32_t(std::min<std::uint64_t>(corner.y + (std::uint64_t(1) << bits) - 1,
-                                                                       t_.lattice.extent_y - 1)));
-            const std::uint32_t lo = t_.min_over(corner, far);
-            while (w < 31 && (std::uint64_t(t_.r_lo) << (w + 1)) <= lo) ++w;
+                                                                       t_->lattice.extent_y - 1)));
+            const std::uint32_t lo = t_->min_over(corner, far);
+            while (w < 31 && (std::uint64_t(t_->r_lo) << (w + 1)) <= lo) ++w;
         }
         cells[leaf] = {corner.x, corner.y, bits, w};
     });
     active_ = cells.size();
-    capacity_ = std::max<std::uint64_t>(1024, active_ / 4);
+    capacity_ = std::max<std::uint64_t>({1024, active_ / 4, given.size()});
     std::vector<Buffer> staging;
     run_ = Buffer(ctx_, sizeof(FieldRun), true);
     ctx_.begin();
     auto words = [&](const auto& v) { return upload(v.data(), v.size() * sizeof(v[0]), staging); };
-    const FieldTableView tv = t_.view();
+    const FieldTableView tv = t_->view();
     run_args_.table = tv;
-    for (auto [member, array] : {std::pair{&FieldTableView::nodes, &t_.nodes},
-                                 {&FieldTableView::patch_rank, &t_.patch_rank},
-                                 {&FieldTableView::patch_nodes, &t_.patch_nodes},
-                                 {&FieldTableView::pyramid_lo, &t_.pyramid_lo},
-                                 {&FieldTableView::pyramid_hi, &t_.pyramid_hi},
-                                 {&FieldTableView::pyramid_start, &t_.pyramid_start}}) {
+    for (auto [member, array] : {std::pair{&FieldTableView::nodes, &t_->nodes},
+                                 {&FieldTableView::patch_rank, &t_->patch_rank},
+                                 {&FieldTableView::patch_nodes, &t_->patch_nodes},
+                                 {&FieldTableView::pyramid_lo, &t_->pyramid_lo},
+                                 {&FieldTableView::pyramid_hi, &t_->pyramid_hi},
+                                 {&FieldTableView::pyramid_start, &t_->pyramid_start}}) {
         tables_.push_back(words(*array));
         run_args_.table.*member = device_ref<FieldWords>(tables_.back().address());
     }
-    tables_.push_back(words(t_.patched));
+    tables_.push_back(words(t_->patched));
     run_args_.table.patched = device_ref<FieldBits>(tables_.back().address());
-    tables_.push_back(upload(t_.patches.data(), t_.patches.size() * sizeof(FieldTable::Patch), staging));
+    tables_.push_back(upload(t_->patches.data(), t_->patches.size() * sizeof(FieldTable::Patch), staging));
     run_args_.table.patches = device_ref<FieldWords>(tables_.back().address());
     roots_ = words(tree.root_words());
     nodes_ = words(tree.node_words());
@@ -409,13 +455,13 @@ Sampling FieldVulkan::run(const FieldQuadtree& tree) {
     const FieldTreeView view = tree.view();
     run_args_.tree = {view.tile_bits, view.tiles_x, view.tiles_y, device_ref<FieldWords>(roots_.address()),
                       device_ref<FieldWords>(nodes_.address())};
-    run_args_.lattice = t_.lattice;
-    run_args_.rule = t_.rule;
-    run_args_.r_hi = t_.r_hi;
-    run_args_.r_lo = t_.r_lo;
+    run_args_.lattice = t_->lattice;
+    run_args_.rule = t_->rule;
+    run_args_.r_hi = t_->r_hi;
+    run_args_.r_lo = t_->r_lo;
     // 1 / (1 - L) rounded up in 2^-16 units (a larger factor only widens the searches).
-    if (t_.lipschitz < 1 && 65536.0 / (1 - t_.lipschitz) < 4294967295.0)
-        run_args_.growth = std::uint32_t(std::ceil(65536.0 / (1 - t_.lipschitz)));
+    if (t_->lipschitz < 1 && 65536.0 / (1 - t_->lipschitz) < 4294967295.0)
+        run_args_.growth = std::uint32_t(std::ceil(65536.0 / (1 - t_->lipschitz)));
     run_args_.budget = ctx_.device_name().find("llvmpipe") != std::string::npos ? kLavapipeBudget : UINT32_MAX - 1;
     leaf_sample_ = Buffer(ctx_, std::max<std::uint64_t>(tree.leaves(), 4) * 4, false);
     leaf_first_ = Buffer(ctx_, std::max<std::uint64_t>(tree.leaves(), 4) * 4, false);
@@ -436,14 +482,16 @@ Sampling FieldVulkan::run(const FieldQuadtree& tree) {
     ctx_.barrier();
     ctx_.submit_and_wait();
     staging.clear();
+    // Stamps: 1 for the given samples, round k's 2 + k (0: a leaf no sample has stamped).
+    if (!given.empty()) place_given(given, 1);
     std::uint32_t round = 0, deepest = 0;
     while (active_ > 0) {
         if (round == kMaxRounds) throw Error("internal: the sizing-field sampler did not converge");
         const std::uint64_t first = samples_;
-        throw_and_resolve(round);
+        throw_and_resolve(first_round + round, round + 2);
         // Refinement, then this round's samples settle (their fresh marks cleared).
-        refine_list(1, std::uint32_t(thrown_), round + 1, offsets_.address());
-        if (active_ > 0) deepest = std::max(deepest, t_.tile_bits - least_bits_);
+        refine_list(1, std::uint32_t(thrown_), round + 2, offsets_.address());
+        if (active_ > 0) deepest = std::max(deepest, t_->tile_bits - least_bits_);
         if (samples_ > first) {
             ctx_.begin();
             FieldArgs u = args();
@@ -469,20 +517,22 @@ Sampling FieldVulkan::run(const FieldQuadtree& tree) {
     s.stats.rounds = round;
     s.stats.darts = darts_thrown_;
     s.stats.peak_bytes = ctx_.peak_allocated_bytes();
-    s.stats.round_trips = ctx_.submits();
-    if (o_.profile) s.stats.profile = ctx_.profile();
-    s.device = ctx_.device_name();
     s.stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return s;
 }
 
-}  // namespace
+FieldDevice::FieldDevice(const SampleOptions& o) : impl_(std::make_unique<FieldVulkan>(o)), threads_(o.threads) {}
+FieldDevice::~FieldDevice() = default;
 
-Sampling sample_field_vulkan(const SampleOptions& o, const FieldTable& t, std::uint64_t max_leaves) {
-    ThreadPool pool(o.threads);
+Sampling FieldDevice::run(const FieldTable& t, std::uint64_t max_leaves, const std::vector<glm::uvec2>& given,
+                          std::uint32_t first_round) {
+    ThreadPool pool(threads_);
     const FieldQuadtree tree(t, max_leaves, pool);
-    FieldVulkan engine(t, o);
-    return engine.run(tree);
+    return impl_->run(t, tree, given, first_round);
 }
+
+std::string FieldDevice::device_name() { return impl_->context().device_name(); }
+std::uint64_t FieldDevice::round_trips() { return impl_->context().submits(); }
+std::vector<PhaseTime> FieldDevice::profile() { return impl_->context().profile(); }
 
 }  // namespace vrpd::detail

@@ -3,14 +3,37 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <glm/vec2.hpp>
 
 #include "field/table.h"
 #include "vrpd/vrpd.h"
 
 namespace vrpd::detail {
 
-// Samples the field t under the options' rule and weighting on the options' device (or the
-// application's), with at most `max_leaves` leaves. Fills the Sampling's points and stats.
-Sampling sample_field_vulkan(const SampleOptions& o, const FieldTable& t, std::uint64_t max_leaves);
+class FieldVulkan;
+
+// The options' device (or the application's), its kernels made once for every run on it.
+class FieldDevice {
+public:
+    explicit FieldDevice(const SampleOptions& o);
+    ~FieldDevice();
+    // Samples the field t under the options' rule and weighting until maximal, from `given`
+    // (lattice points, conflict-free under the rule: a hierarchy's earlier levels), first in the
+    // output in their order, with the darts of rounds first_round on and at most `max_leaves`
+    // leaves. Fills the Sampling's points, rounds, darts, levels and peak bytes.
+    Sampling run(const FieldTable& t, std::uint64_t max_leaves, const std::vector<glm::uvec2>& given,
+                 std::uint32_t first_round);
+    std::string device_name();
+    std::uint64_t round_trips();       // so far, over every run
+    std::vector<PhaseTime> profile();  // so far, with SampleOptions::profile
+
+private:
+    std::unique_ptr<FieldVulkan> impl_;
+    unsigned threads_;  // the host's, for the leaves' build
+};
 
 }  // namespace vrpd::detail
