@@ -340,10 +340,6 @@ TEST_CASE("bad sizing input is refused with its reason", "[field]") {
     CHECK_THAT(refused(field_options("sqrt(x - 0.5)", SizingRule::Prior, free, 0)), Catch::Contains("nan"));
     CHECK_THAT(refused(field_options("3e-5 + 1e-6*x", SizingRule::Prior, free, 0)), Catch::Contains("MiB, more than"));
     CHECK_THAT(refused(field_options("1e-9 + 1e-10*x", SizingRule::Prior, free, 0)), Catch::Contains("MiB, more than"));
-    SampleOptions gpu = field_options("0.01 + 0.01*x", SizingRule::Prior, free, 0);
-    gpu.backend = Backend::Gpu;
-    gpu.initial = {{0.5, 0.5}};
-    CHECK_THAT(refused(gpu), Catch::Contains("cpu and serial backends"));
     SampleOptions both = field_options("0.01", SizingRule::Prior, free, 0);
     both.radius = 0.01;
     CHECK_THAT(refused(both), Catch::Contains("not both"));

@@ -63,3 +63,32 @@ TEST_CASE("a sizing field's discrete hierarchy gives the same levels on gpu as o
         REQUIRE(gpu.birth == cpu.birth);
     }
 }
+
+TEST_CASE("a sizing field completes given samples on gpu as on cpu, and refuses conflicting ones alike",
+          "[field][gpu]") {
+    // The given samples: the first 300 of a sampling under smaller, conflict-free under it (and
+    // under bigger, whose f is larger: conflicting there).
+    SampleOptions o = field_options("0.004 + 0.03*x", SizingRule::Smaller, Boundary::Free, 4);
+    const Sampling base = sample(o);
+    REQUIRE(base.size() > 600);
+    for (std::size_t i = 0; i < 300; ++i) o.initial.push_back(base.point(i));
+    o.seed = 5;
+    const Sampling cpu = sample(o);
+    o.backend = Backend::Gpu;
+    const Sampling gpu = sample(o);
+    REQUIRE(gpu.lattice == cpu.lattice);
+    CHECK(gpu.stats.rounds == cpu.stats.rounds);
+    auto refusal = [](SampleOptions options) {
+        try {
+            sample(options);
+        } catch (const Error& e) {
+            return std::string(e.what());
+        }
+        return std::string("accepted");
+    };
+    o.sizing->rule = SizingRule::Bigger;
+    const std::string on_gpu = refusal(o);
+    o.backend = Backend::Cpu;
+    CHECK_THAT(on_gpu, Catch::Contains("conflict under the bigger rule"));
+    CHECK(on_gpu == refusal(o));
+}

@@ -267,7 +267,7 @@ std::uint32_t FieldSampler::refine() {
     return *std::min_element(least.begin(), least.end());
 }
 
-void FieldSampler::place_given(const std::vector<uvec2>& given, bool checked) {
+void FieldSampler::add_given(const std::vector<uvec2>& given, bool checked) {
     // A sample from the options is named as given; a hierarchy's earlier levels' samples, which
     // never conflict (r only shrinks), by their point.
     auto name = [&](std::size_t i) {
@@ -285,6 +285,10 @@ void FieldSampler::place_given(const std::vector<uvec2>& given, bool checked) {
                                     name(i), sizing_rule_name(SizingRule(rule_))));
         tree_.set_sample(leaf, p, add_sample(p, r));
     }
+}
+
+void FieldSampler::place_given(const std::vector<uvec2>& given, bool checked) {
+    add_given(given, checked);
     // Stamped as one round's samples, they drop the leaves they cover; the rest stay, each tested
     // against every sample of its time, as the rounds' refinement keeps its cells.
     for_fresh([&](std::uint32_t s) { touch(s); });
@@ -373,7 +377,9 @@ Sampling sample_field(const SampleOptions& o, const FieldTable& t) {
         const std::uint64_t max_leaves = std::uint64_t(double(limit.bytes) / 64);
         Sampling s;
         if (device) {
-            // Given samples are a hierarchy's earlier levels (sample_sized refuses --from).
+            // The options' given samples are checked on the host, as the host backends check them
+            // (one by one, in their order); a level's given samples, the earlier levels', need not be.
+            if (k == 0 && !samples.empty()) field::FieldSampler(level, o, max_leaves).check_given(samples);
             s = device->run(level, max_leaves, samples, out.stats.rounds);
         } else {
             field::FieldSampler sampler(level, o, max_leaves);

@@ -58,10 +58,6 @@ Sampling sample_sized(const SampleOptions& o) {
                             "too large for a periodic box of {} x {}: it must be < {} (half the shorter side)",
                             hierarchy_start(o), top, o.box.width, o.box.height, short_side / 2));
     }
-    if (o.backend == Backend::Gpu && !o.initial.empty())
-        throw Error(
-            "a varying sizing field's runs from given samples (--from) are built on the cpu and serial "
-            "backends: use --device cpu");
     if (o.vulkan) choose_backend(o);  // refuses the cpu and serial backends beside the application's device
     Sampling s = sample_field(o, t);
     if (o.backend == Backend::Auto) s.choice = "a varying sizing field runs on the host";

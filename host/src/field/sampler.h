@@ -93,6 +93,9 @@ public:
     // samples and the stats, and sample_field the rest. Unless the caller knows the given samples
     // conflict-free (`checked`), throws Error if one conflicts with an earlier one under the rule.
     Sampling run(const std::vector<uvec2>& given, bool checked, std::uint32_t first_round);
+    // Only the check of run's given samples (for a Vulkan run, which takes them checked): throws
+    // the same Error if one conflicts with an earlier one under the rule.
+    void check_given(const std::vector<uvec2>& given) { add_given(given, false); }
 
 private:
     // The farthest an earlier sample conflicting with some point of [a, b] can be, given the
@@ -263,6 +266,8 @@ private:
     // before it under the rule (the test a dart takes) unless `checked`; then drops the leaves
     // they cover, as a round's refinement does.
     void place_given(const std::vector<uvec2>& given, bool checked);
+    // place_given's first part: each given sample checked (unless `checked`) and set in its leaf.
+    void add_given(const std::vector<uvec2>& given, bool checked);
     // Calls body(s) for each of this round's samples s (from round_first_ on), on the pool's threads.
     template <typename Body>
     void for_fresh(Body&& body) {
