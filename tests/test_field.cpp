@@ -433,8 +433,7 @@ TEST_CASE("sample --sizing from the command line: x,y,r rows, and bad input refu
           std::string("--sizing-image missing.png --r-min 0.02 --r-max 0.01 --rule prior"),
           std::string("--sizing \"0.01 + 0.01*x\" --rule prior --lipschitz -1"),
           std::string("--sizing \"0.01 + 0.01*x\" --rule prior --weighting heavy"),
-          std::string("--sizing \"3e-5 + 1e-6*x\" --rule prior"),
-          std::string("--sizing \"0.01 + 0.01*x\" --rule prior --device gpu")}) {
+          std::string("--sizing \"3e-5 + 1e-6*x\" --rule prior")}) {
         const test::Run r = cli("sample " + bad + " -o " + never);
         INFO(bad << "\n" << r.err);
         CHECK(r.code == 2);
