@@ -4,7 +4,9 @@
 
 #include <string>
 
+#include "field/table.h"
 #include "field_support.h"
+#include "vulkan/field_engine.h"
 
 using namespace vrpd;
 using test::field_options;
@@ -91,4 +93,24 @@ TEST_CASE("a sizing field completes given samples on gpu as on cpu, and refuses 
     o.backend = Backend::Cpu;
     CHECK_THAT(on_gpu, Catch::Contains("conflict under the bigger rule"));
     CHECK(on_gpu == refusal(o));
+}
+
+TEST_CASE("a field kernel's search past its step budget stops the run with one line naming the device",
+          "[field][gpu]") {
+    // The budget lavapipe needs (its loops end after 65 535 passes) cut to 40 steps: the first
+    // round's searches pass it, and the run must say so rather than give other points.
+    const SampleOptions o = field_options("0.01 + 0.05*x", SizingRule::Bigger, Boundary::Free, 1);
+    const detail::FieldTable t = detail::tabulate(*o.sizing, o.box);
+    detail::FieldDevice tight(o, 40);
+    try {
+        tight.run(t, 1u << 24, {}, 0);
+        FAIL("the run passed its budget without an error");
+    } catch (const Error& e) {
+        const std::string what = e.what();
+        CHECK_THAT(what, Catch::Contains("passed its 40 steps on " + tight.device_name()));
+        CHECK(what.find('\n') == std::string::npos);
+    }
+    // With the device's own budget the same field samples.
+    detail::FieldDevice own(o);
+    CHECK(own.run(t, 1u << 24, {}, 0).size() > 100);
 }

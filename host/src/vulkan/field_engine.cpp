@@ -72,7 +72,7 @@ T device_ref(std::uint64_t address) {
 
 class FieldVulkan {
 public:
-    explicit FieldVulkan(const SampleOptions& o)
+    FieldVulkan(const SampleOptions& o, std::uint32_t budget)
         : o_(o),
           ctx_(o.device, o.vulkan),
           counters_(ctx_, FIELD_COUNTER_WORDS * 4, true),
@@ -92,6 +92,9 @@ public:
           VRPD_KERNEL(field_place, FieldArgs, WORKGROUP_SIZE),
           density_(o.sizing->weighting == Weighting::Density) {
         if (o.profile) ctx_.start_profile();
+        budget_ = budget != 0                                                ? budget
+                  : ctx_.device_name().find("llvmpipe") != std::string::npos ? kLavapipeBudget
+                                                                             : UINT32_MAX - 1;
     }
 
     // One run (a hierarchy's level) on the field t and its leaves, from `given` (FieldDevice::run).
@@ -150,6 +153,7 @@ private:
     Kernel field_histogram_, field_fates_, field_scatter_, field_count_darts_, field_throw_, field_compact_,
         field_first_darts_, field_resolve_, field_unmark_, field_accepted_, field_emit_, field_touch_, field_place_;
     bool density_;
+    std::uint32_t budget_;        // the search steps an invocation may take
     std::vector<Buffer> tables_;  // the table's arrays
     Buffer run_, roots_, nodes_, leaf_sample_, leaf_first_, touched_, points_, radii_;
     Buffer cells_, next_, fates_, counts_, offsets_, raw_, flags_, darts_, states_, pairs_, keys_, sort_tmp_;
@@ -462,7 +466,7 @@ Sampling FieldVulkan::run(const FieldTable& table, const FieldQuadtree& tree, co
     // 1 / (1 - L) rounded up in 2^-16 units (a larger factor only widens the searches).
     if (t_->lipschitz < 1 && 65536.0 / (1 - t_->lipschitz) < 4294967295.0)
         run_args_.growth = std::uint32_t(std::ceil(65536.0 / (1 - t_->lipschitz)));
-    run_args_.budget = ctx_.device_name().find("llvmpipe") != std::string::npos ? kLavapipeBudget : UINT32_MAX - 1;
+    run_args_.budget = budget_;
     leaf_sample_ = Buffer(ctx_, std::max<std::uint64_t>(tree.leaves(), 4) * 4, false);
     leaf_first_ = Buffer(ctx_, std::max<std::uint64_t>(tree.leaves(), 4) * 4, false);
     touched_ = Buffer(ctx_, std::max<std::uint64_t>(tree.leaves(), 4) * 4, false);
@@ -521,7 +525,8 @@ Sampling FieldVulkan::run(const FieldTable& table, const FieldQuadtree& tree, co
     return s;
 }
 
-FieldDevice::FieldDevice(const SampleOptions& o) : impl_(std::make_unique<FieldVulkan>(o)), threads_(o.threads) {}
+FieldDevice::FieldDevice(const SampleOptions& o, std::uint32_t budget)
+    : impl_(std::make_unique<FieldVulkan>(o, budget)), threads_(o.threads) {}
 FieldDevice::~FieldDevice() = default;
 
 Sampling FieldDevice::run(const FieldTable& t, std::uint64_t max_leaves, const std::vector<glm::uvec2>& given,

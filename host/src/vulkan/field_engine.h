@@ -19,7 +19,9 @@ class FieldVulkan;
 // The options' device (or the application's), its kernels made once for every run on it.
 class FieldDevice {
 public:
-    explicit FieldDevice(const SampleOptions& o);
+    // `budget`: the search steps an invocation may take (shared/field_search.h); 0 for the
+    // device's own (6 000 on lavapipe, no limit elsewhere).
+    explicit FieldDevice(const SampleOptions& o, std::uint32_t budget = 0);
     ~FieldDevice();
     // Samples the field t under the options' rule and weighting until maximal, from `given`
     // (lattice points, conflict-free under the rule: a hierarchy's earlier levels), first in the
