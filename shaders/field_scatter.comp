@@ -23,7 +23,8 @@ void main() {
     uint side = 1u << (cell.z - 1u);
     for (uint k = 0u; k < 4u; k++) {
         if ((fate >> k & 1u) == 0u) continue;
-        uvec4 child = field_make_cell(run, uvec2(cell.x + (k & 1u) * side, cell.y + (k >> 1u) * side), cell.z - 1u, a.p0);
+        uvec2 corner = uvec2(cell.x + (k & 1u) * side, cell.y + (k >> 1u) * side);
+        uvec4 child = field_make_cell(run, corner, cell.z - 1u, a.p0);
         FieldCells(a.target).value[at++] = child;
         atomicAdd(counters.value[FIELD_COUNTER_EXPONENTS + field_exponent(child, a.p0)], 1u);
     }

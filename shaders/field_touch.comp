@@ -12,7 +12,8 @@ void main() {
     uint r = run.radii.value[i];
     FieldBudget budget = FieldBudget(run.budget, 0u);
     FieldSearch s = field_run_search(run, p, p, uint64_t(field_cover_reach(run, p, r)), 0u, budget);
-    for (uint leaf = field_search_next(run.tree, s); leaf < FIELD_SEARCH_OVERFLOW; leaf = field_search_next(run.tree, s))
+    for (uint leaf = field_search_next(run.tree, s); leaf < FIELD_SEARCH_OVERFLOW;
+         leaf = field_search_next(run.tree, s))
         run.touched.value[leaf] = a.p0;
     field_run_spend(s, budget);
     field_note_budget(budget);

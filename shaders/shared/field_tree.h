@@ -27,7 +27,9 @@ struct FieldTreeView {
 };
 
 // The child of a node of side 2^bits that holds lattice point p (0 to 3).
-VRPD_FN uint field_child_of(uvec2 p, uint bits) { return ((p.x >> (bits - 1u)) & 1u) | (((p.y >> (bits - 1u)) & 1u) << 1u); }
+VRPD_FN uint field_child_of(uvec2 p, uint bits) {
+    return ((p.x >> (bits - 1u)) & 1u) | (((p.y >> (bits - 1u)) & 1u) << 1u);
+}
 
 // The leaf holding lattice point p (inside the lattice), by descent from its tile's root: its
 // index (x) and its side's bits (y); its corner is p with those low bits cleared.
