@@ -36,13 +36,7 @@ void FieldVulkan::place_given(const std::vector<glm::uvec2>& given, std::uint32_
     ctx_.submit_and_wait();
     check_budget();
     samples_ = n;
-    refine_list(1, 0, stamp, offsets_.address());
-    ctx_.begin();
-    FieldArgs u = args();
-    u.p0 = 1;
-    dispatch(field_unmark_, u, 0, n);
-    ctx_.barrier();
-    ctx_.submit_and_wait();
+    refine_list(1, 0, stamp, offsets_.address(), 0);
 }
 
 Sampling FieldVulkan::run(const FieldTable& table, const FieldQuadtree& tree, const std::vector<glm::uvec2>& given,
@@ -129,16 +123,8 @@ Sampling FieldVulkan::run(const FieldTable& table, const FieldQuadtree& tree, co
         const std::uint64_t first = samples_;
         throw_and_resolve(first_round + round, round + 2);
         // Refinement, then this round's samples settle (their fresh marks cleared).
-        refine_list(1, std::uint32_t(thrown_), round + 2, offsets_.address());
+        refine_list(1, std::uint32_t(thrown_), round + 2, offsets_.address(), first);
         if (active_ > 0) deepest = std::max(deepest, t_->tile_bits - least_bits_);
-        if (samples_ > first) {
-            ctx_.begin();
-            FieldArgs u = args();
-            u.p0 = 1;
-            dispatch(field_unmark_, u, first, samples_);
-            ctx_.barrier();
-            ctx_.submit_and_wait();
-        }
         ++round;
     }
     Sampling s;

@@ -108,8 +108,8 @@ double FieldVulkan::weighted_area(const ExponentCounts& e) {
     return area;
 }
 
-bool FieldVulkan::refine_list(std::uint32_t mode, std::uint32_t param, std::uint32_t stamp,
-                              std::uint64_t darts_offsets) {
+bool FieldVulkan::refine_list(std::uint32_t mode, std::uint32_t param, std::uint32_t stamp, std::uint64_t darts_offsets,
+                              std::uint64_t settle_from) {
     grow(ctx_, fates_, active_ * 4);
     grow(ctx_, counts_, active_ * 4);
     primitives_.reserve_scan(active_);
@@ -137,6 +137,12 @@ bool FieldVulkan::refine_list(std::uint32_t mode, std::uint32_t param, std::uint
     clear_counters();
     a.target = next_.address();
     dispatch(field_scatter_, a, 0, active_);
+    if (settle_from < samples_) {
+        // The samples from settle_from on settle: their fresh marks, read by the fates, cleared.
+        FieldArgs u = args();
+        u.p0 = 1;
+        dispatch(field_unmark_, u, settle_from, samples_);
+    }
     ctx_.barrier();
     ctx_.submit_and_wait();
     std::swap(cells_, next_);
@@ -153,7 +159,7 @@ double FieldVulkan::balance() {
         while (top > 0 && e[top - 1] == 0) --top;
         const int split = field::split_exponent(rate);
         if (top == 0 || int(top) - 1 < split) return rate;
-        if (!refine_list(0, std::uint32_t(split), 0, 0)) return rate;
+        if (!refine_list(0, std::uint32_t(split), 0, 0, UINT64_MAX)) return rate;
     }
 }
 

@@ -80,7 +80,9 @@ private:
     double balance();
     // Writes each cell's fate (p1: 0 balance, 1 refine; p2 and p3 its parameters) into the next
     // list, which becomes the active one; returns false, keeping the list, if balance split none.
-    bool refine_list(std::uint32_t mode, std::uint32_t param, std::uint32_t stamp, std::uint64_t darts_offsets);
+    // With the list written, the samples from `settle_from` on settle (UINT64_MAX: none).
+    bool refine_list(std::uint32_t mode, std::uint32_t param, std::uint32_t stamp, std::uint64_t darts_offsets,
+                     std::uint64_t settle_from);
     // Throws and resolves the darts of round `round` (its key), stamping its samples' leaves with
     // `stamp`.
     void throw_and_resolve(std::uint32_t round, std::uint32_t stamp);
