@@ -7,6 +7,7 @@ layout(local_size_x_id = 0) in;
 layout(push_constant) uniform Push { FieldArgs a; };
 layout(buffer_reference, std430, buffer_reference_align = 8) buffer FieldRunRef { FieldRun value; };
 layout(buffer_reference, std430, buffer_reference_align = 16) buffer FieldCells { uvec4 value[]; };
+layout(buffer_reference, std430, buffer_reference_align = 8) buffer FieldCellWords { uvec2 value[]; };
 
 // This invocation's item, or a value >= a.count past the list.
 uint field_item() { return a.first + gl_GlobalInvocationID.x; }
@@ -18,15 +19,28 @@ uint field_exponent(uvec4 cell, uint density) {
     return FIELD_EXPONENT_BIAS + 2u * cell.z - (density != 0u ? 2u * cell.w : 0u);
 }
 
-// The cell of side 2^bits at `corner`, with its weight under Eq. 12: the most w <= 31 with
-// r_lo 2^w <= the least r over the cell.
-uvec4 field_make_cell(FieldRun run, uvec2 corner, uint bits, uint density) {
+// Eq. 12's weight of the cell of side 2^bits at `corner`: the most w <= 31 with r_lo 2^w <= the
+// least r over the cell (0 without the weighting).
+uint field_weight(FieldRun run, uvec2 corner, uint bits, uint density) {
     uint w = 0u;
     if (density != 0u) {
         uint lo = field_min_over(run.table, corner, field_far_corner(run.lattice, corner, bits));
         while (w < 31u && (uint64_t(run.r_lo) << (w + 1u)) <= uint64_t(lo)) w++;
     }
-    return uvec4(corner, bits, w);
+    return w;
+}
+
+// An active list holds a cell in 8 bytes, as the host's does: its corner's y, and its x with the
+// side as 2 x + 2^bits, whose lowest set bit is bit `bits`. Its weight is found again from the
+// table. Cell i of `list` as (corner, side's bits, weight):
+uvec4 field_cell(FieldRun run, uint64_t list, uint i, uint density) {
+    uvec2 word = FieldCellWords(list).value[i];
+    uint bits = uint(findLSB(word.x));
+    uvec2 corner = uvec2((word.x & (word.x - 1u)) >> 1u, word.y);
+    return uvec4(corner, bits, field_weight(run, corner, bits, density));
+}
+void field_put_cell(uint64_t list, uint i, uvec4 cell) {
+    FieldCellWords(list).value[i] = uvec2(2u * cell.x + (1u << cell.z), cell.y);
 }
 
 // Sets (on) or clears `flag` on the node words from the tile's root down to the leaf holding p.

@@ -8,7 +8,7 @@
 void main() {
     uint i = field_item();
     if (i >= a.count) return;
-    uvec4 cell = FieldCells(a.cells).value[i];
+    uvec4 cell = field_cell(field_run(), a.cells, i, a.p1);
     uint stream = cell_stream(a.p0, cell.xy);
     FieldWords(a.words0).value[i] = dart_count(stream, FieldWords(a.words1).value[field_exponent(cell, a.p1)]);
 }

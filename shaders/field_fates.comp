@@ -17,7 +17,7 @@ void main() {
     uint i = field_item();
     if (i >= a.count) return;
     FieldRun run = field_run();
-    uvec4 cell = FieldCells(a.cells).value[i];
+    uvec4 cell = field_cell(run, a.cells, i, a.p0);
     FieldBudget budget = FieldBudget(run.budget, 0u);
     uint fate = FIELD_KEEP;
     if (a.p1 == 0u) {

@@ -7,6 +7,6 @@
 void main() {
     uint i = field_item();
     if (i >= a.count) return;
-    uint e = field_exponent(FieldCells(a.cells).value[i], a.p0);
+    uint e = field_exponent(field_cell(field_run(), a.cells, i, a.p0), a.p0);
     atomicAdd(FieldWords(a.counters).value[FIELD_COUNTER_EXPONENTS + e], 1u);
 }

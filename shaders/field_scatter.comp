@@ -11,11 +11,11 @@ void main() {
     uint fate = FieldWords(a.words1).value[i];
     if (fate == 0u) return;
     FieldRun run = field_run();
-    uvec4 cell = FieldCells(a.cells).value[i];
+    uvec4 cell = field_cell(run, a.cells, i, a.p0);
     uint at = FieldWords(a.words0).value[i];
     FieldWords counters = FieldWords(a.counters);
     if ((fate & 0x20u) == 0u) {
-        FieldCells(a.target).value[at] = cell;
+        field_put_cell(a.target, at, cell);
         atomicAdd(counters.value[FIELD_COUNTER_EXPONENTS + field_exponent(cell, a.p0)], 1u);
         atomicMin(counters.value[FIELD_COUNTER_LEAST_BITS], cell.z);
         return;
@@ -24,8 +24,8 @@ void main() {
     for (uint k = 0u; k < 4u; k++) {
         if ((fate >> k & 1u) == 0u) continue;
         uvec2 corner = uvec2(cell.x + (k & 1u) * side, cell.y + (k >> 1u) * side);
-        uvec4 child = field_make_cell(run, corner, cell.z - 1u, a.p0);
-        FieldCells(a.target).value[at++] = child;
+        uvec4 child = uvec4(corner, cell.z - 1u, field_weight(run, corner, cell.z - 1u, a.p0));
+        field_put_cell(a.target, at++, child);
         atomicAdd(counters.value[FIELD_COUNTER_EXPONENTS + field_exponent(child, a.p0)], 1u);
     }
     if ((fate & 0xFu) != 0u) atomicMin(counters.value[FIELD_COUNTER_LEAST_BITS], cell.z - 1u);

@@ -10,7 +10,7 @@ void main() {
     uint i = field_item();
     if (i >= a.count) return;
     FieldRun run = field_run();
-    uvec4 cell = FieldCells(a.cells).value[i];
+    uvec4 cell = field_cell(run, a.cells, i, a.p1);
     FieldWords offsets = FieldWords(a.words0);
     uint first = offsets.value[i];
     uint end = i + 1u < a.count ? offsets.value[i + 1u] : a.p2;

@@ -47,19 +47,11 @@ Sampling FieldVulkan::run(const FieldTable& table, const FieldQuadtree& tree, co
     samples_ = darts_thrown_ = thrown_ = 0;
     least_bits_ = UINT32_MAX;
     run_args_ = {};
-    // The table, the tree's words and every leaf as an active cell (in leaf order, as the host's).
-    std::vector<glm::uvec4> cells(tree.leaves());
+    // The table, the tree's words and every leaf as an active cell (in leaf order, as the host's;
+    // as the 8-byte words of field.glsl's field_cell).
+    std::vector<glm::uvec2> cells(tree.leaves());
     tree.each_leaf([&](std::uint32_t leaf, glm::uvec2 corner, std::uint32_t bits) {
-        std::uint32_t w = 0;
-        if (density_) {
-            const glm::uvec2 far(std::uint32_t(std::min<std::uint64_t>(corner.x + (std::uint64_t(1) << bits) - 1,
-                                                                       t_->lattice.extent_x - 1)),
-                                 std::uint32_t(std::min<std::uint64_t>(corner.y + (std::uint64_t(1) << bits) - 1,
-                                                                       t_->lattice.extent_y - 1)));
-            const std::uint32_t lo = t_->min_over(corner, far);
-            while (w < 31 && (std::uint64_t(t_->r_lo) << (w + 1)) <= lo) ++w;
-        }
-        cells[leaf] = {corner.x, corner.y, bits, w};
+        cells[leaf] = {2 * corner.x + (1u << bits), corner.y};
     });
     active_ = cells.size();
     capacity_ = std::max<std::uint64_t>({1024, active_ / 4, given.size()});

@@ -1,4 +1,5 @@
 // The sizing-field sampler on a Vulkan device: a round's steps (field_vulkan.h).
+#include <bit>
 #include <cstring>
 
 #include <fmt/format.h>
@@ -93,18 +94,32 @@ void FieldVulkan::write_run() {
     std::memcpy(run_.mapped(), &run_args_, sizeof(run_args_));
 }
 
+std::uint32_t FieldVulkan::weight(glm::uvec2 corner, std::uint32_t bits) const {
+    std::uint32_t w = 0;
+    if (!density_) return w;
+    const std::uint64_t last = (std::uint64_t(1) << bits) - 1;
+    const glm::uvec2 far(std::uint32_t(std::min<std::uint64_t>(corner.x + last, t_->lattice.extent_x - 1)),
+                         std::uint32_t(std::min<std::uint64_t>(corner.y + last, t_->lattice.extent_y - 1)));
+    const std::uint32_t lo = t_->min_over(corner, far);
+    while (w < 31 && (std::uint64_t(t_->r_lo) << (w + 1)) <= lo) ++w;
+    return w;
+}
+
 double FieldVulkan::weighted_area(const ExponentCounts& e) {
     if (const auto sum = field::exact_power_sum(e, field::kExponentBias)) return *sum;
     // As the host adds them: each cell's 2^exponent in list order.
-    Buffer copy(ctx_, active_ * 16, true);
+    Buffer copy(ctx_, active_ * 8, true);
     ctx_.begin();
-    const VkBufferCopy all{0, 0, active_ * 16};
+    const VkBufferCopy all{0, 0, active_ * 8};
     ctx_.vk().vkCmdCopyBuffer(ctx_.recording(), cells_.handle(), copy.handle(), 1, &all);
     ctx_.submit_and_wait();
-    const auto* cells = static_cast<const glm::uvec4*>(copy.mapped());
+    const auto* words = static_cast<const glm::uvec2*>(copy.mapped());
     double area = 0;
-    for (std::uint64_t i = 0; i < active_; ++i)
-        area += field::pow2(2 * int(cells[i].z) - (density_ ? 2 * int(cells[i].w) : 0));
+    for (std::uint64_t i = 0; i < active_; ++i) {
+        const std::uint32_t bits = std::uint32_t(std::countr_zero(words[i].x));
+        const glm::uvec2 corner((words[i].x & (words[i].x - 1)) >> 1, words[i].y);
+        area += field::pow2(2 * int(bits) - 2 * int(weight(corner, bits)));
+    }
     return area;
 }
 
@@ -132,7 +147,7 @@ bool FieldVulkan::refine_list(std::uint32_t mode, std::uint32_t param, std::uint
     const std::uint64_t total = counters()[kCellsTotal];
     if (mode == 0 && counters()[FIELD_COUNTER_SPLITS] == 0) return false;
     // Scatter into the next list; it counts the cells per exponent and their least side afresh.
-    grow(ctx_, next_, std::max<std::uint64_t>(total, 1) * 16);
+    grow(ctx_, next_, std::max<std::uint64_t>(total, 1) * 8);
     ctx_.begin();
     clear_counters();
     a.target = next_.address();

@@ -76,6 +76,8 @@ private:
         return e;
     }
     double weighted_area(const field::ExponentCounts& e);
+    // Eq. 12's weight of the cell of side 2^bits at `corner` (field.glsl's field_weight).
+    std::uint32_t weight(glm::uvec2 corner, std::uint32_t bits) const;
     // Balances the active list as the host's balance does; returns the round's rate.
     double balance();
     // Writes each cell's fate (p1: 0 balance, 1 refine; p2 and p3 its parameters) into the next
