@@ -19,15 +19,11 @@ uint field_exponent(uvec4 cell, uint density) {
     return FIELD_EXPONENT_BIAS + 2u * cell.z - (density != 0u ? 2u * cell.w : 0u);
 }
 
-// Eq. 12's weight of the cell of side 2^bits at `corner`: the most w <= 31 with r_lo 2^w <= the
-// least r over the cell (0 without the weighting).
+// Eq. 12's weight of the cell of side 2^bits at `corner` (shared/field.h; 0 without the weighting).
 uint field_weight(FieldRun run, uvec2 corner, uint bits, uint density) {
-    uint w = 0u;
-    if (density != 0u) {
-        uint lo = field_min_over(run.table, corner, field_far_corner(run.lattice, corner, bits));
-        while (w < 31u && (uint64_t(run.r_lo) << (w + 1u)) <= uint64_t(lo)) w++;
-    }
-    return w;
+    if (density == 0u) return 0u;
+    uvec2 far = field_far_corner(run.lattice, corner, bits);
+    return field_cell_weight(run.r_lo, field_min_over(run.table, corner, far));
 }
 
 // An active list holds a cell in 8 bytes, as the host's does: its corner's y, and its x with the

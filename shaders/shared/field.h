@@ -54,5 +54,13 @@ VRPD_FN bool keep_weighted(uint hash, uint bound, uint r) {
     return uint64_t(hash) < ((t * t) >> 32);
 }
 
+// Eq. 12's weight of a cell whose least r is `lo`: the most w <= 31 with r_lo 2^w <= lo, so that
+// darts thrown at the rate of radius r_lo 2^w (<= r over the cell) are thinned by keep_weighted.
+VRPD_FN uint field_cell_weight(uint r_lo, uint lo) {
+    uint w = 0u;
+    while (w < 31u && (uint64_t(r_lo) << (w + 1u)) <= uint64_t(lo)) w++;
+    return w;
+}
+
 VRPD_END
 #endif

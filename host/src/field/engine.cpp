@@ -49,10 +49,7 @@ ExponentCounts summed(const std::vector<ExponentCounts>& counts) {
 
 Cell FieldSampler::make_cell(uvec2 corner, std::uint32_t bits) const {
     Cell c{corner, std::uint8_t(bits), 0};
-    if (density_) {
-        const std::uint32_t lo = t_.min_over(corner, far_corner(c));
-        while (c.weight < 31 && (std::uint64_t(t_.r_lo) << (c.weight + 1)) <= lo) ++c.weight;
-    }
+    if (density_) c.weight = std::uint8_t(shared::field_cell_weight(t_.r_lo, t_.min_over(corner, far_corner(c))));
     return c;
 }
 

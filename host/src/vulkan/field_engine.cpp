@@ -95,14 +95,8 @@ void FieldVulkan::write_run() {
 }
 
 std::uint32_t FieldVulkan::weight(glm::uvec2 corner, std::uint32_t bits) const {
-    std::uint32_t w = 0;
-    if (!density_) return w;
-    const std::uint64_t last = (std::uint64_t(1) << bits) - 1;
-    const glm::uvec2 far(std::uint32_t(std::min<std::uint64_t>(corner.x + last, t_->lattice.extent_x - 1)),
-                         std::uint32_t(std::min<std::uint64_t>(corner.y + last, t_->lattice.extent_y - 1)));
-    const std::uint32_t lo = t_->min_over(corner, far);
-    while (w < 31 && (std::uint64_t(t_->r_lo) << (w + 1)) <= lo) ++w;
-    return w;
+    if (!density_) return 0;
+    return field_cell_weight(t_->r_lo, t_->min_over(corner, field_far_corner(t_->lattice, corner, bits)));
 }
 
 double FieldVulkan::weighted_area(const ExponentCounts& e) {
