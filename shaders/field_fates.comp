@@ -10,8 +10,6 @@
 // round covers or whose leaf holds a sample, keeps one that took no dart (or of one lattice
 // unit), and splits the others (words2: the round's dart counts, scanned; their total in p2;
 // p3: the round's stamp in FieldRun::touched).
-const uint FIELD_KEEP = 0x10u;
-const uint FIELD_SPLIT = 0x20u;
 
 void main() {
     uint i = field_item();

@@ -14,7 +14,7 @@ void main() {
     uvec4 cell = field_cell(run, a.cells, i, a.p0);
     uint at = FieldWords(a.words0).value[i];
     FieldWords counters = FieldWords(a.counters);
-    if ((fate & 0x20u) == 0u) {
+    if ((fate & FIELD_SPLIT) == 0u) {
         field_put_cell(a.target, at, cell);
         atomicAdd(counters.value[FIELD_COUNTER_EXPONENTS + field_exponent(cell, a.p0)], 1u);
         atomicMin(counters.value[FIELD_COUNTER_LEAST_BITS], cell.z);

@@ -28,6 +28,11 @@ struct FieldPoints {
 // A leaf's sample slot when it holds none.
 const uint FIELD_NO_SAMPLE = 0xFFFFFFFFu;
 
+// A cell's fate when a list is balanced or refined: dropped (0), kept whole, or split, with the
+// mask of its surviving children in bits 0-3 (child k: x, then y, low first).
+const uint FIELD_KEEP = 0x10u;
+const uint FIELD_SPLIT = 0x20u;
+
 // The run as the kernels read it (one copy in a buffer; FieldArgs points at it).
 struct FieldRun {
     FieldTableView table;

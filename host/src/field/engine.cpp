@@ -17,6 +17,7 @@
 #include "field.h"
 #include "power_sum.h"
 #include "rate.h"
+#include "shared/field_run.h"
 #include "sampler.h"
 #include "vrpd/sizing.h"
 #include "../plan.h"
@@ -32,9 +33,8 @@ using Clock = std::chrono::steady_clock;
 constexpr std::uint32_t kMaxRounds = 1000000;  // a bug guard, far above any run
 constexpr int kExpBias = kExponentBias;        // exp_neg_'s index: the weighted area's exponent + 64
 constexpr std::size_t kExponents = std::tuple_size_v<ExponentCounts>;
-// A cell's fate in got_ (balance, refine): dropped (0), kept whole, or split with the mask of its
-// surviving children in bits 0-3.
-constexpr std::uint8_t kKeep = 0x10, kSplit = 0x20;
+// A cell's fate in got_ (balance, refine): shared/field_run.h's, as the field kernels write it.
+constexpr std::uint8_t kKeep = shared::FIELD_KEEP, kSplit = shared::FIELD_SPLIT;
 // The cells a fate leaves in the next list.
 std::uint64_t cells_of(std::uint8_t fate) { return fate == kKeep ? 1 : std::uint64_t(std::popcount(fate & 0xFu)); }
 // The chunks' counts of cells per exponent, added.
