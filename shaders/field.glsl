@@ -8,6 +8,8 @@ layout(push_constant) uniform Push { FieldArgs a; };
 layout(buffer_reference, std430, buffer_reference_align = 8) buffer FieldRunRef { FieldRun value; };
 layout(buffer_reference, std430, buffer_reference_align = 16) buffer FieldCells { uvec4 value[]; };
 layout(buffer_reference, std430, buffer_reference_align = 8) buffer FieldCellWords { uvec2 value[]; };
+// The accepted darts as (dart index, 0), sorted into arrival order by key.
+layout(buffer_reference, std430, buffer_reference_align = 8) buffer FieldPairs { uvec2 value[]; };
 
 // This invocation's item, or a value >= a.count past the list.
 uint field_item() { return a.first + gl_GlobalInvocationID.x; }
@@ -37,6 +39,12 @@ uvec4 field_cell(FieldRun run, uint64_t list, uint i, uint density) {
 }
 void field_put_cell(uint64_t list, uint i, uvec4 cell) {
     FieldCellWords(list).value[i] = uvec2(2u * cell.x + (1u << cell.z), cell.y);
+}
+
+// The end of item i's range in an exclusive prefix sum `scan` of a.count items whose total is
+// `total`: the next item's start, or the total after the last.
+uint field_scan_end(FieldWords scan, uint i, uint total) {
+    return i + 1u < a.count ? scan.value[i + 1u] : total;
 }
 
 // Sets (on) or clears `flag` on the node words from the tile's root down to the leaf holding p.

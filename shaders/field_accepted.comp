@@ -5,8 +5,6 @@
 // p0 = 0: flags the accepted darts (words1: states) in words0, for their ranks. p0 = 1: writes
 // each accepted dart's key (words2) and index (target, as uvec2) at its rank (words0, scanned;
 // total in p1), for the sort into arrival order.
-layout(buffer_reference, std430, buffer_reference_align = 8) buffer FieldPairs { uvec2 value[]; };
-
 void main() {
     uint j = field_item();
     if (j >= a.count) return;
@@ -16,7 +14,7 @@ void main() {
     }
     FieldWords ranks = FieldWords(a.words0);
     uint at = ranks.value[j];
-    uint next = j + 1u < a.count ? ranks.value[j + 1u] : a.p1;
+    uint next = field_scan_end(ranks, j, a.p1);
     if (next == at) return;
     FieldWords(a.words2).value[at] = FieldCells(a.cells).value[j].z;
     FieldPairs(a.target).value[at] = uvec2(j, 0u);

@@ -4,8 +4,6 @@
 #include "field.glsl"
 // The accepted darts in arrival order (target: uvec2 (dart index, 0), sorted by key) become samples
 // p0 + rank: point, r, the leaf's sample, and the path marked occupied and fresh.
-layout(buffer_reference, std430, buffer_reference_align = 8) buffer FieldPairs { uvec2 value[]; };
-
 void main() {
     uint q = field_item();
     if (q >= a.count) return;

@@ -23,7 +23,7 @@ void main() {
             fate = FIELD_SPLIT | field_open_children(run, cell.xy, cell.z, budget);
     } else {
         FieldWords offsets = FieldWords(a.words2);
-        uint end = i + 1u < a.count ? offsets.value[i + 1u] : a.p2;
+        uint end = field_scan_end(offsets, i, a.p2);
         bool got = end > offsets.value[i];
         uint leaf = field_leaf_at(run.tree, cell.xy).x;
         // Only a cell that took darts, or that one of this round's samples is near (touched this

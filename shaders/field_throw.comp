@@ -13,7 +13,7 @@ void main() {
     uvec4 cell = field_cell(run, a.cells, i, a.p1);
     FieldWords offsets = FieldWords(a.words0);
     uint first = offsets.value[i];
-    uint end = i + 1u < a.count ? offsets.value[i + 1u] : a.p2;
+    uint end = field_scan_end(offsets, i, a.p2);
     if (end == first) return;
     uint stream = cell_stream(a.p0, cell.xy);
     uint leaf = field_leaf_at(run.tree, cell.xy).x;
