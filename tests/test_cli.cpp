@@ -19,6 +19,8 @@
 
 namespace fs = std::filesystem;
 
+using vrpd::DeviceInfo;
+using vrpd::list_devices;
 using vrpd::test::cli;
 using vrpd::test::Run;
 using vrpd::test::scratch;
@@ -105,15 +107,24 @@ TEST_CASE("without a Vulkan driver, gpu says so and points to cpu, and auto runs
     CHECK(slurp(listing).find("--device auto: cpu (no Vulkan driver") != std::string::npos);
 }
 
-TEST_CASE("auto takes lavapipe only when a device is named, and says what it took", "[cli][gpu]") {
-    // This machine's only Vulkan device is a CPU driver: auto runs the cpu backend; naming the
-    // device (VRPD_DEVICE) takes it.
+TEST_CASE("auto takes a hardware device, a CPU Vulkan driver only when named, and says what it took", "[cli][gpu]") {
+    // Where the only Vulkan device is a CPU driver (lavapipe), auto runs the cpu backend; where
+    // there is a hardware device, auto runs there. Naming a device (VRPD_DEVICE) takes it.
+    std::string hardware;
+    for (const DeviceInfo& d : list_devices())
+        if (hardware.empty() && d.usable && d.type != "cpu" && d.type != "other") hardware = d.name;
+    INFO("hardware device: " << (hardware.empty() ? "none" : hardware));
     const fs::path out = scratch() / "auto.csv";
     const fs::path err = scratch() / "auto.txt";
     CHECK(WEXITSTATUS(std::system((std::string(VRPD_CLI) + " sample --radius 0.05 -o " + out.string() + " 2> " +
                                    err.string()).c_str())) == 0);
-    CHECK(slurp(err).find("device cpu (host") != std::string::npos);
-    CHECK(slurp(err).find("(auto: no hardware Vulkan device") != std::string::npos);
+    if (hardware.empty()) {
+        CHECK(slurp(err).find("device cpu (host") != std::string::npos);
+        CHECK(slurp(err).find("(auto: no hardware Vulkan device") != std::string::npos);
+    } else {
+        CHECK(slurp(err).find("(auto: hardware Vulkan device " + hardware + ")") != std::string::npos);
+        CHECK(slurp(err).find("device cpu (host") == std::string::npos);
+    }
     CHECK(WEXITSTATUS(std::system(("VRPD_DEVICE=0 " + std::string(VRPD_CLI) + " sample --radius 0.05 -o " +
                                    out.string() + " 2> " + err.string()).c_str())) == 0);
     CHECK(slurp(err).find("(auto: VRPD_DEVICE names a Vulkan device)") != std::string::npos);

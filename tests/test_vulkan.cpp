@@ -2,7 +2,11 @@
 // to fail, and device selection must refuse what it cannot use.
 #include <catch2/catch.hpp>
 
+#include <link.h>
+
 #include <cstdlib>
+#include <set>
+#include <string>
 
 #include "vulkan/buffer.h"
 #include "vulkan/device.h"
@@ -29,6 +33,35 @@ TEST_CASE("device selection refuses an unknown device", "[gpu][vulkan]") {
     const auto devices = list_devices();
     REQUIRE_FALSE(devices.empty());
     CHECK(detail::VulkanContext("0").device_name().find(devices[0].name) == 0);
+}
+
+// The shared objects this process has loaded, by path.
+std::set<std::string> loaded_objects() {
+    std::set<std::string> names;
+    dl_iterate_phdr(
+        [](dl_phdr_info* info, std::size_t, void* out) {
+            static_cast<std::set<std::string>*>(out)->insert(info->dlpi_name ? info->dlpi_name : "");
+            return 0;
+        },
+        &names);
+    return names;
+}
+
+// NVIDIA's driver refuses every instance after it has been loaded 29 times in one process
+// (VK_ERROR_INCOMPATIBLE_DRIVER), and the loader unloads the drivers with the last instance: a
+// renderer or a test that makes and drops contexts must find the drivers already loaded.
+TEST_CASE("contexts come and go without the drivers being unloaded and loaded again", "[gpu][vulkan]") {
+    detail::VulkanContext("").device_name();
+    const std::set<std::string> after_first = loaded_objects();
+    for (int i = 0; i < 40; ++i) {
+        detail::VulkanContext ctx("");
+        std::set<std::string> now = loaded_objects();
+        for (const std::string& name : now) {
+            INFO("context " << i << " loaded " << name);
+            // Layers (validation) come and go with each instance.
+            if (name.find("VkLayer") == std::string::npos) CHECK(after_first.count(name) == 1);
+        }
+    }
 }
 
 TEST_CASE("a buffer larger than the device holds is refused as out of memory", "[gpu][vulkan]") {

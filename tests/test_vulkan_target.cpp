@@ -1,9 +1,10 @@
 // Sampling on an application's own Vulkan device (vrpd/vulkan_target.h): the test plays the
-// application, with its own instance (validation layers on, its own messenger), device and queue,
-// and checks the buffers vrpd leaves there against the cpu backend's samples, and that the
-// validation layers said nothing from the instance's creation to its destruction.
+// application, with its own instance (validation layers on under the suite's VRPD_VALIDATION, its
+// own messenger), device and queue, and checks the buffers vrpd leaves there against the cpu backend's samples, and
+// that the validation layers said nothing from the instance's creation to its destruction.
 #include <catch2/catch.hpp>
 
+#include <cstdlib>
 #include <cstring>
 #include <string>
 #include <vector>
@@ -23,9 +24,9 @@ VKAPI_ATTR VkBool32 VKAPI_CALL count_message(VkDebugUtilsMessageSeverityFlagBits
     return VK_FALSE;
 }
 
-// The application: an instance with validation, the first device vrpd can use, a compute queue.
+// The application: an instance (with validation where the suite runs with it, VRPD_VALIDATION),
+// the first device vrpd can use, a compute queue.
 struct Application {
-    detail::Loader loader;
     detail::VulkanFunctions vk;
     std::vector<std::string> messages;
     VkInstance instance = VK_NULL_HANDLE;
@@ -36,32 +37,37 @@ struct Application {
     VkQueue queue = VK_NULL_HANDLE;
 
     Application() {
-        const PFN_vkGetInstanceProcAddr get = loader.get_instance_proc_addr();
+        const PFN_vkGetInstanceProcAddr get = detail::vulkan_loader();
         vk.vkCreateInstance = reinterpret_cast<PFN_vkCreateInstance>(get(nullptr, "vkCreateInstance"));
         VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
         app.pApplicationName = "a renderer";
         app.apiVersion = VK_API_VERSION_1_2;
         const char* layer = "VK_LAYER_KHRONOS_validation";
         const char* extension = VK_EXT_DEBUG_UTILS_EXTENSION_NAME;
+        const char* validation = std::getenv("VRPD_VALIDATION");
+        const bool validate = validation && *validation && std::strcmp(validation, "0") != 0;
         VkInstanceCreateInfo ci{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
         ci.pApplicationInfo = &app;
-        ci.enabledLayerCount = 1;
+        ci.enabledLayerCount = validate ? 1 : 0;
         ci.ppEnabledLayerNames = &layer;
-        ci.enabledExtensionCount = 1;
+        ci.enabledExtensionCount = validate ? 1 : 0;
         ci.ppEnabledExtensionNames = &extension;
         REQUIRE(vk.vkCreateInstance(&ci, nullptr, &instance) == VK_SUCCESS);
 #define VRPD_VK_FN(name) \
     if (!vk.name) vk.name = reinterpret_cast<PFN_##name>(get(instance, #name));
 #include "vulkan/functions.inc"
 #undef VRPD_VK_FN
-        VkDebugUtilsMessengerCreateInfoEXT mi{VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};
-        mi.messageSeverity =
-            VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
-        mi.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT |
-                         VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT;
-        mi.pfnUserCallback = &count_message;
-        mi.pUserData = &messages;
-        REQUIRE(vk.vkCreateDebugUtilsMessengerEXT(instance, &mi, nullptr, &messenger) == VK_SUCCESS);
+        if (validate) {
+            VkDebugUtilsMessengerCreateInfoEXT mi{VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};
+            mi.messageSeverity =
+                VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
+            mi.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT |
+                             VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT |
+                             VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT;
+            mi.pfnUserCallback = &count_message;
+            mi.pUserData = &messages;
+            REQUIRE(vk.vkCreateDebugUtilsMessengerEXT(instance, &mi, nullptr, &messenger) == VK_SUCCESS);
+        }
         std::uint32_t n = 0;
         vk.vkEnumeratePhysicalDevices(instance, &n, nullptr);
         std::vector<VkPhysicalDevice> all(n);
@@ -96,7 +102,7 @@ struct Application {
         if (messenger) vk.vkDestroyDebugUtilsMessengerEXT(instance, messenger, nullptr);
         if (instance) vk.vkDestroyInstance(instance, nullptr);
     }
-    VulkanTarget target() const { return {instance, physical, device, family, queue, loader.get_instance_proc_addr()}; }
+    VulkanTarget target() const { return {instance, physical, device, family, queue, detail::vulkan_loader()}; }
 
     // A host-visible, coherent memory type among `allowed`, or ~0u.
     std::uint32_t host_visible(std::uint32_t allowed) const {

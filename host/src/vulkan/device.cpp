@@ -52,7 +52,7 @@ VKAPI_ATTR VkBool32 VKAPI_CALL VulkanContext::on_message(VkDebugUtilsMessageSeve
 }
 
 VulkanContext::VulkanContext() {
-    const PFN_vkGetInstanceProcAddr get_proc = loader_.emplace().get_instance_proc_addr();
+    const PFN_vkGetInstanceProcAddr get_proc = vulkan_loader();
     vk_.vkCreateInstance = reinterpret_cast<PFN_vkCreateInstance>(get_proc(nullptr, "vkCreateInstance"));
     vk_.vkEnumerateInstanceLayerProperties = reinterpret_cast<PFN_vkEnumerateInstanceLayerProperties>(
         get_proc(nullptr, "vkEnumerateInstanceLayerProperties"));
@@ -111,7 +111,7 @@ VulkanContext::VulkanContext(const VulkanTarget& target) {
     if (!target.instance || !target.physical_device || !target.device || !target.queue)
         throw Error("VulkanTarget: instance, physical device, device and queue must all be given");
     PFN_vkGetInstanceProcAddr get_proc = target.get_instance_proc_addr;
-    if (!get_proc) get_proc = loader_.emplace().get_instance_proc_addr();
+    if (!get_proc) get_proc = vulkan_loader();
     load_functions(get_proc, target.instance);
     instance_handle_ = target.instance;
     physical_ = target.physical_device;

@@ -5,7 +5,6 @@
 
 #include <cstdint>
 #include <memory>
-#include <optional>
 #include <string>
 #include <vector>
 
@@ -91,7 +90,6 @@ private:
     void load_functions(PFN_vkGetInstanceProcAddr get_proc, VkInstance instance);
     void make_command_objects();
 
-    std::optional<Loader> loader_;  // none when the application gives its loader's entry point
     VulkanFunctions vk_;
     std::vector<std::string> messages_;
     OwnedInstance instance_;

@@ -9,19 +9,28 @@
 
 namespace vrpd::detail {
 
-Loader::Loader() {
-    library_ = dlopen("libvulkan.so.1", RTLD_NOW | RTLD_LOCAL);
-    if (!library_)
+PFN_vkGetInstanceProcAddr vulkan_loader() {
+    static void* const library = dlopen("libvulkan.so.1", RTLD_NOW | RTLD_LOCAL);
+    if (!library)
         throw Error("no Vulkan loader (libvulkan.so.1) on this machine: install libvulkan1 and a driver "
                     "(e.g. mesa-vulkan-drivers), or use --device cpu");
-    get_proc_ = reinterpret_cast<PFN_vkGetInstanceProcAddr>(dlsym(library_, "vkGetInstanceProcAddr"));
-    if (!get_proc_) {
-        dlclose(library_);
-        throw Error("the Vulkan loader has no vkGetInstanceProcAddr; use --device cpu");
-    }
+    static const auto get_proc = reinterpret_cast<PFN_vkGetInstanceProcAddr>(dlsym(library, "vkGetInstanceProcAddr"));
+    if (!get_proc) throw Error("the Vulkan loader has no vkGetInstanceProcAddr; use --device cpu");
+    // The loader unloads the drivers when the last instance goes. One instance that lives until
+    // the process ends keeps them loaded; where it cannot be made, the context's own instance
+    // reports why.
+    static const VkInstance anchor = [] {
+        auto create = reinterpret_cast<PFN_vkCreateInstance>(get_proc(nullptr, "vkCreateInstance"));
+        VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
+        app.apiVersion = VK_API_VERSION_1_2;
+        VkInstanceCreateInfo ci{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
+        ci.pApplicationInfo = &app;
+        VkInstance instance = VK_NULL_HANDLE;
+        return create && create(&ci, nullptr, &instance) == VK_SUCCESS ? instance : VK_NULL_HANDLE;
+    }();
+    (void)anchor;
+    return get_proc;
 }
-
-Loader::~Loader() { dlclose(library_); }
 
 std::string result_name(VkResult r) {
     switch (r) {

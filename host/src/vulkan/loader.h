@@ -16,20 +16,12 @@ struct VulkanFunctions {
 #undef VRPD_VK_FN
 };
 
-// libvulkan.so.1, open while this lives. Move-only.
-class Loader {
-public:
-    // Throws Error if there is no loader on this machine.
-    Loader();
-    Loader(const Loader&) = delete;
-    Loader& operator=(const Loader&) = delete;
-    ~Loader();
-    PFN_vkGetInstanceProcAddr get_instance_proc_addr() const { return get_proc_; }
-
-private:
-    void* library_ = nullptr;
-    PFN_vkGetInstanceProcAddr get_proc_ = nullptr;
-};
+// vkGetInstanceProcAddr of libvulkan.so.1, which opens on the first call and stays open, with its
+// drivers loaded, until the process ends: a driver may not survive being unloaded and loaded again
+// (NVIDIA's refuses every instance after its 29th load in a process with
+// VK_ERROR_INCOMPATIBLE_DRIVER), and a library's user may create and drop many contexts. Throws
+// Error if there is no loader on this machine.
+PFN_vkGetInstanceProcAddr vulkan_loader();
 
 // "VK_ERROR_OUT_OF_DEVICE_MEMORY", or the number for a code vrpd does not name.
 std::string result_name(VkResult r);
