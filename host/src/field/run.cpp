@@ -58,9 +58,13 @@ Sampling sample_sized(const SampleOptions& o) {
                             "too large for a periodic box of {} x {}: it must be < {} (half the shorter side)",
                             hierarchy_start(o), top, o.box.width, o.box.height, short_side / 2));
     }
-    if (o.vulkan) choose_backend(o);  // refuses the cpu and serial backends beside the application's device
-    Sampling s = sample_field(o, t);
-    if (o.backend == Backend::Auto) s.choice = "a varying sizing field runs on the host";
+    // Auto chooses as for one radius: the application's device, a named one or a hardware one,
+    // else the host. It refuses the cpu and serial backends beside the application's device.
+    const BackendChoice choice = choose_backend(o);
+    SampleOptions chosen = o;
+    chosen.backend = choice.backend;
+    Sampling s = sample_field(chosen, t);
+    s.choice = choice.reason;
     s.stats.seconds += tabulation;
     if (o.profile) s.stats.profile.insert(s.stats.profile.begin(), PhaseTime{"tabulate", tabulation, 1});
     return s;
