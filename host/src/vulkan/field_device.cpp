@@ -113,9 +113,9 @@ Sampling FieldVulkan::run(const FieldTable& table, const FieldQuadtree& tree, co
     while (active_ > 0) {
         if (round == kMaxRounds) throw Error("internal: the sizing-field sampler did not converge");
         const std::uint64_t first = samples_;
-        throw_and_resolve(first_round + round, round + 2);
+        const bool open = throw_and_resolve(first_round + round, round + 2);
         // Refinement, then this round's samples settle (their fresh marks cleared).
-        refine_list(1, std::uint32_t(thrown_), round + 2, offsets_.address(), first);
+        refine_list(1, std::uint32_t(thrown_), round + 2, offsets_.address(), first, open);
         if (active_ > 0) deepest = std::max(deepest, t_->tile_bits - least_bits_);
         ++round;
     }

@@ -18,6 +18,7 @@
 #include "field_throw.h"
 #include "field_touch.h"
 #include "field_unmark.h"
+#include "gate.h"
 #include "vulkan/field_vulkan.h"
 
 namespace vrpd::detail {
@@ -56,8 +57,10 @@ FieldVulkan::FieldVulkan(const SampleOptions& o, std::uint32_t budget)
       VRPD_KERNEL(field_emit, FieldArgs, WORKGROUP_SIZE),
       VRPD_KERNEL(field_touch, FieldArgs, WORKGROUP_SIZE),
       VRPD_KERNEL(field_place, FieldArgs, WORKGROUP_SIZE),
+      gate_kernel_(ctx_, "gate", spirv_words(spirv_gate), sizeof(GateArgs), WORKGROUP_SIZE),
       density_(o.sizing->weighting == Weighting::Density) {
     if (o.profile) ctx_.start_profile();
+    gate_ = Buffer(ctx_, VulkanContext::kGateDispatches * 12, true);
     budget_ = budget != 0                                                ? budget
               : ctx_.device_name().find("llvmpipe") != std::string::npos ? kLavapipeBudget
                                                                          : UINT32_MAX - 1;
@@ -118,11 +121,13 @@ double FieldVulkan::weighted_area(const ExponentCounts& e) {
 }
 
 bool FieldVulkan::refine_list(std::uint32_t mode, std::uint32_t param, std::uint32_t stamp, std::uint64_t darts_offsets,
-                              std::uint64_t settle_from) {
-    grow(ctx_, fates_, active_ * 4);
-    grow(ctx_, counts_, active_ * 4);
-    primitives_.reserve_scan(active_);
-    ctx_.begin();
+                              std::uint64_t settle_from, bool open) {
+    if (!open) {
+        grow(ctx_, fates_, active_ * 4);
+        grow(ctx_, counts_, active_ * 4);
+        primitives_.reserve_scan(active_);
+        ctx_.begin();
+    }
     clear_counters();
     FieldArgs a = args();
     a.cells = cells_.address();
@@ -172,7 +177,7 @@ double FieldVulkan::balance() {
     }
 }
 
-void FieldVulkan::throw_and_resolve(std::uint32_t round, std::uint32_t stamp) {
+bool FieldVulkan::throw_and_resolve(std::uint32_t round, std::uint32_t stamp) {
     const double rate = balance();
     std::uint32_t exp_neg[128];
     field::exp_neg_table(rate, exp_neg);
@@ -196,7 +201,7 @@ void FieldVulkan::throw_and_resolve(std::uint32_t round, std::uint32_t stamp) {
     const std::uint64_t thrown = counters()[kDartsTotal];
     thrown_ = thrown;
     darts_thrown_ += thrown;
-    if (thrown == 0) return;
+    if (thrown == 0) return false;
     // The throw: every dart at its slot, flagged if it stays; the kept ones compacted in order.
     grow(ctx_, raw_, thrown * 16);
     grow(ctx_, flags_, thrown * 4);
@@ -212,7 +217,7 @@ void FieldVulkan::throw_and_resolve(std::uint32_t round, std::uint32_t stamp) {
     ctx_.submit_and_wait();
     check_budget();
     const std::uint64_t kept = counters()[kKeptTotal];
-    if (kept == 0) return;
+    if (kept == 0) return false;
     grow(ctx_, darts_, kept * 16);
     grow(ctx_, states_, kept * 4);
     grow(ctx_, pairs_, kept * 8);
@@ -236,7 +241,9 @@ void FieldVulkan::throw_and_resolve(std::uint32_t round, std::uint32_t stamp) {
     d.words1 = states_.address();
     dispatch(field_first_darts_, d, 0, kept);
     ctx_.barrier();
-    // Resolution passes until no dart is undecided.
+    // Resolution passes until no dart is undecided. Each submit also carries the next step behind
+    // a gate that holds while darts are undecided: the leaves' fresh marks off, and the accepted
+    // darts flagged and ranked.
     for (;;) {
         for (std::uint32_t pass = 0; pass < kPassesPerSubmit; ++pass) {
             ctx_.vk().vkCmdFillBuffer(ctx_.recording(), counters_.handle(), FIELD_COUNTER_UNDECIDED * 4, 4, 0);
@@ -244,33 +251,41 @@ void FieldVulkan::throw_and_resolve(std::uint32_t round, std::uint32_t stamp) {
             dispatch(field_resolve_, d, 0, kept);
             ctx_.barrier();
         }
+        const GateArgs g{counters_.address(), gate_.address(), FIELD_COUNTER_UNDECIDED,
+                         VulkanContext::kGateDispatches};
+        ctx_.dispatch(gate_kernel_, &g, dispatch_groups(VulkanContext::kGateDispatches, WORKGROUP_SIZE));
+        ctx_.barrier();  // the gated commands before the dispatches read them
+        ctx_.open_gate(gate_);
+        FieldArgs u = d;
+        u.p0 = 0;
+        dispatch(field_unmark_, u, 0, kept);
+        FieldArgs f = d;
+        f.words0 = flags_.address();
+        f.p0 = 0;
+        dispatch(field_accepted_, f, 0, kept);
+        ctx_.barrier();
+        primitives_.scan(flags_.address(), kept, kAcceptedTotal);
+        ctx_.close_gate();
         ctx_.submit_and_wait();
         check_budget();
         if (counters()[FIELD_COUNTER_UNDECIDED] == 0) break;
         ctx_.begin();
     }
-    // The leaves' fresh marks off; the accepted darts ranked, sorted into arrival order, and
-    // appended as samples (their leaves marked occupied and fresh).
-    ctx_.begin();
-    FieldArgs u = d;
-    u.p0 = 0;
-    dispatch(field_unmark_, u, 0, kept);
-    FieldArgs f = d;
-    f.words0 = flags_.address();
-    f.p0 = 0;
-    dispatch(field_accepted_, f, 0, kept);
-    ctx_.barrier();
-    primitives_.scan(flags_.address(), kept, kAcceptedTotal);
-    ctx_.submit_and_wait();
     const std::uint64_t accepted = counters()[kAcceptedTotal];
-    if (accepted == 0) return;
+    if (accepted == 0) return false;
     if (samples_ + accepted > capacity_) {
         capacity_ = std::max(samples_ + accepted, capacity_ + capacity_ / 4);
         grow(ctx_, points_, capacity_ * 8, true);
         grow(ctx_, radii_, capacity_ * 4, true);
         write_run();
     }
+    // The refinement's arrays, sized before their submit holds commands on the arrays they replace.
+    grow(ctx_, fates_, active_ * 4);
+    grow(ctx_, counts_, active_ * 4);
+    primitives_.reserve_scan(active_);
     ctx_.begin();
+    FieldArgs f = d;
+    f.words0 = flags_.address();
     f.p0 = 1;
     f.p1 = std::uint32_t(accepted);
     f.target = pairs_.address();
@@ -290,9 +305,8 @@ void FieldVulkan::throw_and_resolve(std::uint32_t round, std::uint32_t stamp) {
     t.p0 = stamp;
     dispatch(field_touch_, t, samples_, samples_ + accepted);
     ctx_.barrier();
-    ctx_.submit_and_wait();
-    check_budget();
     samples_ += accepted;
+    return true;
 }
 
 }  // namespace vrpd::detail

@@ -83,11 +83,13 @@ private:
     // Writes each cell's fate (p1: 0 balance, 1 refine; p2 and p3 its parameters) into the next
     // list, which becomes the active one; returns false, keeping the list, if balance split none.
     // With the list written, the samples from `settle_from` on settle (UINT64_MAX: none).
+    // `open`: its first commands go into the submit already begun, not one of their own.
     bool refine_list(std::uint32_t mode, std::uint32_t param, std::uint32_t stamp, std::uint64_t darts_offsets,
-                     std::uint64_t settle_from);
+                     std::uint64_t settle_from, bool open = false);
     // Throws and resolves the darts of round `round` (its key), stamping its samples' leaves with
-    // `stamp`.
-    void throw_and_resolve(std::uint32_t round, std::uint32_t stamp);
+    // `stamp`. Returns true if it leaves its last commands recorded in a submit begun for the
+    // refinement to continue (the active list's fates and scan are then sized).
+    bool throw_and_resolve(std::uint32_t round, std::uint32_t stamp);
     // Places the given samples, stamps their leaves with `stamp` and drops the cells they cover.
     void place_given(const std::vector<glm::uvec2>& given, std::uint32_t stamp);
     void write_run();
@@ -98,11 +100,13 @@ private:
     Buffer counters_;
     Primitives primitives_;
     Kernel field_histogram_, field_fates_, field_scatter_, field_count_darts_, field_throw_, field_compact_,
-        field_first_darts_, field_resolve_, field_unmark_, field_accepted_, field_emit_, field_touch_, field_place_;
+        field_first_darts_, field_resolve_, field_unmark_, field_accepted_, field_emit_, field_touch_, field_place_,
+        gate_kernel_;
     bool density_;
     std::uint32_t budget_;        // the search steps an invocation may take
     std::vector<Buffer> tables_;  // the table's arrays
     Buffer run_, roots_, nodes_, leaf_sample_, leaf_first_, touched_, points_, radii_;
+    Buffer gate_;  // the commands of gated dispatches (VulkanContext::open_gate)
     Buffer cells_, next_, fates_, counts_, offsets_, raw_, flags_, darts_, states_, pairs_, keys_, sort_tmp_;
     std::uint64_t active_ = 0, samples_ = 0, capacity_ = 0, darts_thrown_ = 0, thrown_ = 0;  // thrown_: this round's
     std::uint32_t least_bits_ = UINT32_MAX;
