@@ -14,6 +14,11 @@ layout(buffer_reference, std430, buffer_reference_align = 8) buffer FieldPairs {
 // This invocation's item, or a value >= a.count past the list.
 uint field_item() { return a.first + gl_GlobalInvocationID.x; }
 
+// A count or parameter: v, or with FIELD_COUNTED set the counter it names (FieldArgs).
+uint field_value(uint v) {
+    return (v & FIELD_COUNTED) == 0u ? v : FieldWords(a.counters).value[v & ~FIELD_COUNTED];
+}
+
 FieldRun field_run() { return FieldRunRef(a.run).value; }
 
 // The exponent of a cell's weighted area, biased: 2 bits, less 2 weight under Eq. 12 (density: 1).

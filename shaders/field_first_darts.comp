@@ -7,7 +7,7 @@
 // resolution's searches meet only the leaves with darts.
 void main() {
     uint j = field_item();
-    if (j >= a.count) return;
+    if (j >= field_value(a.count)) return;
     uvec4 d = FieldCells(a.cells).value[j];
     if (j > 0u && FieldCells(a.cells).value[j - 1u].w == d.w) return;
     FieldWords(a.words0).value[d.w] = j;

@@ -9,7 +9,8 @@
 // States only go from undecided to final, so a pass may read states this pass has set.
 void main() {
     uint j = field_item();
-    if (j >= a.count) return;
+    uint count = field_value(a.count);
+    if (j >= count) return;
     FieldWords states = FieldWords(a.words1);
     if (states.value[j] != DART_UNDECIDED) return;
     FieldRun run = field_run();
@@ -23,7 +24,7 @@ void main() {
     bool wait = false;
     for (uint leaf = field_search_next(run.tree, s); leaf < FIELD_SEARCH_OVERFLOW && !rejected;
          leaf = field_search_next(run.tree, s)) {
-        for (uint k = first.value[leaf]; k < a.count; k++) {
+        for (uint k = first.value[leaf]; k < count; k++) {
             uvec4 o = darts.value[k];
             if (o.w != leaf) break;
             if (s.steps++ >= s.budget) break;

@@ -6,7 +6,7 @@
 // key, leaf; the first of each leaf); p0 = 1, on the paths to samples [first, count) of the run.
 void main() {
     uint i = field_item();
-    if (i >= a.count) return;
+    if (i >= field_value(a.count)) return;
     FieldRun run = field_run();
     if (a.p0 == 1u) {
         field_mark(run, run.points.value[i], FIELD_FRESH, false);

@@ -53,7 +53,9 @@ struct FieldRun {
 
 // The push constants of the field sampler's kernels (shaders/field_*.comp): the run, the buffers
 // each kernel reads and writes (by its own reading of them), the host's counters, and items
-// [first, count) of the dispatch, with up to four parameters.
+// [first, count) of the dispatch, with up to four parameters. A count or parameter with
+// FIELD_COUNTED set is counter slot (value & ~FIELD_COUNTED)'s value on the device: a list whose
+// length a scan earlier in the same submit found (the dispatch covers a bound on it).
 struct FieldArgs {
     uint64_t run;     // the FieldRun
     uint64_t cells;   // the active list (uvec4: corner, side's bits, weight)
@@ -81,6 +83,7 @@ const uint FIELD_COUNTER_TOTAL = 4u;
 const uint FIELD_COUNTER_EXPONENTS = 16u;
 const uint FIELD_EXPONENT_BIAS = 64u;
 const uint FIELD_COUNTER_WORDS = FIELD_COUNTER_EXPONENTS + 128u;
+const uint FIELD_COUNTED = 0x80000000u;
 
 // The search steps an invocation has left, and whether it ran out (then its answers are void
 // and the run stops with an error).

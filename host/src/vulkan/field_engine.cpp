@@ -202,9 +202,13 @@ bool FieldVulkan::throw_and_resolve(std::uint32_t round, std::uint32_t stamp) {
     thrown_ = thrown;
     darts_thrown_ += thrown;
     if (thrown == 0) return false;
-    // The throw: every dart at its slot, flagged if it stays; the kept ones compacted in order.
+    // The throw: every dart at its slot, flagged if it stays; the kept ones compacted in order and
+    // resolved in the same submit, their count on the device (FIELD_COUNTED), their arrays sized
+    // for every dart thrown.
     grow(ctx_, raw_, thrown * 16);
     grow(ctx_, flags_, thrown * 4);
+    grow(ctx_, darts_, thrown * 16);
+    grow(ctx_, states_, thrown * 4);
     primitives_.reserve_scan(thrown);
     ctx_.begin();
     clear_counters();
@@ -214,32 +218,21 @@ bool FieldVulkan::throw_and_resolve(std::uint32_t round, std::uint32_t stamp) {
     dispatch(field_throw_, a, 0, active_);
     ctx_.barrier();
     primitives_.scan(flags_.address(), thrown, kKeptTotal);
-    ctx_.submit_and_wait();
-    check_budget();
-    const std::uint64_t kept = counters()[kKeptTotal];
-    if (kept == 0) return false;
-    grow(ctx_, darts_, kept * 16);
-    grow(ctx_, states_, kept * 4);
-    grow(ctx_, pairs_, kept * 8);
-    grow(ctx_, keys_, kept * 4);
-    grow(ctx_, sort_tmp_, kept * 12);
-    primitives_.reserve_scan(kept);
-    primitives_.reserve_sort(std::uint32_t(kept));
-    ctx_.begin();
     FieldArgs c = args();
     c.cells = raw_.address();
     c.target = darts_.address();
     c.words0 = flags_.address();
-    c.p0 = std::uint32_t(kept);
+    c.p0 = FIELD_COUNTED | kKeptTotal;
     dispatch(field_compact_, c, 0, thrown);
-    ctx_.vk().vkCmdFillBuffer(ctx_.recording(), states_.handle(), 0, kept * 4, DART_UNDECIDED);
+    // Past the kept darts too: their flags below are then 0.
+    ctx_.vk().vkCmdFillBuffer(ctx_.recording(), states_.handle(), 0, VK_WHOLE_SIZE, DART_UNDECIDED);
     ctx_.barrier();
     // Each leaf with darts: its first dart, and its path marked fresh.
     FieldArgs d = args();
     d.cells = darts_.address();
     d.words0 = leaf_first_.address();
     d.words1 = states_.address();
-    dispatch(field_first_darts_, d, 0, kept);
+    dispatch_counted(field_first_darts_, d, thrown, kKeptTotal);
     ctx_.barrier();
     // Resolution passes until no dart is undecided. Each submit also carries the next step behind
     // a gate that holds while darts are undecided: the leaves' fresh marks off, and the accepted
@@ -248,7 +241,7 @@ bool FieldVulkan::throw_and_resolve(std::uint32_t round, std::uint32_t stamp) {
         for (std::uint32_t pass = 0; pass < kPassesPerSubmit; ++pass) {
             ctx_.vk().vkCmdFillBuffer(ctx_.recording(), counters_.handle(), FIELD_COUNTER_UNDECIDED * 4, 4, 0);
             ctx_.barrier();
-            dispatch(field_resolve_, d, 0, kept);
+            dispatch_counted(field_resolve_, d, thrown, kKeptTotal);
             ctx_.barrier();
         }
         const GateArgs g{counters_.address(), gate_.address(), FIELD_COUNTER_UNDECIDED,
@@ -258,20 +251,20 @@ bool FieldVulkan::throw_and_resolve(std::uint32_t round, std::uint32_t stamp) {
         ctx_.open_gate(gate_);
         FieldArgs u = d;
         u.p0 = 0;
-        dispatch(field_unmark_, u, 0, kept);
+        dispatch_counted(field_unmark_, u, thrown, kKeptTotal);
         FieldArgs f = d;
         f.words0 = flags_.address();
         f.p0 = 0;
-        dispatch(field_accepted_, f, 0, kept);
+        dispatch(field_accepted_, f, 0, thrown);
         ctx_.barrier();
-        primitives_.scan(flags_.address(), kept, kAcceptedTotal);
+        primitives_.scan(flags_.address(), thrown, kAcceptedTotal);
         ctx_.close_gate();
         ctx_.submit_and_wait();
         check_budget();
         if (counters()[FIELD_COUNTER_UNDECIDED] == 0) break;
         ctx_.begin();
     }
-    const std::uint64_t accepted = counters()[kAcceptedTotal];
+    const std::uint64_t kept = counters()[kKeptTotal], accepted = counters()[kAcceptedTotal];
     if (accepted == 0) return false;
     if (samples_ + accepted > capacity_) {
         capacity_ = std::max(samples_ + accepted, capacity_ + capacity_ / 4);
@@ -279,7 +272,12 @@ bool FieldVulkan::throw_and_resolve(std::uint32_t round, std::uint32_t stamp) {
         grow(ctx_, radii_, capacity_ * 4, true);
         write_run();
     }
-    // The refinement's arrays, sized before their submit holds commands on the arrays they replace.
+    // The sort's arrays, and the refinement's, sized before their submit holds commands on the
+    // arrays they replace.
+    grow(ctx_, pairs_, kept * 8);
+    grow(ctx_, keys_, kept * 4);
+    grow(ctx_, sort_tmp_, kept * 12);
+    primitives_.reserve_sort(std::uint32_t(kept));
     grow(ctx_, fates_, active_ * 4);
     grow(ctx_, counts_, active_ * 4);
     primitives_.reserve_scan(active_);

@@ -49,6 +49,15 @@ private:
     // Records kernel k over items [begin, end) (chunks of at most kMaxGroups workgroups).
     void dispatch(const Kernel& k, shared::FieldArgs args, std::uint64_t begin, std::uint64_t end) {
         args.count = std::uint32_t(end);
+        record(k, args, begin, end);
+    }
+    // Records kernel k over a list whose length a scan leaves in counter `slot` within the submit:
+    // the dispatch covers `bound` items, and the kernel reads its count from the counter.
+    void dispatch_counted(const Kernel& k, shared::FieldArgs args, std::uint64_t bound, std::uint32_t slot) {
+        args.count = shared::FIELD_COUNTED | slot;
+        record(k, args, 0, bound);
+    }
+    void record(const Kernel& k, shared::FieldArgs args, std::uint64_t begin, std::uint64_t end) {
         for (std::uint64_t from = begin; from < end; from += std::uint64_t(kMaxGroups) * shared::WORKGROUP_SIZE) {
             args.first = std::uint32_t(from);
             ctx_.dispatch(
