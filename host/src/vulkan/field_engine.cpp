@@ -141,24 +141,43 @@ bool FieldVulkan::refine_list(std::uint32_t mode, std::uint32_t param, std::uint
     dispatch(field_fates_, a, 0, active_);
     ctx_.barrier();
     primitives_.scan(counts_.address(), active_, kCellsTotal);
+    // Scatter into the next list; it counts the cells per exponent and their least side afresh.
+    // With the next list at its worst case (every cell split in four) it goes into the same
+    // submit, where that keeps the device's arrays within their peak so far (the deep rounds).
+    const std::uint64_t worst = std::max<std::uint64_t>(active_ * 4, 1) * 8;
+    const bool one_submit =
+        mode == 1 && (next_.size() >= worst || ctx_.allocated_bytes() - next_.size() + worst <= ctx_.peak_allocated_bytes());
+    auto scatter = [&] {
+        a.target = next_.address();
+        dispatch(field_scatter_, a, 0, active_);
+        if (settle_from < samples_) {
+            // The samples from settle_from on settle: their fresh marks, read by the fates, cleared.
+            FieldArgs u = args();
+            u.p0 = 1;
+            dispatch(field_unmark_, u, settle_from, samples_);
+        }
+        ctx_.barrier();
+    };
+    if (one_submit) {
+        grow(ctx_, next_, worst);  // no command recorded reads the list it replaces
+        // The scatter's counters only: the scan's total is read below.
+        ctx_.vk().vkCmdFillBuffer(ctx_.recording(), counters_.handle(), FIELD_COUNTER_EXPONENTS * 4,
+                                  (FIELD_COUNTER_WORDS - FIELD_COUNTER_EXPONENTS) * 4, 0);
+        ctx_.vk().vkCmdFillBuffer(ctx_.recording(), counters_.handle(), FIELD_COUNTER_LEAST_BITS * 4, 4, UINT32_MAX);
+        ctx_.barrier();
+        scatter();
+    }
     ctx_.submit_and_wait();
     check_budget();
     const std::uint64_t total = counters()[kCellsTotal];
-    if (mode == 0 && counters()[FIELD_COUNTER_SPLITS] == 0) return false;
-    // Scatter into the next list; it counts the cells per exponent and their least side afresh.
-    grow(ctx_, next_, std::max<std::uint64_t>(total, 1) * 8);
-    ctx_.begin();
-    clear_counters();
-    a.target = next_.address();
-    dispatch(field_scatter_, a, 0, active_);
-    if (settle_from < samples_) {
-        // The samples from settle_from on settle: their fresh marks, read by the fates, cleared.
-        FieldArgs u = args();
-        u.p0 = 1;
-        dispatch(field_unmark_, u, settle_from, samples_);
+    if (!one_submit) {
+        if (mode == 0 && counters()[FIELD_COUNTER_SPLITS] == 0) return false;
+        grow(ctx_, next_, std::max<std::uint64_t>(total, 1) * 8);
+        ctx_.begin();
+        clear_counters();
+        scatter();
+        ctx_.submit_and_wait();
     }
-    ctx_.barrier();
-    ctx_.submit_and_wait();
     std::swap(cells_, next_);
     active_ = total;
     least_bits_ = counters()[FIELD_COUNTER_LEAST_BITS];
