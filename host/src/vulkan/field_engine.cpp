@@ -61,6 +61,7 @@ FieldVulkan::FieldVulkan(const SampleOptions& o, std::uint32_t budget)
       density_(o.sizing->weighting == Weighting::Density) {
     if (o.profile) ctx_.start_profile();
     gate_ = Buffer(ctx_, VulkanContext::kGateDispatches * 12, true);
+    exp_table_ = Buffer(ctx_, 128 * 4, true);
     budget_ = budget != 0                                                ? budget
               : ctx_.device_name().find("llvmpipe") != std::string::npos ? kLavapipeBudget
                                                                          : UINT32_MAX - 1;
@@ -202,15 +203,14 @@ bool FieldVulkan::throw_and_resolve(std::uint32_t round, std::uint32_t stamp) {
     field::exp_neg_table(rate, exp_neg);
     const std::uint32_t key = round_key(o_.seed, round);
     // Each cell's darts, their offsets by a scan.
-    Buffer table(ctx_, sizeof(exp_neg), true);
-    std::memcpy(table.mapped(), exp_neg, sizeof(exp_neg));
+    std::memcpy(exp_table_.mapped(), exp_neg, sizeof(exp_neg));
     grow(ctx_, offsets_, active_ * 4);
     primitives_.reserve_scan(active_);
     ctx_.begin();
     FieldArgs a = args();
     a.cells = cells_.address();
     a.words0 = offsets_.address();
-    a.words1 = table.address();
+    a.words1 = exp_table_.address();
     a.p0 = key;
     a.p1 = density_ ? 1 : 0;
     dispatch(field_count_darts_, a, 0, active_);

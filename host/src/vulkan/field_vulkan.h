@@ -115,7 +115,8 @@ private:
     std::uint32_t budget_;        // the search steps an invocation may take
     std::vector<Buffer> tables_;  // the table's arrays
     Buffer run_, roots_, nodes_, leaf_sample_, leaf_first_, touched_, points_, radii_;
-    Buffer gate_;  // the commands of gated dispatches (VulkanContext::open_gate)
+    Buffer gate_;       // the commands of gated dispatches (VulkanContext::open_gate)
+    Buffer exp_table_;  // the round's exp(-rate 2^k) table (field::exp_neg_table), host-visible
     Buffer cells_, next_, fates_, counts_, offsets_, raw_, flags_, darts_, states_, pairs_, keys_, sort_tmp_;
     std::uint64_t active_ = 0, samples_ = 0, capacity_ = 0, darts_thrown_ = 0, thrown_ = 0;  // thrown_: this round's
     std::uint32_t least_bits_ = UINT32_MAX;
