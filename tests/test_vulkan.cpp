@@ -11,6 +11,7 @@
 #include "vulkan/buffer.h"
 #include "vulkan/device.h"
 #include "vulkan/kernel.h"
+#include "coverage_probe.h"
 
 using namespace vrpd;
 
@@ -62,6 +63,46 @@ TEST_CASE("contexts come and go without the drivers being unloaded and loaded ag
             if (name.find("VkLayer") == std::string::npos) CHECK(after_first.count(name) == 1);
         }
     }
+}
+
+// Making a run's device and pipelines takes tens of milliseconds: a run's context goes back for
+// the next run on the same device, and a run that fails drops its context.
+TEST_CASE("a run's context serves the next run on its device, pipelines and all, its counts afresh", "[gpu][vulkan]") {
+    const auto make_kernel = [](detail::VulkanContext& ctx) {
+        return detail::Kernel(ctx, "coverage_probe", {spirv_coverage_probe, std::size(spirv_coverage_probe)}, 64, 64);
+    };
+    const detail::VulkanContext* kept = nullptr;
+    {
+        detail::ContextLease lease("", nullptr);
+        make_kernel(lease.get());
+        const detail::Buffer b(lease.get(), 4096, true);
+        lease.get().begin();
+        lease.get().submit_and_wait();
+        CHECK(lease.get().submits() == 1);
+        kept = &lease.get();
+    }
+    {
+        detail::ContextLease lease("", nullptr);
+        REQUIRE(&lease.get() == kept);
+        CHECK(lease.get().submits() == 0);
+        CHECK(lease.get().peak_allocated_bytes() == 0);
+        const std::size_t pipelines = lease.get().pipelines();
+        CHECK(pipelines >= 1);
+        make_kernel(lease.get());
+        CHECK(lease.get().pipelines() == pipelines);  // none made anew
+        // While it is held, another run makes a context of its own; of the two back at once, the
+        // one with the pipelines stays.
+        detail::ContextLease other("", nullptr);
+        CHECK(other.get().pipelines() == 0);
+    }
+    try {
+        detail::ContextLease lease("", nullptr);
+        REQUIRE(&lease.get() == kept);
+        throw Error("a run that fails");
+    } catch (const Error&) {
+    }
+    detail::ContextLease after("", nullptr);
+    CHECK(after.get().pipelines() == 0);
 }
 
 TEST_CASE("a buffer larger than the device holds is refused as out of memory", "[gpu][vulkan]") {

@@ -5,6 +5,8 @@
 #include <cctype>
 #include <cstdlib>
 #include <cstring>
+#include <exception>
+#include <mutex>
 
 #include <fmt/format.h>
 
@@ -135,9 +137,6 @@ VulkanContext::VulkanContext(const VulkanTarget& target) {
     queue_ = target.queue;
     make_command_objects();
 }
-
-VulkanContext::VulkanContext(const std::string& selector, const VulkanTarget* target)
-    : VulkanContext(target ? VulkanContext(*target) : VulkanContext(selector)) {}
 
 void VulkanContext::load_functions(PFN_vkGetInstanceProcAddr get_proc, VkInstance instance) {
 #define VRPD_VK_FN(name) \
@@ -370,6 +369,55 @@ void VulkanContext::check_validation() {
     std::size_t count = messages_.size();
     messages_.clear();
     throw Error(fmt::format("Vulkan validation reported {} message(s); first: {}", count, first));
+}
+
+void VulkanContext::start_run() {
+    peak_allocated_ = allocated_;
+    submits_ = 0;
+    profiler_.reset();
+}
+
+namespace {
+// The idle contexts, one per device key; never destroyed, so that no driver is called from the
+// destructors run at exit.
+struct IdleContexts {
+    std::mutex lock;
+    std::map<std::string, std::unique_ptr<VulkanContext>> by_key;
+};
+IdleContexts& idle_contexts() {
+    static IdleContexts* const idle = new IdleContexts;
+    return *idle;
+}
+}  // namespace
+
+ContextLease::ContextLease(const std::string& selector, const VulkanTarget* target)
+    : exceptions_(std::uncaught_exceptions()) {
+    if (target) {
+        ctx_ = std::make_unique<VulkanContext>(*target);
+        return;
+    }
+    // What picks the device and the layers, besides the selector.
+    const char* env = std::getenv("VRPD_DEVICE");
+    key_ = fmt::format("{}\n{}\n{}", selector, env ? env : "", validation_requested() ? 1 : 0);
+    {
+        IdleContexts& idle = idle_contexts();
+        const std::lock_guard hold(idle.lock);
+        if (const auto found = idle.by_key.find(key_); found != idle.by_key.end()) {
+            ctx_ = std::move(found->second);
+            idle.by_key.erase(found);
+        }
+    }
+    if (!ctx_) ctx_ = std::make_unique<VulkanContext>(selector);
+    ctx_->start_run();
+}
+
+ContextLease::~ContextLease() {
+    if (key_.empty() || std::uncaught_exceptions() != exceptions_ || !ctx_->idle()) return;
+    IdleContexts& idle = idle_contexts();
+    const std::lock_guard hold(idle.lock);
+    // Of two contexts back from runs at once, the one with more pipelines stays.
+    const auto [at, fresh] = idle.by_key.try_emplace(key_, std::move(ctx_));
+    if (!fresh && at->second->pipelines() < ctx_->pipelines()) std::swap(at->second, ctx_);
 }
 
 }  // namespace vrpd::detail

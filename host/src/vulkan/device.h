@@ -4,8 +4,11 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <memory>
+#include <span>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "handles.h"
@@ -29,8 +32,6 @@ public:
     // On the application's instance and device (vrpd/vulkan_target.h), which it neither creates
     // nor destroys; throws Error if the physical device lacks what vrpd needs.
     explicit VulkanContext(const VulkanTarget& target);
-    // The target's context if there is one, else the selector's.
-    VulkanContext(const std::string& selector, const VulkanTarget* target);
     ~VulkanContext();
     VulkanContext(const VulkanContext&) = delete;
     VulkanContext& operator=(const VulkanContext&) = delete;
@@ -78,6 +79,21 @@ public:
     void start_profile();
     std::vector<PhaseTime> profile() const;
 
+    // The pipeline of a kernel's SPIR-V (by its address), push-constant size and workgroup size:
+    // made on first use (tens of milliseconds for a run's kernels), kept until the context goes.
+    struct Pipeline {
+        OwnedPipelineLayout layout;
+        OwnedPipeline pipeline;
+    };
+    const Pipeline& pipeline(std::span<const std::uint32_t> spirv, std::uint32_t push_size, std::uint32_t workgroup);
+    std::size_t pipelines() const { return pipelines_.size(); }
+
+    // A run starts on a context a run before may have used (ContextLease): its memory peak,
+    // submits and profile start afresh.
+    void start_run();
+    // No buffer, gate or validation message left over: fit for another run.
+    bool idle() const { return allocated_ == 0 && gate_ == nullptr && messages_.empty(); }
+
 private:
     static VKAPI_ATTR VkBool32 VKAPI_CALL on_message(VkDebugUtilsMessageSeverityFlagBitsEXT,
                                                      VkDebugUtilsMessageTypeFlagsEXT,
@@ -111,6 +127,27 @@ private:
     std::uint64_t submits_ = 0;
     const Buffer* gate_ = nullptr;  // the open gate's table, if any
     std::uint32_t gated_ = 0;       // dispatches recorded through it
+    // After the device: destroyed before it.
+    std::map<std::tuple<const std::uint32_t*, std::uint32_t, std::uint32_t>, Pipeline> pipelines_;
+};
+
+// The context of one run: on the application's device (made for the run), or one of the
+// process's, taken from those earlier runs left idle on the same device and given back when the
+// lease ends, so that a run finds its device and pipelines made. Contexts go back only from a
+// run that ended normally, with nothing left over; the process keeps one idle context per device
+// until it exits.
+class ContextLease {
+public:
+    ContextLease(const std::string& selector, const VulkanTarget* target);
+    ~ContextLease();
+    ContextLease(const ContextLease&) = delete;
+    ContextLease& operator=(const ContextLease&) = delete;
+    VulkanContext& get() { return *ctx_; }
+
+private:
+    std::unique_ptr<VulkanContext> ctx_;
+    std::string key_;  // empty: the application's device, never kept
+    int exceptions_;   // std::uncaught_exceptions() when the lease began
 };
 
 }  // namespace vrpd::detail

@@ -50,7 +50,8 @@ VulkanEngine::VulkanEngine(const Plan& plan, const std::string& selector, const 
                            std::uint32_t passes_per_submit)
     : plan_(plan),
       passes_per_submit_(std::max<std::uint32_t>(passes_per_submit, 1)),
-      ctx_(selector, target),
+      lease_(selector, target),
+      ctx_(lease_.get()),
       VRPD_KERNEL(init_cells, CellArgs, WORKGROUP_SIZE),
       VRPD_KERNEL(place_samples, DartArgs, WORKGROUP_SIZE),
       VRPD_KERNEL(flag_dart_cells, CellArgs, WORKGROUP_SIZE),

@@ -41,7 +41,8 @@ constexpr std::uint32_t kLavapipeBudget = 6000;
 
 FieldVulkan::FieldVulkan(const SampleOptions& o, std::uint32_t budget)
     : o_(o),
-      ctx_(o.device, o.vulkan),
+      lease_(o.device, o.vulkan),
+      ctx_(lease_.get()),
       counters_(ctx_, FIELD_COUNTER_WORDS * 4, true),
       primitives_(ctx_, counters_),
       VRPD_KERNEL(field_histogram, FieldArgs, WORKGROUP_SIZE),

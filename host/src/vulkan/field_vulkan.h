@@ -105,7 +105,8 @@ private:
 
     const FieldTable* t_ = nullptr;  // the run's
     const SampleOptions& o_;
-    VulkanContext ctx_;
+    ContextLease lease_;
+    VulkanContext& ctx_;
     Buffer counters_;
     Primitives primitives_;
     Kernel field_histogram_, field_fates_, field_scatter_, field_count_darts_, field_throw_, field_compact_,

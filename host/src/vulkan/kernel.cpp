@@ -8,20 +8,28 @@ namespace vrpd::detail {
 Kernel::Kernel(VulkanContext& ctx, std::string name, std::span<const std::uint32_t> spirv, std::uint32_t push_size,
                std::uint32_t workgroup)
     : name_(std::move(name)), push_size_(push_size) {
-    const auto& vk = ctx.vk();
+    const VulkanContext::Pipeline& p = ctx.pipeline(spirv, push_size, workgroup);
+    layout_ = p.layout.get();
+    pipeline_ = p.pipeline.get();
+}
+
+const VulkanContext::Pipeline& VulkanContext::pipeline(std::span<const std::uint32_t> spirv, std::uint32_t push_size,
+                                                       std::uint32_t workgroup) {
+    const auto key = std::make_tuple(spirv.data(), push_size, workgroup);
+    if (const auto found = pipelines_.find(key); found != pipelines_.end()) return found->second;
     VkShaderModuleCreateInfo mi{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
     mi.codeSize = spirv.size_bytes();
     mi.pCode = spirv.data();
     VkShaderModule module = VK_NULL_HANDLE;
-    ctx.check(vk.vkCreateShaderModule(ctx.device(), &mi, nullptr, &module), "vkCreateShaderModule");
-    const auto owned_module = own<OwnedShaderModule>(vk, ctx.device(), module);  // needed only to build the pipeline
+    check(vk_.vkCreateShaderModule(device(), &mi, nullptr, &module), "vkCreateShaderModule");
+    const auto owned_module = own<OwnedShaderModule>(vk_, device(), module);  // needed only to build the pipeline
     VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, push_size};
     VkPipelineLayoutCreateInfo li{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
     li.pushConstantRangeCount = 1;
     li.pPushConstantRanges = &range;
     VkPipelineLayout layout = VK_NULL_HANDLE;
-    ctx.check(vk.vkCreatePipelineLayout(ctx.device(), &li, nullptr, &layout), "vkCreatePipelineLayout");
-    layout_ = own<OwnedPipelineLayout>(vk, ctx.device(), layout);
+    check(vk_.vkCreatePipelineLayout(device(), &li, nullptr, &layout), "vkCreatePipelineLayout");
+    Pipeline made{own<OwnedPipelineLayout>(vk_, device(), layout), {}};
     VkSpecializationMapEntry entry{0, 0, sizeof(std::uint32_t)};
     VkSpecializationInfo spec{1, &entry, sizeof(std::uint32_t), &workgroup};
     VkComputePipelineCreateInfo pi{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
@@ -32,9 +40,10 @@ Kernel::Kernel(VulkanContext& ctx, std::string name, std::span<const std::uint32
     pi.stage.pSpecializationInfo = &spec;
     pi.layout = layout;
     VkPipeline pipeline = VK_NULL_HANDLE;
-    ctx.check(vk.vkCreateComputePipelines(ctx.device(), VK_NULL_HANDLE, 1, &pi, nullptr, &pipeline),
-              "vkCreateComputePipelines");
-    pipeline_ = own<OwnedPipeline>(vk, ctx.device(), pipeline);
+    check(vk_.vkCreateComputePipelines(device(), VK_NULL_HANDLE, 1, &pi, nullptr, &pipeline),
+          "vkCreateComputePipelines");
+    made.pipeline = own<OwnedPipeline>(vk_, device(), pipeline);
+    return pipelines_.emplace(key, std::move(made)).first->second;
 }
 
 }  // namespace vrpd::detail

@@ -12,20 +12,22 @@ namespace vrpd::detail {
 
 class VulkanContext;
 
+// A kernel's pipeline, from its context's cache (VulkanContext::pipeline): a handle that owns
+// nothing, valid while the context lives.
 class Kernel {
 public:
     Kernel(VulkanContext& ctx, std::string name, std::span<const std::uint32_t> spirv, std::uint32_t push_size,
            std::uint32_t workgroup);
-    VkPipeline pipeline() const { return pipeline_.get(); }
-    VkPipelineLayout layout() const { return layout_.get(); }
+    VkPipeline pipeline() const { return pipeline_; }
+    VkPipelineLayout layout() const { return layout_; }
     std::uint32_t push_size() const { return push_size_; }
     const std::string& name() const { return name_; }
 
 private:
     std::string name_;
     std::uint32_t push_size_;
-    OwnedPipelineLayout layout_;
-    OwnedPipeline pipeline_;
+    VkPipelineLayout layout_;
+    VkPipeline pipeline_;
 };
 
 }  // namespace vrpd::detail

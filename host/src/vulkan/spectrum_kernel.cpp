@@ -15,7 +15,8 @@ namespace vrpd::detail {
 std::string device_periodogram(const std::vector<std::vector<shared::uvec2>>& sets, std::uint32_t half_width,
                                const std::string& selector, std::vector<double>& sum) {
     constexpr std::uint32_t kWorkgroup = 64;  // the kernel's local_size_x
-    VulkanContext ctx(selector);
+    ContextLease lease(selector, nullptr);
+    VulkanContext& ctx = lease.get();
     const Kernel spectrum(ctx, "spectrum", spirv_words(spirv_spectrum), sizeof(shared::SpectrumArgs), kWorkgroup);
     const auto frequencies = std::uint32_t(sum.size());
     std::size_t largest = 0;

@@ -101,7 +101,8 @@ private:
     Plan plan_;
     std::uint32_t passes_per_submit_;
     std::uint64_t shut_gates_ = 0;
-    VulkanContext ctx_;
+    ContextLease lease_;
+    VulkanContext& ctx_;
     bool two_ = shared::two_radii(plan_.domain.radii);  // picks the kernels' variants (CMakeLists.txt)
     Buffer counters_, grid_;
     Buffer gate_;        // the commands of gated dispatches (round, VulkanContext::open_gate)
