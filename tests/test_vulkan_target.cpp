@@ -198,6 +198,52 @@ TEST_CASE(
     CHECK(app.messages.empty());
 }
 
+// A renderer that samples again (another seed, radius or field) finds its pipelines made.
+TEST_CASE("a DeviceSampler keeps its pipelines on the application's device from call to call, and frees them",
+          "[vulkan][gpu]") {
+    Application app;
+    SampleOptions o = test::options(0.02, 5, Backend::Gpu);
+    SampleOptions field = test::options(0, 6, Backend::Gpu, {1, 1, Boundary::Free});
+    field.sizing = Sizing{"0.02 + 0.02*x", "", 0, 0, -1, SizingRule::Smaller, Weighting::Uniform};
+    {
+        DeviceSampler sampler(app.target());
+        CHECK(sampler.pipelines() == 0);
+        std::size_t made = 0;
+        for (std::uint32_t seed : {5u, 6u}) {
+            o.seed = seed;
+            SampleOptions on_cpu = o;
+            on_cpu.backend = Backend::Cpu;
+            const DeviceSamples out = sampler.sample(o);
+            CHECK(out.sampling.lattice == sample(on_cpu).lattice);
+            if (seed == 5) made = sampler.pipelines();
+            CHECK(made > 10);
+            CHECK(sampler.pipelines() == made);  // the second call makes none
+            app.vk.vkDestroyBuffer(app.device, out.buffer, nullptr);
+            app.vk.vkFreeMemory(app.device, out.memory, nullptr);
+        }
+        // A field's kernels are made once too.
+        SampleOptions field_cpu = field;
+        field_cpu.backend = Backend::Cpu;
+        const Sampling expected = sample(field_cpu);
+        for (int call = 0; call < 2; ++call) {
+            const DeviceSamples out = sampler.sample(field);
+            CHECK(out.sampling.lattice == expected.lattice);
+            if (call == 0) {
+                CHECK(sampler.pipelines() > made);
+                made = sampler.pipelines();
+            }
+            CHECK(sampler.pipelines() == made);
+            app.vk.vkDestroyBuffer(app.device, out.buffer, nullptr);
+            app.vk.vkFreeMemory(app.device, out.memory, nullptr);
+        }
+    }
+    // The sampler gone, nothing of vrpd's is left on the device.
+    app.vk.vkDestroyDevice(app.device, nullptr);
+    app.device = VK_NULL_HANDLE;
+    INFO((app.messages.empty() ? std::string() : app.messages.front()));
+    CHECK(app.messages.empty());
+}
+
 TEST_CASE("sampling on the application's device: its buffer, the cpu backend's points, no validation message",
           "[vulkan][gpu][hierarchy]") {
     Application app;

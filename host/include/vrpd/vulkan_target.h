@@ -2,7 +2,9 @@
 // the samples left in a buffer it can bind as a vertex or storage buffer.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
+#include <memory>
 
 #include <vulkan/vulkan_core.h>
 
@@ -12,8 +14,8 @@ namespace vrpd {
 
 // The application's Vulkan objects. vrpd creates no instance or device on them: it makes its own
 // command pool, fence, pipelines and buffers on `device` and frees them before it returns (the
-// buffer it hands over excepted). The device must have been created with Vulkan 1.2, the features
-// bufferDeviceAddress (Vulkan 1.2) and shaderInt64, and a queue of `queue_family` that has
+// buffer it hands over excepted), or, through a DeviceSampler, when that goes. The device must have been created with
+// Vulkan 1.2, the features bufferDeviceAddress (Vulkan 1.2) and shaderInt64, and a queue of `queue_family` that has
 // compute. vrpd submits to `queue` from the calling thread and waits for its own work each time;
 // the queue is externally synchronised (Vulkan's rule): no other thread may use it during a call.
 struct VulkanTarget {
@@ -41,10 +43,8 @@ struct DeviceSamples {
     VkDeviceSize bytes = 0;      // sampling.size() * sizeof(DeviceSample)
 };
 
-// Samples `options` (its backend must be Auto or Gpu) on the target's device and writes the samples,
-// in birth order, to a buffer on it. A varying sizing field has no Vulkan kernels: under Auto the
-// host samples it (Sampling::choice says so) and the samples still go to the buffer; Gpu is refused.
-// The buffer:
+// Samples `options` (its backend must be Auto or Gpu) on the target's device, a varying sizing
+// field too, and writes the samples, in birth order, to a buffer on it. The buffer:
 // - `into` = VK_NULL_HANDLE: vrpd allocates a device-local buffer (usage vertex, storage, transfer
 //   source and destination; exclusive to `queue_family`) and hands it over with its memory: the
 //   caller frees both (vkDestroyBuffer, vkFreeMemory) once its own use of them is complete.
@@ -56,5 +56,29 @@ struct DeviceSamples {
 // transfers ownership of the buffer first. Throws Error with the reason.
 DeviceSamples sample_on(const VulkanTarget& target, const SampleOptions& options, VkBuffer into = VK_NULL_HANDLE,
                         VkDeviceSize into_bytes = 0);
+
+namespace detail {
+class VulkanContext;
+}
+
+// sample_on for an application that samples more than once: vrpd's command pool, fence and
+// kernels' pipelines on the target's device (tens of milliseconds to make) are made once and kept
+// until the DeviceSampler goes, which must be before the device. One thread at a time.
+class DeviceSampler {
+public:
+    // Throws Error as sample_on does for a target it cannot use.
+    explicit DeviceSampler(const VulkanTarget& target);
+    ~DeviceSampler();
+    DeviceSampler(const DeviceSampler&) = delete;
+    DeviceSampler& operator=(const DeviceSampler&) = delete;
+    // sample_on(target, options, into, into_bytes), on the objects kept.
+    DeviceSamples sample(const SampleOptions& options, VkBuffer into = VK_NULL_HANDLE, VkDeviceSize into_bytes = 0);
+    // The pipelines made on the device so far: a call makes none of those its kernels have.
+    std::size_t pipelines() const;
+
+private:
+    VulkanTarget target_;
+    std::unique_ptr<detail::VulkanContext> ctx_;
+};
 
 }  // namespace vrpd

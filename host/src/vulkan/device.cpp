@@ -375,14 +375,16 @@ void VulkanContext::start_run() {
     peak_allocated_ = allocated_;
     submits_ = 0;
     profiler_.reset();
+    gate_ = nullptr;
 }
 
 namespace {
-// The idle contexts, one per device key; never destroyed, so that no driver is called from the
-// destructors run at exit.
+// The idle contexts, one per device key, and the DeviceSamplers' contexts their runs borrow;
+// never destroyed, so that no driver is called from the destructors run at exit.
 struct IdleContexts {
     std::mutex lock;
     std::map<std::string, std::unique_ptr<VulkanContext>> by_key;
+    std::map<const VulkanTarget*, VulkanContext*> lent;  // DeviceSamplers' contexts
 };
 IdleContexts& idle_contexts() {
     static IdleContexts* const idle = new IdleContexts;
@@ -393,7 +395,16 @@ IdleContexts& idle_contexts() {
 ContextLease::ContextLease(const std::string& selector, const VulkanTarget* target)
     : exceptions_(std::uncaught_exceptions()) {
     if (target) {
-        ctx_ = std::make_unique<VulkanContext>(*target);
+        {
+            IdleContexts& idle = idle_contexts();
+            const std::lock_guard hold(idle.lock);
+            if (const auto found = idle.lent.find(target); found != idle.lent.end()) use_ = found->second;
+        }
+        if (!use_) {
+            ctx_ = std::make_unique<VulkanContext>(*target);
+            use_ = ctx_.get();
+        }
+        use_->start_run();
         return;
     }
     // What picks the device and the layers, besides the selector.
@@ -408,7 +419,8 @@ ContextLease::ContextLease(const std::string& selector, const VulkanTarget* targ
         }
     }
     if (!ctx_) ctx_ = std::make_unique<VulkanContext>(selector);
-    ctx_->start_run();
+    use_ = ctx_.get();
+    use_->start_run();
 }
 
 ContextLease::~ContextLease() {
@@ -418,6 +430,15 @@ ContextLease::~ContextLease() {
     // Of two contexts back from runs at once, the one with more pipelines stays.
     const auto [at, fresh] = idle.by_key.try_emplace(key_, std::move(ctx_));
     if (!fresh && at->second->pipelines() < ctx_->pipelines()) std::swap(at->second, ctx_);
+}
+
+void lend_context(const VulkanTarget* target, VulkanContext* ctx) {
+    IdleContexts& idle = idle_contexts();
+    const std::lock_guard hold(idle.lock);
+    if (ctx)
+        idle.lent[target] = ctx;
+    else
+        idle.lent.erase(target);
 }
 
 }  // namespace vrpd::detail

@@ -89,7 +89,7 @@ public:
     std::size_t pipelines() const { return pipelines_.size(); }
 
     // A run starts on a context a run before may have used (ContextLease): its memory peak,
-    // submits and profile start afresh.
+    // submits and profile start afresh, and no gate is open.
     void start_run();
     // No buffer, gate or validation message left over: fit for another run.
     bool idle() const { return allocated_ == 0 && gate_ == nullptr && messages_.empty(); }
@@ -131,8 +131,8 @@ private:
     std::map<std::tuple<const std::uint32_t*, std::uint32_t, std::uint32_t>, Pipeline> pipelines_;
 };
 
-// The context of one run: on the application's device (made for the run), or one of the
-// process's, taken from those earlier runs left idle on the same device and given back when the
+// The context of one run: on the application's device (its DeviceSampler's, else one made for
+// the run), or one of the process's, taken from those earlier runs left idle on the same device and given back when the
 // lease ends, so that a run finds its device and pipelines made. Contexts go back only from a
 // run that ended normally, with nothing left over; the process keeps one idle context per device
 // until it exits.
@@ -142,12 +142,17 @@ public:
     ~ContextLease();
     ContextLease(const ContextLease&) = delete;
     ContextLease& operator=(const ContextLease&) = delete;
-    VulkanContext& get() { return *ctx_; }
+    VulkanContext& get() { return *use_; }
 
 private:
-    std::unique_ptr<VulkanContext> ctx_;
+    std::unique_ptr<VulkanContext> ctx_;  // none when borrowed from a DeviceSampler
+    VulkanContext* use_ = nullptr;
     std::string key_;  // empty: the application's device, never kept
     int exceptions_;   // std::uncaught_exceptions() when the lease began
 };
+
+// A DeviceSampler's context for its target (the sampler's own copy, by address), which the runs
+// on that target borrow; null withdraws it.
+void lend_context(const VulkanTarget* target, VulkanContext* ctx);
 
 }  // namespace vrpd::detail

@@ -1,5 +1,6 @@
 // Sampling on the application's Vulkan device (vrpd/vulkan_target.h): the run's engine works on
-// the target's device; the samples then go to a buffer there, through one staging copy.
+// the target's device, on the DeviceSampler's context; the samples then go to a buffer there,
+// through one staging copy.
 #include <cstring>
 
 #include <fmt/format.h>
@@ -12,11 +13,24 @@ namespace vrpd {
 
 DeviceSamples sample_on(const VulkanTarget& target, const SampleOptions& options, VkBuffer into,
                         VkDeviceSize into_bytes) {
+    return DeviceSampler(target).sample(options, into, into_bytes);
+}
+
+DeviceSampler::DeviceSampler(const VulkanTarget& target)
+    : target_(target), ctx_(std::make_unique<detail::VulkanContext>(target)) {
+    detail::lend_context(&target_, ctx_.get());
+}
+
+DeviceSampler::~DeviceSampler() { detail::lend_context(&target_, nullptr); }
+
+std::size_t DeviceSampler::pipelines() const { return ctx_->pipelines(); }
+
+DeviceSamples DeviceSampler::sample(const SampleOptions& options, VkBuffer into, VkDeviceSize into_bytes) {
     using namespace detail;
     SampleOptions on_target = options;
-    on_target.vulkan = &target;
+    on_target.vulkan = &target_;  // the runs borrow ctx_ (ContextLease)
     DeviceSamples out;
-    out.sampling = sample(on_target);
+    out.sampling = vrpd::sample(on_target);
     const Sampling& s = out.sampling;
     out.bytes = s.size() * sizeof(DeviceSample);
     if (into && into_bytes < out.bytes)
@@ -31,7 +45,8 @@ DeviceSamples sample_on(const VulkanTarget& target, const SampleOptions& options
         rows[i] = {float(p.x), float(p.y), float(t), float(r)};
     }
 
-    VulkanContext ctx(target);
+    VulkanContext& ctx = *ctx_;
+    ctx.start_run();
     const VulkanFunctions& vk = ctx.vk();
     OwnedBuffer buffer;
     OwnedMemory memory;
