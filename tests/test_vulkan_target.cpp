@@ -1,7 +1,8 @@
 // Sampling on an application's own Vulkan device (vrpd/vulkan_target.h): the test plays the
 // application, with its own instance (validation layers on under the suite's VRPD_VALIDATION, its
-// own messenger), device and queue, and checks the buffers vrpd leaves there against the cpu backend's samples, and
-// that the validation layers said nothing from the instance's creation to its destruction.
+// own messenger), device and queue, and checks the buffers vrpd leaves there against the cpu
+// backend's samples, and that the validation layers said nothing from the instance's creation to
+// its destruction.
 #include <catch2/catch.hpp>
 
 #include <cstdlib>

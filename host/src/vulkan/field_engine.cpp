@@ -147,8 +147,8 @@ bool FieldVulkan::refine_list(std::uint32_t mode, std::uint32_t param, std::uint
     // With the next list at its worst case (every cell split in four) it goes into the same
     // submit, where that keeps the device's arrays within their peak so far (the deep rounds).
     const std::uint64_t worst = std::max<std::uint64_t>(active_ * 4, 1) * 8;
-    const bool one_submit =
-        mode == 1 && (next_.size() >= worst || ctx_.allocated_bytes() - next_.size() + worst <= ctx_.peak_allocated_bytes());
+    const bool one_submit = mode == 1 && (next_.size() >= worst ||
+                                          ctx_.allocated_bytes() - next_.size() + worst <= ctx_.peak_allocated_bytes());
     auto scatter = [&] {
         a.target = next_.address();
         dispatch(field_scatter_, a, 0, active_);
@@ -264,8 +264,7 @@ bool FieldVulkan::throw_and_resolve(std::uint32_t round, std::uint32_t stamp) {
             dispatch_counted(field_resolve_, d, thrown, kKeptTotal);
             ctx_.barrier();
         }
-        const GateArgs g{counters_.address(), gate_.address(), FIELD_COUNTER_UNDECIDED,
-                         VulkanContext::kGateDispatches};
+        const GateArgs g{counters_.address(), gate_.address(), FIELD_COUNTER_UNDECIDED, VulkanContext::kGateDispatches};
         ctx_.dispatch(gate_kernel_, &g, dispatch_groups(VulkanContext::kGateDispatches, WORKGROUP_SIZE));
         ctx_.barrier();  // the gated commands before the dispatches read them
         ctx_.open_gate(gate_);
