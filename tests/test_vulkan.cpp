@@ -7,11 +7,14 @@
 #include <cstdlib>
 #include <set>
 #include <string>
+#include <thread>
+#include <vector>
 
 #include "vulkan/buffer.h"
 #include "vulkan/device.h"
 #include "vulkan/kernel.h"
 #include "coverage_probe.h"
+#include "support.h"
 
 using namespace vrpd;
 
@@ -103,6 +106,17 @@ TEST_CASE("a run's context serves the next run on its device, pipelines and all,
     }
     detail::ContextLease after("", nullptr);
     CHECK(after.get().pipelines() == 0);
+}
+
+// Runs on several threads at once each take a context of their own from the process's.
+TEST_CASE("runs on four threads at once sample on the device as one run does", "[gpu][vulkan]") {
+    const Sampling expected = sample(test::options(0.01, 3, Backend::Cpu));
+    std::vector<Sampling> got(4);
+    std::vector<std::thread> threads;
+    for (std::size_t k = 0; k < got.size(); ++k)
+        threads.emplace_back([&, k] { got[k] = sample(test::options(0.01, 3, Backend::Gpu)); });
+    for (std::thread& t : threads) t.join();
+    for (const Sampling& s : got) CHECK(s.lattice == expected.lattice);
 }
 
 TEST_CASE("a buffer larger than the device holds is refused as out of memory", "[gpu][vulkan]") {
