@@ -2,7 +2,9 @@
 // host's sampler, byte for byte, under every rule and weighting on both boundaries.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <string>
+#include <vector>
 
 #include "field/table.h"
 #include "field_support.h"
@@ -118,4 +120,24 @@ TEST_CASE("a field kernel's search past its step budget stops the run with one l
     // With the device's own budget the same field samples.
     detail::FieldDevice own(o);
     CHECK(own.run(t, 1u << 24, {}, 0).size() > 100);
+}
+
+TEST_CASE("a field's profile names its phases on the host and on the device, and moves no point", "[field][gpu]") {
+    SampleOptions o = field_options("0.01 + 0.02*x", SizingRule::Smaller, Boundary::Free, 4);
+    const Sampling plain = sample(o);
+    o.profile = true;
+    for (const Backend b : {Backend::Cpu, Backend::Gpu}) {
+        o.backend = b;
+        const Sampling s = sample(o);
+        CHECK(s.lattice == plain.lattice);
+        std::vector<std::string> names;
+        for (const PhaseTime& p : s.stats.profile) names.push_back(p.name);
+        INFO("backend " << int(b));
+        // The table and the leaves on the host either way; the kernels' own on the device.
+        for (const char* name : {"tabulate", "leaves"}) CHECK(std::count(names.begin(), names.end(), name) == 1);
+        if (b == Backend::Gpu) {
+            CHECK(std::count(names.begin(), names.end(), "field_resolve") == 1);
+            CHECK(s.stats.round_trips > 0);
+        }
+    }
 }

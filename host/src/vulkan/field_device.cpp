@@ -144,9 +144,14 @@ FieldDevice::~FieldDevice() = default;
 
 Sampling FieldDevice::run(const FieldTable& t, std::uint64_t max_leaves, const std::vector<glm::uvec2>& given,
                           std::uint32_t first_round) {
+    const auto start = std::chrono::steady_clock::now();
     ThreadPool pool(threads_);
     const FieldQuadtree tree(t, max_leaves, pool);
-    return impl_->run(t, tree, given, first_round);
+    const double leaves = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    Sampling s = impl_->run(t, tree, given, first_round);
+    // The leaves are built on the host, as for the host sampler (its phase of the same name).
+    s.stats.profile.push_back({"leaves", leaves, 1});
+    return s;
 }
 
 std::string FieldDevice::device_name() { return impl_->context().device_name(); }
