@@ -1,6 +1,7 @@
 // The quadtree of a sizing field's base cells (quadtree.h): its leaves and the marks on its nodes.
 #include <algorithm>
 #include <atomic>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -30,6 +31,7 @@ FieldQuadtree::FieldQuadtree(const FieldTable& t, std::uint64_t max_leaves, Thre
                     build(part.arrays,
                           {std::uint32_t(k % t.tiles_x) << t.tile_bits, std::uint32_t(k / t.tiles_x) << t.tile_bits},
                           t.tile_bits, 0, limits, leaves);
+            count_leaves(part.arrays, limits, leaves);
             parts[c] = std::move(part);
         },
         kTileGrain);
@@ -88,11 +90,8 @@ std::uint32_t FieldQuadtree::build(Arrays& out, glm::uvec2 c, std::uint32_t bits
         r = t_.min_over(c, b);
     }
     if (short_enough(r)) {
-        // Leaf indices fit the node word's index bits.
-        if (leaves.fetch_add(1, std::memory_order_relaxed) >= limits.leaves)
-            throw Error(fmt::format("the field needs more than {} base cells, past {}", limits.leaves,
-                                    limits.leaves == limits.memory ? "the memory this machine allows"
-                                                                   : "the quadtree's 29-bit leaf index"));
+        // Counted in batches: one shared counter per leaf costs more than the build on many cores.
+        if (++out.uncounted == kLeafBatch) count_leaves(out, limits, leaves);
         out.depth = std::max(out.depth, t_.tile_bits - bits);
         return kLeaf | out.leaves++;
     }
@@ -105,6 +104,16 @@ std::uint32_t FieldQuadtree::build(Arrays& out, glm::uvec2 c, std::uint32_t bits
         out.nodes[first + k] = child;
     }
     return first;
+}
+
+void FieldQuadtree::count_leaves(Arrays& out, const Limits& limits, std::atomic<std::uint64_t>& leaves) {
+    // Leaf indices fit the node word's index bits. Every leaf is counted by the end of its chunk,
+    // so the run fails exactly when the leaves pass the limit, whatever the threads.
+    const std::uint64_t n = std::exchange(out.uncounted, 0);
+    if (leaves.fetch_add(n, std::memory_order_relaxed) + n > limits.leaves)
+        throw Error(fmt::format(
+            "the field needs more than {} base cells, past {}", limits.leaves,
+            limits.leaves == limits.memory ? "the memory this machine allows" : "the quadtree's 29-bit leaf index"));
 }
 
 void FieldQuadtree::set_sample(std::uint32_t leaf, glm::uvec2 p, std::uint32_t s) {

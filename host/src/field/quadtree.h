@@ -118,12 +118,16 @@ private:
         std::vector<std::uint32_t> nodes;
         std::uint32_t leaves = 0;
         std::uint32_t depth = 0;
+        std::uint32_t uncounted = 0;  // leaves not yet added to the shared count
     };
     struct Limits {
         std::uint64_t leaves, memory;  // the leaves allowed, and those the memory allows
     };
     // Builds the subtree of the block at `corner` (side 2^bits) into `out`; returns its node word.
-    // `floor` is at most the least r over the block; `leaves` counts every chunk's leaves.
+    // `floor` is at most the least r over the block; `leaves` counts every chunk's leaves, each
+    // chunk's added in batches (count_leaves).
+    // Adds out's uncounted leaves to `leaves`; throws Error if they pass the limit.
+    static void count_leaves(Arrays& out, const Limits& limits, std::atomic<std::uint64_t>& leaves);
     std::uint32_t build(Arrays& out, glm::uvec2 corner, std::uint32_t bits, std::uint32_t floor, const Limits& limits,
                         std::atomic<std::uint64_t>& leaves) const;
     // Sets or clears `flag` on the nodes from the tile root down to the leaf holding point p. Safe
@@ -148,6 +152,7 @@ private:
     static constexpr std::uint32_t kFresh = shared::FIELD_FRESH;
     static constexpr std::uint32_t kIndex = shared::FIELD_INDEX;
     static constexpr std::uint32_t kOutside = shared::FIELD_OUTSIDE;
+    static constexpr std::uint32_t kLeafBatch = 4096;  // leaves a chunk counts before adding them
     static_assert((kOutside & (kOccupied | kFresh)) == 0);
     // Query bounds: the lattice square [lo, hi] per axis (unwrapped), or the whole axis.
     struct Query {
