@@ -321,11 +321,17 @@ std::vector<PatchDraft> draft_patches(ThreadPool& pool, const FieldSource& f, co
     std::uint64_t nodes = 0;
     for (const PatchDraft& p : patches) nodes += nodes_at(p.depth);
     if (deepest || nodes > 2 * budget) return {};
-    // Conforming in place: a patch reads only its coarser neighbours' edges, which it never moves.
-    for (PatchDraft& p : patches) {
-        conform(p, patches, slot, d, periodic);
-        p.error = patch_error(p);
-    }
+    // Conforming in place, on the threads: a patch reads only its coarser neighbours' edges, which
+    // no patch moves (a patch moves only its nodes off the edges it shares with coarser ones).
+    pool.parallel_for(
+        patches.size(),
+        [&](std::size_t begin, std::size_t end, unsigned) {
+            for (std::size_t k = begin; k < end; ++k) {
+                conform(patches[k], patches, slot, d, periodic);
+                patches[k].error = patch_error(patches[k]);
+            }
+        },
+        4);
     std::sort(patches.begin(), patches.end(), [](const PatchDraft& a, const PatchDraft& b) { return a.cell < b.cell; });
     error = 0;
     for (std::uint32_t c = 0; c < cells; ++c)
@@ -334,28 +340,46 @@ std::vector<PatchDraft> draft_patches(ThreadPool& pool, const FieldSource& f, co
     return patches;
 }
 
-void install_patches(FieldTable& t, const std::vector<PatchDraft>& patches) {
+void install_patches(FieldTable& t, const std::vector<PatchDraft>& patches, ThreadPool& pool) {
     if (patches.empty()) return;
     const std::size_t cells = std::size_t(t.cells_x) * t.cells_y;
     t.patched.assign((cells + 63) / 64, 0);
     t.patch_rank.assign(t.patched.size(), 0);
-    for (const PatchDraft& p : patches) {
-        const std::uint32_t n = 1u << p.depth, m = 2 * n;
-        FieldTable::Patch q{std::uint32_t(t.patch_nodes.size()), p.depth, UINT32_MAX, 0};
-        for (std::uint32_t r = 0; r <= n; ++r)
-            for (std::uint32_t s = 0; s <= n; ++s) {
-                const double v = p.grid[std::size_t(2 * r) * (m + 1) + 2 * s];
-                const double units = std::round(v / t.quantum);
-                if (units >= 4294967295.0)
-                    throw Error(fmt::format("the field's radius {:.6g} is too large for the lattice of this box", v));
-                const std::uint32_t node = std::max<std::uint32_t>(1, std::uint32_t(units));
-                t.patch_nodes.push_back(node);
-                q.lo = std::min(q.lo, node);
-                q.hi = std::max(q.hi, node);
-            }
-        t.patches.push_back(q);
-        t.patched[p.cell >> 6] |= std::uint64_t(1) << (p.cell & 63);
+    // Each patch's nodes at its own offset, written on the threads; a radius too large for the
+    // lattice is reported for the first such patch in cell order, as one pass would.
+    t.patches.resize(patches.size());
+    std::uint64_t nodes = t.patch_nodes.size();
+    for (std::size_t k = 0; k < patches.size(); ++k) {
+        const std::uint32_t n = 1u << patches[k].depth;
+        t.patches[k] = {std::uint32_t(nodes), patches[k].depth, UINT32_MAX, 0};
+        nodes += std::uint64_t(n + 1) * (n + 1);
     }
+    t.patch_nodes.resize(nodes);
+    std::vector<double> too_large(patches.size(), 0.0);
+    pool.parallel_for(patches.size(), [&](std::size_t begin, std::size_t end, unsigned) {
+        for (std::size_t k = begin; k < end; ++k) {
+            const PatchDraft& p = patches[k];
+            FieldTable::Patch& q = t.patches[k];
+            const std::uint32_t n = 1u << p.depth, m = 2 * n;
+            std::uint32_t* out = t.patch_nodes.data() + q.first;
+            for (std::uint32_t r = 0; r <= n && too_large[k] == 0; ++r)
+                for (std::uint32_t s = 0; s <= n; ++s) {
+                    const double v = p.grid[std::size_t(2 * r) * (m + 1) + 2 * s];
+                    const double units = std::round(v / t.quantum);
+                    if (units >= 4294967295.0) {
+                        too_large[k] = v;
+                        break;
+                    }
+                    const std::uint32_t node = std::max<std::uint32_t>(1, std::uint32_t(units));
+                    *out++ = node;
+                    q.lo = std::min(q.lo, node);
+                    q.hi = std::max(q.hi, node);
+                }
+        }
+    });
+    for (const double v : too_large)
+        if (v != 0) throw Error(fmt::format("the field's radius {:.6g} is too large for the lattice of this box", v));
+    for (const PatchDraft& p : patches) t.patched[p.cell >> 6] |= std::uint64_t(1) << (p.cell & 63);
     std::uint32_t before = 0;
     for (std::size_t w = 0; w < t.patched.size(); ++w) {
         t.patch_rank[w] = before;

@@ -86,8 +86,9 @@ std::vector<PatchDraft> draft_patches(ThreadPool& pool, const FieldSource& f, co
                                       const std::vector<double>& cell_error, double target, std::uint64_t budget,
                                       double& error);
 
-// Gives t (its lattice and quantum set) the patches' nodes in lattice units, indexed by cell.
-void install_patches(FieldTable& t, const std::vector<PatchDraft>& patches);
+// Gives t (its lattice and quantum set) the patches' nodes in lattice units, indexed by cell,
+// on the pool's threads.
+void install_patches(FieldTable& t, const std::vector<PatchDraft>& patches, ThreadPool& pool);
 
 // A table's bounds as a chunk of its cells or patches sees them: the box's least and greatest r,
 // and the steepest gradient (in node units per table cell). Chunks join in any order: min and

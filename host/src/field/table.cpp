@@ -331,7 +331,7 @@ FieldTable tabulate(const Sizing& s, const Box& box, unsigned threads) {
             throw Error(fmt::format("the field's radius {:.6g} is too large for the lattice of this box", d.values[i]));
         t.nodes[i] = std::max<std::uint32_t>(1, std::uint32_t(units));
     }
-    install_patches(t, patches);
+    install_patches(t, patches, pool);
     if (!patches.empty()) {
         // The drafts are many small blocks of the heap: handed back to the system before the
         // sampler's arrays are allocated, rather than held below them.
