@@ -14,10 +14,11 @@ namespace vrpd {
 
 // The application's Vulkan objects. vrpd creates no instance or device on them: it makes its own
 // command pool, fence, pipelines and buffers on `device` and frees them before it returns (the
-// buffer it hands over excepted), or, through a DeviceSampler, when that goes. The device must have been created with
-// Vulkan 1.2, the features bufferDeviceAddress (Vulkan 1.2) and shaderInt64, and a queue of `queue_family` that has
-// compute. vrpd submits to `queue` from the calling thread and waits for its own work each time;
-// the queue is externally synchronised (Vulkan's rule): no other thread may use it during a call.
+// buffer it hands over excepted), or, through a DeviceSampler, when that goes. The device must
+// have been created with Vulkan 1.2, the features bufferDeviceAddress (Vulkan 1.2) and
+// shaderInt64, and a queue of `queue_family` that has compute. vrpd submits to `queue` from the
+// calling thread and waits for its own work each time; the queue is externally synchronised
+// (Vulkan's rule): no other thread may use it during a call.
 struct VulkanTarget {
     VkInstance instance = VK_NULL_HANDLE;
     VkPhysicalDevice physical_device = VK_NULL_HANDLE;

@@ -132,10 +132,10 @@ private:
 };
 
 // The context of one run: on the application's device (its DeviceSampler's, else one made for
-// the run), or one of the process's, taken from those earlier runs left idle on the same device and given back when the
-// lease ends, so that a run finds its device and pipelines made. Contexts go back only from a
-// run that ended normally, with nothing left over; the process keeps one idle context per device
-// until it exits.
+// the run), or one of the process's, taken from those earlier runs left idle on the same device
+// and given back when the lease ends, so that a run finds its device and pipelines made. Contexts
+// go back only from a run that ended normally, with nothing left over; the process keeps one idle
+// context per device until it exits.
 class ContextLease {
 public:
     ContextLease(const std::string& selector, const VulkanTarget* target);
