@@ -11,8 +11,10 @@
 #include <fmt/format.h>
 
 #include "buffer.h"
+#include "gate.h"
 #include "kernel.h"
 #include "profiler.h"
+#include "shared/kernels.h"
 
 namespace vrpd::detail {
 namespace {
@@ -318,9 +320,15 @@ void VulkanContext::note_allocation(std::int64_t bytes) {
     peak_allocated_ = std::max(peak_allocated_, allocated_);
 }
 
-void VulkanContext::open_gate(const Buffer& table) {
+void VulkanContext::open_gate(const Buffer& table, std::uint64_t counters, std::uint32_t slot) {
     if (table.mapped() == nullptr || table.size() < kGateDispatches * 12)
         throw Error("internal: a gate's table must be host-visible and hold its commands");
+    if (!gate_kernel_)
+        gate_kernel_ = std::make_unique<Kernel>(*this, "gate", spirv_words(spirv_gate), sizeof(shared::GateArgs),
+                                                shared::WORKGROUP_SIZE);
+    const shared::GateArgs g{counters, table.address(), slot, kGateDispatches};
+    dispatch(*gate_kernel_, &g, dispatch_groups(kGateDispatches, shared::WORKGROUP_SIZE));
+    barrier();  // the gated commands before the dispatches read them
     gate_ = &table;
     gated_ = 0;
 }

@@ -65,10 +65,11 @@ public:
     void dispatch(const Kernel& k, const void* push, std::uint32_t groups);
     void dispatch_indirect(const Kernel& k, const void* push, const Buffer& args, VkDeviceSize offset);
     // Between open_gate and close_gate, dispatch() records indirect dispatches whose commands it
-    // writes to `table` (host-visible, kGateDispatches commands of 3 words): a kernel recorded
-    // before them (gate.comp) may zero their group counts, and with them the gated work.
+    // writes to `table` (host-visible, kGateDispatches commands of 3 words). open_gate first
+    // records gate.comp, which zeroes their group counts, and with them the gated work, while
+    // counter word `slot` of the array at device address `counters` is not 0.
     static constexpr std::uint32_t kGateDispatches = 64;
-    void open_gate(const Buffer& table);
+    void open_gate(const Buffer& table, std::uint64_t counters, std::uint32_t slot);
     void close_gate() { gate_ = nullptr; }
 
     // Validation messages (VRPD_VALIDATION=1); throws Error with the first if there were any.
@@ -129,6 +130,7 @@ private:
     std::uint32_t gated_ = 0;       // dispatches recorded through it
     // After the device: destroyed before it.
     std::map<std::tuple<const std::uint32_t*, std::uint32_t, std::uint32_t>, Pipeline> pipelines_;
+    std::unique_ptr<Kernel> gate_kernel_;  // gate.comp, made by the first open_gate
 };
 
 // The context of one run: on the application's device (its DeviceSampler's, else one made for

@@ -16,7 +16,6 @@
 #include "flag_dart_cells.h"
 #include "flag_free_cells.h"
 #include "flag_masked.h"
-#include "gate.h"
 #include "init_cells.h"
 #include "place_samples.h"
 #include "list_dart_cells.h"
@@ -62,7 +61,6 @@ VulkanEngine::VulkanEngine(const Plan& plan, const std::string& selector, const 
       VRPD_KERNEL(apply_decisions, DartArgs, WORKGROUP_SIZE),
       VRPD_KERNEL(throw_darts, CellArgs, WORKGROUP_SIZE),
       VRPD_KERNEL(work_args, WorkArgs, 1),
-      gate_kernel_(ctx_, "gate", spirv_words(spirv_gate), sizeof(GateArgs), WORKGROUP_SIZE),
       resolve_darts_(ctx_, "resolve_darts",
                      two_ ? spirv_words(spirv_resolve_darts) : spirv_words(spirv_resolve_darts_one), sizeof(DartArgs),
                      WORKGROUP_SIZE),
@@ -284,10 +282,7 @@ RoundResult VulkanEngine::round(const RoundSpec& spec, const RoundSpec* next) {
         }
         const std::uint32_t undecided = (in ? COUNTER_WORK1 : COUNTER_WORK0) + 3;
         if (gated) {
-            GateArgs g{counters_.address(), gate_.address(), undecided, VulkanContext::kGateDispatches};
-            ctx_.dispatch(gate_kernel_, &g, dispatch_groups(VulkanContext::kGateDispatches, WORKGROUP_SIZE));
-            ctx_.barrier();  // the gated commands before the dispatches read them
-            ctx_.open_gate(gate_);
+            ctx_.open_gate(gate_, counters_.address(), undecided);
             list = record_end();
             ctx_.close_gate();
         }

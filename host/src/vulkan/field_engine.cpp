@@ -18,7 +18,6 @@
 #include "field_throw.h"
 #include "field_touch.h"
 #include "field_unmark.h"
-#include "gate.h"
 #include "vulkan/field_vulkan.h"
 
 namespace vrpd::detail {
@@ -58,7 +57,6 @@ FieldVulkan::FieldVulkan(const SampleOptions& o, std::uint32_t budget)
       VRPD_KERNEL(field_emit, FieldArgs, WORKGROUP_SIZE),
       VRPD_KERNEL(field_touch, FieldArgs, WORKGROUP_SIZE),
       VRPD_KERNEL(field_place, FieldArgs, WORKGROUP_SIZE),
-      gate_kernel_(ctx_, "gate", spirv_words(spirv_gate), sizeof(GateArgs), WORKGROUP_SIZE),
       density_(o.sizing->weighting == Weighting::Density) {
     if (o.profile) ctx_.start_profile();
     gate_ = Buffer(ctx_, VulkanContext::kGateDispatches * 12, true);
@@ -86,9 +84,8 @@ void FieldVulkan::check_budget() const {
                         run_args_.budget, ctx_.device_name()));
 }
 
-void FieldVulkan::clear_counters() {
-    ctx_.vk().vkCmdFillBuffer(ctx_.recording(), counters_.handle(), FIELD_COUNTER_UNDECIDED * 4,
-                              (FIELD_COUNTER_WORDS - FIELD_COUNTER_UNDECIDED) * 4, 0);
+void FieldVulkan::clear_counters(std::uint32_t from) {
+    ctx_.vk().vkCmdFillBuffer(ctx_.recording(), counters_.handle(), from * 4, (FIELD_COUNTER_WORDS - from) * 4, 0);
     ctx_.vk().vkCmdFillBuffer(ctx_.recording(), counters_.handle(), FIELD_COUNTER_LEAST_BITS * 4, 4, UINT32_MAX);
     ctx_.barrier();
 }
@@ -122,12 +119,16 @@ double FieldVulkan::weighted_area(const ExponentCounts& e) {
     return area;
 }
 
+void FieldVulkan::reserve_refinement() {
+    grow(ctx_, fates_, active_ * 4);
+    grow(ctx_, counts_, active_ * 4);
+    primitives_.reserve_scan(active_);
+}
+
 bool FieldVulkan::refine_list(std::uint32_t mode, std::uint32_t param, std::uint32_t stamp, std::uint64_t darts_offsets,
                               std::uint64_t settle_from, bool open) {
     if (!open) {
-        grow(ctx_, fates_, active_ * 4);
-        grow(ctx_, counts_, active_ * 4);
-        primitives_.reserve_scan(active_);
+        reserve_refinement();
         ctx_.begin();
     }
     clear_counters();
@@ -162,11 +163,7 @@ bool FieldVulkan::refine_list(std::uint32_t mode, std::uint32_t param, std::uint
     };
     if (one_submit) {
         grow(ctx_, next_, worst);  // no command recorded reads the list it replaces
-        // The scatter's counters only: the scan's total is read below.
-        ctx_.vk().vkCmdFillBuffer(ctx_.recording(), counters_.handle(), FIELD_COUNTER_EXPONENTS * 4,
-                                  (FIELD_COUNTER_WORDS - FIELD_COUNTER_EXPONENTS) * 4, 0);
-        ctx_.vk().vkCmdFillBuffer(ctx_.recording(), counters_.handle(), FIELD_COUNTER_LEAST_BITS * 4, 4, UINT32_MAX);
-        ctx_.barrier();
+        clear_counters(FIELD_COUNTER_EXPONENTS);  // the scatter's only: the scan's total is read below
         scatter();
     }
     ctx_.submit_and_wait();
@@ -264,10 +261,7 @@ bool FieldVulkan::throw_and_resolve(std::uint32_t round, std::uint32_t stamp) {
             dispatch_counted(field_resolve_, d, thrown, kKeptTotal);
             ctx_.barrier();
         }
-        const GateArgs g{counters_.address(), gate_.address(), FIELD_COUNTER_UNDECIDED, VulkanContext::kGateDispatches};
-        ctx_.dispatch(gate_kernel_, &g, dispatch_groups(VulkanContext::kGateDispatches, WORKGROUP_SIZE));
-        ctx_.barrier();  // the gated commands before the dispatches read them
-        ctx_.open_gate(gate_);
+        ctx_.open_gate(gate_, counters_.address(), FIELD_COUNTER_UNDECIDED);
         FieldArgs u = d;
         u.p0 = 0;
         dispatch_counted(field_unmark_, u, thrown, kKeptTotal);
@@ -297,9 +291,7 @@ bool FieldVulkan::throw_and_resolve(std::uint32_t round, std::uint32_t stamp) {
     grow(ctx_, keys_, kept * 4);
     grow(ctx_, sort_tmp_, kept * 12);
     primitives_.reserve_sort(std::uint32_t(kept));
-    grow(ctx_, fates_, active_ * 4);
-    grow(ctx_, counts_, active_ * 4);
-    primitives_.reserve_scan(active_);
+    reserve_refinement();
     ctx_.begin();
     FieldArgs f = d;
     f.words0 = flags_.address();

@@ -77,8 +77,9 @@ private:
     Buffer upload(const void* data, std::uint64_t bytes, std::vector<Buffer>& staging);
     // Throws Error if a kernel's search passed its budget.
     void check_budget() const;
-    // Clears the counters the next kernels add to.
-    void clear_counters();
+    // Clears the counters the next kernels add to, from slot `from` on (the least side's bits
+    // to UINT32_MAX).
+    void clear_counters(std::uint32_t from = shared::FIELD_COUNTER_UNDECIDED);
     field::ExponentCounts exponents() const {
         field::ExponentCounts e{};
         for (std::size_t k = 0; k < e.size(); ++k) e[k] = counters()[shared::FIELD_COUNTER_EXPONENTS + k];
@@ -92,9 +93,12 @@ private:
     // Writes each cell's fate (p1: 0 balance, 1 refine; p2 and p3 its parameters) into the next
     // list, which becomes the active one; returns false, keeping the list, if balance split none.
     // With the list written, the samples from `settle_from` on settle (UINT64_MAX: none).
-    // `open`: its first commands go into the submit already begun, not one of their own.
+    // `open`: its first commands go into the submit already begun, not one of their own, its
+    // arrays sized (reserve_refinement).
     bool refine_list(std::uint32_t mode, std::uint32_t param, std::uint32_t stamp, std::uint64_t darts_offsets,
                      std::uint64_t settle_from, bool open = false);
+    // Sizes the refinement's arrays for the active list, before its submit is begun.
+    void reserve_refinement();
     // Throws and resolves the darts of round `round` (its key), stamping its samples' leaves with
     // `stamp`. Returns true if it leaves its last commands recorded in a submit begun for the
     // refinement to continue (the active list's fates and scan are then sized).
@@ -110,8 +114,7 @@ private:
     Buffer counters_;
     Primitives primitives_;
     Kernel field_histogram_, field_fates_, field_scatter_, field_count_darts_, field_throw_, field_compact_,
-        field_first_darts_, field_resolve_, field_unmark_, field_accepted_, field_emit_, field_touch_, field_place_,
-        gate_kernel_;
+        field_first_darts_, field_resolve_, field_unmark_, field_accepted_, field_emit_, field_touch_, field_place_;
     bool density_;
     std::uint32_t budget_;        // the search steps an invocation may take
     std::vector<Buffer> tables_;  // the table's arrays
