@@ -30,13 +30,13 @@ aeb0c3ec6bb26cba695373bfc0a4eb894ec33e404d908ec45f2902229d5f0f99 | --rf 0.02 --r
 3be2ba203644358cb0c3bf6849a97cdd3e8f0e517e538a371e3c4c76c1b48ccf | --rf 2 --rc 3 --extent 160,90 --seed 6
 b654a9b63d8a73f4387a343d2917c748af1d509737dcd29396969545fc9e5c5b | --radius 0.01 --hierarchy discrete:10 --seed 9
 29b470702e2f08e324d42cc54aaf7516be16036cb6b27cfe62d291cb5298afea | --radius 0.01 --hierarchy discrete:5 --boundary free --extent 1.2,1 --seed 4
-6445d02f403236d8c740e00cfe0c9409f362899868afa7429620fa1fed852269 | --sizing 0.01+0.05*x --rule smaller --boundary free --seed 1
-ead010cfc33d2c50610d090c6f9adc0c2f2136064fede01955edd2059e8b85fa | --sizing 0.02+0.01*sin(2*pi*x)*cos(2*pi*y) --rule prior --seed 2
-48385631d31631728d0acdf69f92d00a320375a773b6c11038bf839666780066 | --sizing 0.004+0.02*d --rule bigger --weighting density --seed 3
-72ad00f78cd7805039eeae3afbaf76c09bddf165bbb9ad50b0230ea328aec298 | --sizing 0.03+(0.006-0.03)*abs(sin(4*pi*d)) --rule current --extent 2,1 --seed 4
-7e8b1403f55b739eb3df5bfec8542a2e282cda0be6423c1956fb7917a22189b0 | --sizing 0.002+0.04*x*y --rule prior --boundary free --extent 1.5,1 --seed 8
-29ebb9f4c1618e08ccac8cd19426df0c63f37dd50511ccd71ea0bdb8607657d2 | --sizing 0.3+0.1*sin(2*pi*x) --rule current --seed 7
-2765ed49edc504f5e9194efc09a5dcb1e2af5cdc13abb51bb52a3f27cbf5df97 | --sizing 0.006+0.003*sin(2*pi*x)*cos(2*pi*y) --rule bigger --hierarchy discrete:4:3 --seed 5
+321befb78b3c069568e4a8c07695911e7c65533886f8b8008574559c26ac57ea | --sizing 0.01+0.05*x --rule smaller --boundary free --seed 1
+cbbe3632b2e90e9ed39f409da9fa237e54cb2e46bbc992fd5a13b760db72ced6 | --sizing 0.02+0.01*sin(2*pi*x)*cos(2*pi*y) --rule prior --seed 2
+5a197c432f7bf455fe1bbb139ee9d8ce619f6dce007edbb80e197e7c1283a991 | --sizing 0.004+0.02*d --rule bigger --weighting density --seed 3
+18c90fc842c6c4c547883fecace07c3989198e04dad95402922db08af8d2c503 | --sizing 0.03+(0.006-0.03)*abs(sin(4*pi*d)) --rule current --extent 2,1 --seed 4
+1894ff5c05edab6c1db251d4024c5b52082332398a6d0d91be86347ab1d2faed | --sizing 0.002+0.04*x*y --rule prior --boundary free --extent 1.5,1 --seed 8
+c9c81e5824dd900774447ccd26c979c9b67a9d2767ed6ca3f16fadac1e1535a1 | --sizing 0.3+0.1*sin(2*pi*x) --rule current --seed 7
+44d57b5284d2ccddb713f1113168c1022075b83566caa00c3646c1ade3d3b915 | --sizing 0.006+0.003*sin(2*pi*x)*cos(2*pi*y) --rule bigger --hierarchy discrete:4:3 --seed 5
 EOF
 )
 

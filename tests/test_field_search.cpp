@@ -34,6 +34,8 @@ struct Forest {
     detail::ThreadPool pool{2};
     detail::FieldQuadtree tree;
     explicit Forest(const Box& box) : table(tabulate(box)), tree(table, 1u << 26, pool) {
+        REQUIRE(tree.flat_tiles() > 0);
+        REQUIRE(tree.flat_tiles() < tree.tiles());
         std::vector<glm::uvec2> corners(tree.leaves());
         tree.each_leaf([&](std::uint32_t leaf, glm::uvec2 corner, std::uint32_t) { corners[leaf] = corner; });
         std::mt19937_64 rng(5);
@@ -44,7 +46,7 @@ struct Forest {
     }
     static detail::FieldTable tabulate(const Box& box) {
         Sizing s;
-        s.expression = "0.004 + (0.0015 - 0.004)*abs(sin(5*pi*d))";
+        s.expression = "0.0045 + (0.0015 - 0.0045)*abs(sin(5*pi*d))";
         return detail::tabulate(s, box);
     }
     // Random blocks, from a point to a few of the largest leaves, with reaches up to three times

@@ -8,11 +8,11 @@
 
 namespace vrpd::detail {
 
-// Bytes per expected sample, at the peak: the first round's balance, with about 5.5 leaves a
-// sample, each with its tree share (9 bytes), its stamp (4) and its cell twice (8 each), the
-// samples, and the table (its patches up to 16 bytes a sample). Measured on large runs: 185-279
-// bytes a sample on the rectified sine (Figure 16's scale the most, with patches; 302 bytes of
-// peak RSS), 289 on a 500x ramp (docs/performance.md).
+// Bytes per expected sample, at the peak: the first round's balance, with about 4.5 to 5.5 leaves
+// a sample, each with its tree share (9 bytes), its stamp (4) and its cell twice (8 each), the
+// samples, and the table (its patches up to 32 bytes a sample). Measured on large runs: 160-195
+// bytes a sample on the rectified sine (Figure 16's scale 186, with patches; 255 bytes of peak
+// RSS), 289 on a 500x ramp (docs/performance.md).
 inline constexpr double kFieldBytesPerSample = 400;
 
 // Samples a maximal sampling of o.box under the field's rule, on the host's threads (o.threads;

@@ -1,11 +1,12 @@
-// Tabulating a sizing field (field/table.h). The lattice: quadtree roots (tiles) about r_max wide,
-// table cells of 2^15 lattice units at most 8 r_min wide, so r_min spans at least 4096 lattice
-// units and the interpolant's rounding costs under 0.025 %. The table is refined (table cells and
-// lattice halved together) while its interpolant is further than 0.075 % from the source at
-// some table cell's centre or edge midpoint, within the 31-bit lattice and a budget of 8 nodes
-// per expected sample. A kink, such as abs()'s, converges only linearly, so the cells still past
+// Tabulating a sizing field (field/table.h). The lattice: quadtree roots (tiles) from r_max / 2
+// to r_max wide, of the side whose leaves and table are lightest (field/tiles.cpp), and table
+// cells of 2^15 lattice units at most 8 r_min wide, so r_min spans at least 4096 lattice units
+// and the interpolant's rounding costs under 0.025 %. The table is refined (table cells and
+// lattice halved together) while its interpolant is further than 0.075 % from the source at some
+// table cell's centre or edge midpoint, within the 31-bit lattice and a budget of 8 nodes per
+// expected sample. A kink, such as abs()'s, converges only linearly, so the cells still past
 // 0.075 % then get patches (field/patches.cpp), finer grids of their own, if all of them fit a
-// budget of 4 nodes per expected sample (at least 2^18).
+// budget of 8 nodes per expected sample (at least 2^18).
 #include "table.h"
 
 #include "patches.h"
@@ -36,7 +37,7 @@ constexpr double kNodesPerSample = 8;
 constexpr std::uint64_t kMinTableNodes = std::uint64_t(1) << 16;
 constexpr std::uint32_t kMinLatticeRadius = 4096;
 constexpr std::uint32_t kSurvey = 256;
-constexpr double kPatchNodesPerSample = 4;
+constexpr double kPatchNodesPerSample = 8;
 constexpr double kMinPatchNodes = 1 << 18;
 
 // The double-valued table at a resolution: its nodes, the source at the points halfway between
@@ -230,14 +231,17 @@ FieldTable tabulate(const Sizing& s, const Box& box, unsigned threads) {
     }
     // The samples to expect, 0.70 per r^2 of area (as for one radius), refused past memory.
     double expected = 0;
+    std::vector<double> centres(std::size_t(kSurvey) * kSurvey);  // r at the survey cells' centres
     for (std::uint32_t j = 0; j < kSurvey; ++j) {
         for (std::uint32_t i = 0; i < kSurvey; ++i) {
             xs[i] = box.width * (i + 0.5) / kSurvey;
             ys[i] = box.height * (j + 0.5) / kSurvey;
         }
-        f(xs.data(), ys.data(), vs.data(), kSurvey);
-        for (std::uint32_t i = 0; i < kSurvey; ++i)
-            expected += 0.70 * box.width * box.height / (kSurvey * kSurvey) / (vs[i] * vs[i]);
+        f(xs.data(), ys.data(), &centres[std::size_t(j) * kSurvey], kSurvey);
+        for (std::uint32_t i = 0; i < kSurvey; ++i) {
+            const double v = centres[std::size_t(j) * kSurvey + i];
+            expected += 0.70 * box.width * box.height / (kSurvey * kSurvey) / (v * v);
+        }
     }
     const MemoryLimit limit = host_memory_limit();
     if (!(expected * kFieldBytesPerSample <= double(limit.bytes)))
@@ -254,17 +258,12 @@ FieldTable tabulate(const Sizing& s, const Box& box, unsigned threads) {
     FieldTable t;
     std::uint64_t tx = 0, ty = 0;
     double tile = std::min(hi, std::max(box.width, box.height));
-    if (periodic) {
-        if (!periodic_tiling(box.width, box.height, tile, 1, tx, ty))
-            throw Error(
-                fmt::format("periodic box {} x {}: width/height must be a ratio of small integers so that "
-                            "square tiles fit it",
-                            box.width, box.height));
-        tile = box.width / double(tx);
-    } else {
-        tx = std::uint64_t(std::ceil(box.width / tile));
-        ty = std::uint64_t(std::ceil(box.height / tile));
-    }
+    if (periodic && !periodic_tiling(box.width, box.height, tile, 1, tx, ty))
+        throw Error(
+            fmt::format("periodic box {} x {}: width/height must be a ratio of small integers so that "
+                        "square tiles fit it",
+                        box.width, box.height));
+    tile = lightest_tiles(box, tile, lo, tx, ty, centres, kSurvey);
     auto fits = [&](std::uint32_t a) {
         return (std::max(tx, ty) << (a + shared::MAX_FIELD_CELL_BITS)) <= kLatticeLimit &&
                ((tx * ty) << (2 * a)) <= kMaxTableNodes;

@@ -138,6 +138,40 @@ private:
     shared::FieldTableView view_{};
 };
 
+// The leaves per unit area that quadtree roots (tiles) of a side give, estimated from r at the
+// centres of a survey's n x n cells of the box, row by row: a leaf is the largest part tile / 2^k
+// of a tile whose diagonal is below the least r over it (field/quadtree.cpp), about r - g s
+// (4 / pi) / 2 for a leaf of side s about the point, where r's slope is g (the mean over
+// directions of a square's half-width). So 2^k > tile (sqrt(2) + 0.64 g) / r: with
+// l = log2((sqrt(2) + 0.64 g) / r), k = floor(log2 tile + l) + 1 for tiles of side over r / 2.
+// The points' 4^floor(l), binned by l's fraction (1/1024), give the sum for any side at once.
+class LeafDensity {
+public:
+    LeafDensity(const std::vector<double>& survey, std::uint32_t n, const Box& box);
+    double operator()(double tile) const;
+
+private:
+    static constexpr std::size_t kBins = 1024;
+    static constexpr double kSlope = 2 / 3.141592653589793;
+    std::array<double, kBins> above_{};  // the points' 4^floor(l) from each bin of l's fraction up
+    double points_;
+};
+
+// The bytes per unit area that the leaves and the table at its coarsest (cells of side
+// side / 2^a at most 8 `least` wide) take at a run's peak, with tiles of a side.
+double tile_bytes(const LeafDensity& leaves, double side, double least);
+
+// The tiles (quadtree roots) of a side in (largest / 2, largest] whose leaves and table take the
+// fewest bytes: the leaves (LeafDensity over the survey of n x n cells; 5 or 6 a sample, which set
+// much of a run's time too) and the table at its coarsest (cells of side tile / 2^a at most 8
+// `least` wide). Both are powers of two below the tile, so each side falls differently against r;
+// past half the side, halved tiles give the same again. On a torus the candidates are tilings of
+// the box, from tx x ty (in: the largest tiles' counts) to twice as many a side; a free box takes
+// any side. kTileCandidates at most, spread evenly in log2 of the side. Returns the side, with its
+// counts in tx, ty.
+double lightest_tiles(const Box& box, double largest, double least, std::uint64_t& tx, std::uint64_t& ty,
+                      const std::vector<double>& survey, std::uint32_t n);
+
 // Sets t's bounds from its nodes and patches, on the pool's threads: r_lo, r_hi, box_lo, box_hi,
 // the interpolant's L and the min/max pyramids.
 void complete_bounds(FieldTable& t, ThreadPool& pool);
