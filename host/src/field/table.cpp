@@ -239,7 +239,7 @@ FieldTable tabulate(const Sizing& s, const Box& box, unsigned threads) {
         }
         f(xs.data(), ys.data(), &centres[std::size_t(j) * kSurvey], kSurvey);
         for (std::uint32_t i = 0; i < kSurvey; ++i) {
-            const double v = centres[std::size_t(j) * kSurvey + i];
+            const double v = checked_radius(centres[std::size_t(j) * kSurvey + i], xs[i], ys[i]);
             expected += 0.70 * box.width * box.height / (kSurvey * kSurvey) / (v * v);
         }
     }
