@@ -286,10 +286,10 @@ bool FieldVulkan::throw_and_resolve(std::uint32_t round, std::uint32_t stamp) {
         write_run();
     }
     // The sort's arrays, and the refinement's, sized before their submit holds commands on the
-    // arrays they replace.
+    // arrays they replace. The sort's scratch (12 bytes a dart) is the thrown darts' array (16 a
+    // dart), which only the compaction read.
     grow(ctx_, pairs_, kept * 8);
     grow(ctx_, keys_, kept * 4);
-    grow(ctx_, sort_tmp_, kept * 12);
     primitives_.reserve_sort(std::uint32_t(kept));
     reserve_refinement();
     ctx_.begin();
@@ -302,7 +302,7 @@ bool FieldVulkan::throw_and_resolve(std::uint32_t round, std::uint32_t stamp) {
     dispatch(field_accepted_, f, 0, kept);
     ctx_.barrier();
     if (accepted > 1)
-        primitives_.sort(pairs_.address(), keys_.address(), sort_tmp_.address(), std::uint32_t(accepted), kSortTotal);
+        primitives_.sort(pairs_.address(), keys_.address(), raw_.address(), std::uint32_t(accepted), kSortTotal);
     FieldArgs e = args();
     e.cells = darts_.address();
     e.target = pairs_.address();

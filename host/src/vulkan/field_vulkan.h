@@ -121,7 +121,7 @@ private:
     Buffer run_, roots_, nodes_, leaf_sample_, leaf_first_, touched_, points_, radii_;
     Buffer gate_;       // the commands of gated dispatches (VulkanContext::open_gate)
     Buffer exp_table_;  // the round's exp(-rate 2^k) table (field::exp_neg_table), host-visible
-    Buffer cells_, next_, fates_, counts_, offsets_, raw_, flags_, darts_, states_, pairs_, keys_, sort_tmp_;
+    Buffer cells_, next_, fates_, counts_, offsets_, raw_, flags_, darts_, states_, pairs_, keys_;
     std::uint64_t active_ = 0, samples_ = 0, capacity_ = 0, darts_thrown_ = 0, thrown_ = 0;  // thrown_: this round's
     std::uint32_t least_bits_ = UINT32_MAX;
     shared::FieldRun run_args_{};
