@@ -119,6 +119,7 @@ struct Source {
     PatchDraft first(std::uint32_t c) const {
         PatchDraft p;
         p.cell = c;
+        p.grid.reserve(9);
         const std::size_t row = 2 * std::size_t(d.cells_x) + 1, i = c % d.cells_x, j = c / d.cells_x;
         for (std::size_t b = 0; b < 3; ++b)
             for (std::size_t a = 0; a < 3; ++a) p.grid.push_back(d.fine[(2 * j + b) * row + 2 * i + a]);
@@ -270,8 +271,14 @@ std::vector<PatchDraft> draft_patches(ThreadPool& pool, const FieldSource& f, co
         return p.depth < depth[p.cell] || (p.error > target && p.depth < kMaxDepth);
     };
     for (;;) {
+        // Each cell wanted deeper that has no patch gets one, in cell order; their points are
+        // copied on the threads.
+        const std::size_t opened = patches.size();
         for (std::uint32_t c = 0; c < cells; ++c)
-            if (depth[c] > 0) open(c);
+            if (depth[c] > 0 && slot[c] < 0) slot[c] = std::int32_t(patches.size()), patches.emplace_back().cell = c;
+        pool.parallel_for(patches.size() - opened, [&](std::size_t begin, std::size_t end, unsigned) {
+            for (std::size_t k = opened + begin; k < opened + end; ++k) patches[k] = source.first(patches[k].cell);
+        });
         deepen(pool, source, patches, wanted);
         for (const PatchDraft& p : patches) {
             if (p.error > target) return {};  // past the deepest patch
@@ -285,6 +292,27 @@ std::vector<PatchDraft> draft_patches(ThreadPool& pool, const FieldSource& f, co
     // within the target at its own points, is not at the finer ones, as where a kink crosses it),
     // the neighbour goes as deep, its own neighbours graded after it; each cell changed is checked
     // again. Depths only grow, so this ends.
+    // Whether conforming takes patch c past the target. It reads only c's patch and its
+    // neighbours' depths and patches, so each patch's answer is found on the threads first, and
+    // found again only where a raise has changed the patch or a neighbour since.
+    auto past_when_conformed = [&](std::uint32_t c) {
+        const std::uint32_t k = patches[std::size_t(slot[c])].depth;
+        bool coarser = false;
+        each_neighbour(c, d, periodic, [&](std::uint32_t n, int) { coarser |= depth[n] < k; });
+        if (!coarser) return false;
+        PatchDraft q = patches[std::size_t(slot[c])];
+        conform(q, patches, slot, d, periodic);
+        return patch_error(q) > target;
+    };
+    constexpr std::int8_t kUnknown = -1;
+    std::vector<std::int8_t> past(cells, kUnknown);
+    pool.parallel_for(
+        patches.size(),
+        [&](std::size_t begin, std::size_t end, unsigned) {
+            for (std::size_t k = begin; k < end; ++k)
+                past[patches[k].cell] = std::int8_t(past_when_conformed(patches[k].cell));
+        },
+        64);
     std::vector<std::uint32_t> work;
     std::vector<bool> queued(cells, false);
     auto queue = [&](std::uint32_t c) {
@@ -299,8 +327,10 @@ std::vector<PatchDraft> draft_patches(ThreadPool& pool, const FieldSource& f, co
         PatchDraft& p = patches[std::size_t(slot[c])];
         while (wanted(p)) source.deepen(p);
         deepest |= p.error > target;
+        past[c] = kUnknown;
         queue(c);
         each_neighbour(c, d, periodic, [&](std::uint32_t n, int) {
+            past[n] = kUnknown;
             queue(n);
             self(self, n, k - 1);
         });
@@ -309,13 +339,9 @@ std::vector<PatchDraft> draft_patches(ThreadPool& pool, const FieldSource& f, co
         const std::uint32_t c = work.back();
         work.pop_back();
         queued[c] = false;
+        if (past[c] == kUnknown) past[c] = std::int8_t(past_when_conformed(c));
+        if (!past[c]) continue;
         const std::uint32_t k = patches[std::size_t(slot[c])].depth;
-        bool coarser = false;
-        each_neighbour(c, d, periodic, [&](std::uint32_t n, int) { coarser |= depth[n] < k; });
-        if (!coarser) continue;
-        PatchDraft q = patches[std::size_t(slot[c])];
-        conform(q, patches, slot, d, periodic);
-        if (patch_error(q) <= target) continue;
         each_neighbour(c, d, periodic, [&](std::uint32_t n, int) { raise(raise, n, k); });
     }
     std::uint64_t nodes = 0;

@@ -323,13 +323,15 @@ FieldTable tabulate(const Sizing& s, const Box& box, unsigned threads) {
     t.lattice.extent_y =
         periodic ? std::uint32_t(ey) : std::uint32_t(std::min<double>(std::ceil(box.height / t.quantum), double(ey)));
     t.tabulation_error = error;
+    // The largest node decides whether every node fits 32 bits (rounding is monotone).
+    const double largest = *std::max_element(d.values.begin(), d.values.end());
+    if (std::round(largest / t.quantum) >= 4294967295.0)
+        throw Error(fmt::format("the field's radius {:.6g} is too large for the lattice of this box", largest));
     t.nodes.resize(d.values.size());
-    for (std::size_t i = 0; i < d.values.size(); ++i) {
-        const double units = std::round(d.values[i] / t.quantum);
-        if (units >= 4294967295.0)
-            throw Error(fmt::format("the field's radius {:.6g} is too large for the lattice of this box", d.values[i]));
-        t.nodes[i] = std::max<std::uint32_t>(1, std::uint32_t(units));
-    }
+    pool.parallel_for(d.values.size(), [&](std::size_t begin, std::size_t end, unsigned) {
+        for (std::size_t i = begin; i < end; ++i)
+            t.nodes[i] = std::max<std::uint32_t>(1, std::uint32_t(std::round(d.values[i] / t.quantum)));
+    });
     install_patches(t, patches, pool);
     if (!patches.empty()) {
         // The drafts are many small blocks of the heap: handed back to the system before the
