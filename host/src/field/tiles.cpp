@@ -1,5 +1,5 @@
 // The quadtree's roots (tiles) of a sizing field's table (field/table.h): the side whose leaves
-// are fewest.
+// and table take the fewest bytes.
 #include <algorithm>
 #include <cmath>
 
@@ -19,9 +19,10 @@ LeafDensity::LeafDensity(const std::vector<double>& survey, std::uint32_t n, con
     for (std::uint32_t j = 0; j < n; ++j)
         for (std::uint32_t i = 0; i < n; ++i) {
             // The slope between the neighbouring points (half of it at a free box's edge).
-            const double gx = (at(i + 1, j) - at(i - 1.0, j)) / (2 * box.width / n),
-                         gy = (at(i, j + 1) - at(i, j - 1.0)) / (2 * box.height / n);
-            const double l = std::log2((std::sqrt(2.0) + kSlope * std::hypot(gx, gy)) / at(i, j));
+            const std::int64_t x = i, y = j;
+            const double gx = (at(x + 1, y) - at(x - 1, y)) / (2 * box.width / n),
+                         gy = (at(x, y + 1) - at(x, y - 1)) / (2 * box.height / n);
+            const double l = std::log2((std::sqrt(2.0) + kSlope * std::hypot(gx, gy)) / at(x, y));
             const double whole = std::floor(l);
             above_[std::min(std::size_t((l - whole) * kBins), kBins - 1)] += std::ldexp(1.0, 2 * int(whole));
         }
