@@ -274,6 +274,9 @@ std::vector<PatchDraft> draft_patches(ThreadPool& pool, const FieldSource& f, co
         // Each cell wanted deeper that has no patch gets one, in cell order; their points are
         // copied on the threads.
         const std::size_t opened = patches.size();
+        std::size_t wanted_now = 0;
+        for (std::uint32_t c = 0; c < cells; ++c) wanted_now += depth[c] > 0 && slot[c] < 0;
+        patches.reserve(opened + wanted_now);
         for (std::uint32_t c = 0; c < cells; ++c)
             if (depth[c] > 0 && slot[c] < 0) slot[c] = std::int32_t(patches.size()), patches.emplace_back().cell = c;
         pool.parallel_for(patches.size() - opened, [&](std::size_t begin, std::size_t end, unsigned) {
@@ -358,12 +361,19 @@ std::vector<PatchDraft> draft_patches(ThreadPool& pool, const FieldSource& f, co
             }
         },
         4);
-    std::sort(patches.begin(), patches.end(), [](const PatchDraft& a, const PatchDraft& b) { return a.cell < b.cell; });
+    // In cell order: each cell's patch moved out through its slot.
+    std::vector<PatchDraft> ordered;
+    ordered.reserve(patches.size());
     error = 0;
-    for (std::uint32_t c = 0; c < cells; ++c)
-        if (slot[c] < 0) error = std::max(error, cell_error[c]);
-    for (const PatchDraft& p : patches) error = std::max(error, p.error);
-    return patches;
+    for (std::uint32_t c = 0; c < cells; ++c) {
+        if (slot[c] < 0) {
+            error = std::max(error, cell_error[c]);
+            continue;
+        }
+        ordered.push_back(std::move(patches[std::size_t(slot[c])]));
+        error = std::max(error, ordered.back().error);
+    }
+    return ordered;
 }
 
 void install_patches(FieldTable& t, const std::vector<PatchDraft>& patches, ThreadPool& pool) {
