@@ -291,10 +291,6 @@ std::vector<PatchDraft> draft_patches(ThreadPool& pool, const FieldSource& f, co
         if (std::none_of(patches.begin(), patches.end(), [&](const PatchDraft& p) { return p.depth < depth[p.cell]; }))
             break;
     }
-    // Where conforming to a coarser neighbour takes a patch past the target (the neighbour's edge,
-    // within the target at its own points, is not at the finer ones, as where a kink crosses it),
-    // the neighbour goes as deep, its own neighbours graded after it; each cell changed is checked
-    // again. Depths only grow, so this ends.
     // Whether conforming takes patch c past the target. It reads only c's patch and its
     // neighbours' depths and patches, so each patch's answer is found on the threads first, and
     // found again only where a raise has changed the patch or a neighbour since.
@@ -316,6 +312,10 @@ std::vector<PatchDraft> draft_patches(ThreadPool& pool, const FieldSource& f, co
                 past[patches[k].cell] = std::int8_t(past_when_conformed(patches[k].cell));
         },
         64);
+    // Where conforming to a coarser neighbour takes a patch past the target (the neighbour's edge,
+    // within the target at its own points, is not at the finer ones, as where a kink crosses it),
+    // the neighbour goes as deep, its own neighbours graded after it; each cell changed is checked
+    // again. Depths only grow, so this ends.
     std::vector<std::uint32_t> work;
     std::vector<bool> queued(cells, false);
     auto queue = [&](std::uint32_t c) {
