@@ -32,8 +32,8 @@ b654a9b63d8a73f4387a343d2917c748af1d509737dcd29396969545fc9e5c5b | --radius 0.01
 29b470702e2f08e324d42cc54aaf7516be16036cb6b27cfe62d291cb5298afea | --radius 0.01 --hierarchy discrete:5 --boundary free --extent 1.2,1 --seed 4
 321befb78b3c069568e4a8c07695911e7c65533886f8b8008574559c26ac57ea | --sizing 0.01+0.05*x --rule smaller --boundary free --seed 1
 cbbe3632b2e90e9ed39f409da9fa237e54cb2e46bbc992fd5a13b760db72ced6 | --sizing 0.02+0.01*sin(2*pi*x)*cos(2*pi*y) --rule prior --seed 2
-5a197c432f7bf455fe1bbb139ee9d8ce619f6dce007edbb80e197e7c1283a991 | --sizing 0.004+0.02*d --rule bigger --weighting density --seed 3
-18c90fc842c6c4c547883fecace07c3989198e04dad95402922db08af8d2c503 | --sizing 0.03+(0.006-0.03)*abs(sin(4*pi*d)) --rule current --extent 2,1 --seed 4
+b2be33571f6dfbe20e3364a2b4577af9b19a711afeb21e478de7d181ef8c4e29 | --sizing 0.004+0.02*d --rule bigger --weighting density --seed 3
+2ba2003176bd7cbf16e3bede745b0441baaa859910f5951a1eda4ec31be3e644 | --sizing 0.03+(0.006-0.03)*abs(sin(4*pi*d)) --rule current --extent 2,1 --seed 4
 1894ff5c05edab6c1db251d4024c5b52082332398a6d0d91be86347ab1d2faed | --sizing 0.002+0.04*x*y --rule prior --boundary free --extent 1.5,1 --seed 8
 c9c81e5824dd900774447ccd26c979c9b67a9d2767ed6ca3f16fadac1e1535a1 | --sizing 0.3+0.1*sin(2*pi*x) --rule current --seed 7
 44d57b5284d2ccddb713f1113168c1022075b83566caa00c3646c1ade3d3b915 | --sizing 0.006+0.003*sin(2*pi*x)*cos(2*pi*y) --rule bigger --hierarchy discrete:4:3 --seed 5

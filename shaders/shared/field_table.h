@@ -25,10 +25,12 @@ struct FieldBits {
 };
 #endif
 
-// A patch's four words in `patches`: its first node in patch_nodes, its depth (a grid of
-// (2^depth + 1)^2 nodes over its table cell), and its least and greatest node.
-const uint FIELD_PATCH_WORDS = 4u;
-
+// A patch is a quadtree over its table cell: each split halves a square both ways and gives the
+// five nodes its children add. Its FIELD_SPLIT_WORDS words in `splits`: its children (the first
+// child split's index << 4, and a bit per child quadrant, x first, that is split itself), its five
+// nodes (the bottom, left, centre, right and top midpoints) and the least and greatest node over
+// its square, its corners included. Patch q's root is split q; the others follow the roots.
+const uint FIELD_SPLIT_WORDS = 8u;
 // The table as the functions below read it. On the host its arrays are pointers into the
 // table's vectors; on a device, buffer references (the same members, from FieldTableArgs).
 struct FieldTableView {
@@ -39,11 +41,10 @@ struct FieldTableView {
     FieldWords nodes;        // (cells_x + 1) x (cells_y + 1), row by row
     FieldBits patched;       // a bit per table cell, row by row (with patches)
     FieldWords patch_rank;   // per word of `patched`: the patches of the cells before it
-    FieldWords patches;      // FIELD_PATCH_WORDS a patch, in cell order
-    FieldWords patch_nodes;  // the patches' nodes
+    FieldWords splits;       // FIELD_SPLIT_WORDS a split: the patches' roots in cell order, then the others
     // Level k >= 1 from pyramid_start[k]: the least (pyramid_lo) and greatest (pyramid_hi) node
     // over blocks of 2^k x 2^k table cells (their boundary nodes included), cells_x >> k
-    // (rounded up) per row. Level 0 is the cells' own nodes (or their patches' bounds).
+    // (rounded up) per row. Level 0 is the cells' own nodes (or their patches' roots' bounds).
     FieldWords pyramid_lo;
     FieldWords pyramid_hi;
     FieldWords pyramid_start;
@@ -66,20 +67,39 @@ VRPD_FN int field_patch(VRPD_IN(FieldTableView) t, uint i, uint j) {
     uint64_t below = word & ((uint64_t(1) << bit) - uint64_t(1));
     return int(t.patch_rank.value[c >> 6u] + uint(bitCount(uint(below)) + bitCount(uint(below >> 32u))));
 }
-VRPD_FN uint field_patch_word(VRPD_IN(FieldTableView) t, int q, uint k) {
-    return t.patches.value[uint(q) * FIELD_PATCH_WORDS + k];
+VRPD_FN uint field_split_word(VRPD_IN(FieldTableView) t, uint s, uint k) {
+    return t.splits.value[s * FIELD_SPLIT_WORDS + k];
 }
 
-// The side's bits of a patch's cells, and the nodes of the one holding offset f (inside its
-// table cell), whose corner is (f >> bits) << bits.
-VRPD_FN uint field_patch_bits(VRPD_IN(FieldTableView) t, int q) { return t.cell_bits - field_patch_word(t, q, 1u); }
-VRPD_FN uvec4 field_patch_nodes(VRPD_IN(FieldTableView) t, int q, uvec2 f) {
-    uint depth = field_patch_word(t, q, 1u);
-    uint bits = t.cell_bits - depth;
-    uint n = (1u << depth) + 1u;
-    uint at = field_patch_word(t, q, 0u) + (f.y >> bits) * n + (f.x >> bits);
-    return uvec4(t.patch_nodes.value[at], t.patch_nodes.value[at + 1u], t.patch_nodes.value[at + n],
-                 t.patch_nodes.value[at + n + 1u]);
+// The corners of child c (bit 0: the right half; bit 1: the upper) of split s, whose square has
+// corners v (field_interpolate's order).
+VRPD_FN uvec4 field_child_nodes(VRPD_IN(FieldTableView) t, uint s, uvec4 v, uint c) {
+    uint at = s * FIELD_SPLIT_WORDS;
+    uint centre = t.splits.value[at + 3u];
+    if (c == 0u) return uvec4(v.x, t.splits.value[at + 1u], t.splits.value[at + 2u], centre);
+    if (c == 1u) return uvec4(t.splits.value[at + 1u], v.y, centre, t.splits.value[at + 4u]);
+    if (c == 2u) return uvec4(t.splits.value[at + 2u], centre, v.z, t.splits.value[at + 5u]);
+    return uvec4(centre, t.splits.value[at + 4u], t.splits.value[at + 5u], v.w);
+}
+
+// Child c's split of split s, or -1 where the child is a leaf.
+VRPD_FN int field_child_split(VRPD_IN(FieldTableView) t, uint s, uint c) {
+    uint w = field_split_word(t, s, 0u);
+    if (((w >> c) & 1u) == 0u) return -1;
+    return int((w >> 4u) + uint(bitCount(w & ((1u << c) - 1u))));
+}
+
+// From split s, over a square of side 2^bits with corners v, down to the leaf that holds offset f
+// (inside the square): v, f and bits become the leaf's.
+VRPD_FN void field_descend(VRPD_IN(FieldTableView) t, int s, VRPD_INOUT(uvec4) v, VRPD_INOUT(uvec2) f,
+                           VRPD_INOUT(uint) bits) {
+    while (s >= 0) {
+        bits--;
+        uint c = (f.x >> bits) | ((f.y >> bits) << 1u);
+        v = field_child_nodes(t, uint(s), v, c);
+        f = uvec2(f.x & ((1u << bits) - 1u), f.y & ((1u << bits) - 1u));
+        s = field_child_split(t, uint(s), c);
+    }
 }
 
 // r at lattice point p (inside the lattice).
@@ -88,13 +108,11 @@ VRPD_FN uint field_radius(VRPD_IN(FieldTableView) t, uvec2 p) {
     uvec2 f = uvec2(p.x & mask, p.y & mask);
     uint i = p.x >> t.cell_bits;
     uint j = p.y >> t.cell_bits;
+    uvec4 v = field_cell_nodes(t, i, j);
+    uint bits = t.cell_bits;
     int q = field_patch(t, i, j);
-    if (q >= 0) {
-        uint bits = field_patch_bits(t, q);
-        uint low = (1u << bits) - 1u;
-        return field_interpolate(field_patch_nodes(t, q, f), uvec2(f.x & low, f.y & low), bits);
-    }
-    return field_interpolate(field_cell_nodes(t, i, j), f, t.cell_bits);
+    if (q >= 0) field_descend(t, q, v, f, bits);
+    return field_interpolate(v, f, bits);
 }
 
 // The least (x) and largest (y) of the interpolant of nodes v over a cell of side 2^bits at the
@@ -112,50 +130,51 @@ VRPD_FN uvec2 field_corner_extremes(uvec4 v, uint bits, uvec2 fa, uvec2 fb) {
     return uvec2(min(min(r0, r1), min(r2, r3)), max(max(r0, r1), max(r2, r3)));
 }
 
-// The same for the block [fa, fb] (offsets) of table cell (i, j), which holds patch q: exact,
-// but for a block across many cells of the patch. The interpolant is bilinear on each piece of
-// the block that the patch's cell lines cut: its extremes are at the pieces' corners, where
-// those lines meet the block's edges and each other. Past 8 lines each way, the least and
-// largest node of the patch cells met bound it.
+// The same for the block [fa, fb] (offsets) of table cell (i, j), which holds patch q. Inside one
+// leaf, exact. Else the block meets two or four quadrants of the least split that holds it: in a
+// quadrant that is a leaf, exact over its part of the block; in one that is split, that split's
+// least and greatest node.
 VRPD_COLD_FN uvec2 field_patch_extremes(VRPD_IN(FieldTableView) t, int q, uint i, uint j, uvec2 fa, uvec2 fb) {
-    uint bits = field_patch_bits(t, q);
-    uvec2 ka = uvec2(fa.x >> bits, fa.y >> bits);
-    uvec2 kb = uvec2(fb.x >> bits, fb.y >> bits);
-    if (ka == kb) {
-        uvec2 corner = uvec2(ka.x << bits, ka.y << bits);
-        return field_corner_extremes(field_patch_nodes(t, q, fa), bits, fa - corner, fb - corner);
+    uvec4 v = field_cell_nodes(t, i, j);
+    uint bits = t.cell_bits;
+    uint s = uint(q);
+    for (;;) {
+        uint child_bits = bits - 1u;
+        uvec2 ca = uvec2(fa.x >> child_bits, fa.y >> child_bits);
+        if (ca != uvec2(fb.x >> child_bits, fb.y >> child_bits)) break;
+        uint c = ca.x | (ca.y << 1u);
+        v = field_child_nodes(t, s, v, c);
+        fa -= uvec2(ca.x << child_bits, ca.y << child_bits);
+        fb -= uvec2(ca.x << child_bits, ca.y << child_bits);
+        bits = child_bits;
+        int k = field_child_split(t, s, c);
+        if (k < 0) return field_corner_extremes(v, bits, fa, fb);
+        s = uint(k);
     }
-    uvec2 lines = kb - ka;
+    uint child_bits = bits - 1u;
+    uint m = 1u << child_bits;
     uint lo = 0xFFFFFFFFu;
     uint hi = 0u;
-    if (lines.x <= 8u && lines.y <= 8u) {
-        uvec2 cell = uvec2(i << t.cell_bits, j << t.cell_bits);
-        for (uint y = 0u; y <= lines.y + 1u; y++)
-            for (uint x = 0u; x <= lines.x + 1u; x++) {
-                // The block's edges (0 and lines + 1) and the cell lines inside it.
-                uvec2 f = uvec2(x == 0u ? fa.x : (x > lines.x ? fb.x : (ka.x + x) << bits),
-                                y == 0u ? fa.y : (y > lines.y ? fb.y : (ka.y + y) << bits));
-                uint v = field_radius(t, cell + f);
-                lo = min(lo, v);
-                hi = max(hi, v);
-            }
-        return uvec2(lo, hi);
+    for (uint c = 0u; c < 4u; c++) {
+        uint cx = c & 1u;
+        uint cy = c >> 1u;
+        if ((cx == 0u ? fa.x >= m : fb.x < m) || (cy == 0u ? fa.y >= m : fb.y < m)) continue;
+        // The quadrant's part of the block, in its own offsets.
+        uvec2 a = uvec2(cx == 0u ? fa.x : max(fa.x, m) - m, cy == 0u ? fa.y : max(fa.y, m) - m);
+        uvec2 b = uvec2(cx == 0u ? min(fb.x, m - 1u) : fb.x - m, cy == 0u ? min(fb.y, m - 1u) : fb.y - m);
+        int k = field_child_split(t, s, c);
+        uvec2 e = k < 0 ? field_corner_extremes(field_child_nodes(t, s, v, c), child_bits, a, b)
+                        : uvec2(field_split_word(t, uint(k), 6u), field_split_word(t, uint(k), 7u));
+        lo = min(lo, e.x);
+        hi = max(hi, e.y);
     }
-    uint n = (1u << field_patch_word(t, q, 1u)) + 1u;
-    uint first = field_patch_word(t, q, 0u);
-    for (uint y = ka.y; y <= kb.y + 1u; y++)
-        for (uint x = ka.x; x <= kb.x + 1u; x++) {
-            uint v = t.patch_nodes.value[first + y * n + x];
-            lo = min(lo, v);
-            hi = max(hi, v);
-        }
     return uvec2(lo, hi);
 }
 
 // The least (x) and greatest (y) node of table cell (i, j): its patch's, or of its four nodes.
 VRPD_FN uvec2 field_cell_range(VRPD_IN(FieldTableView) t, uint i, uint j) {
     int q = field_patch(t, i, j);
-    if (q >= 0) return uvec2(field_patch_word(t, q, 2u), field_patch_word(t, q, 3u));
+    if (q >= 0) return uvec2(field_split_word(t, uint(q), 6u), field_split_word(t, uint(q), 7u));
     uvec4 n = field_cell_nodes(t, i, j);
     return uvec2(min(min(n.x, n.y), min(n.z, n.w)), max(max(n.x, n.y), max(n.z, n.w)));
 }

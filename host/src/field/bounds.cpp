@@ -63,7 +63,8 @@ void complete_bounds(FieldTable& t, ThreadPool& pool) {
     t.refresh_view();
     t.r_lo = *std::min_element(t.nodes.begin(), t.nodes.end());
     t.r_hi = *std::max_element(t.nodes.begin(), t.nodes.end());
-    for (const FieldTable::Patch& q : t.patches) t.r_lo = std::min(t.r_lo, q.lo), t.r_hi = std::max(t.r_hi, q.hi);
+    for (std::uint32_t q = 0; q < t.patch_count; ++q)
+        t.r_lo = std::min(t.r_lo, t.splits[q].lo), t.r_hi = std::max(t.r_hi, t.splits[q].hi);
     // Over the box, r's extremes are at the corners of the table cells clipped to it: the nodes
     // inside, the points where node lines meet the far edges, and the far corner. The
     // interpolant's L: its steepest gradient over the cells (patch_bounds takes a patched cell's).

@@ -1,5 +1,5 @@
-// Patches of a sizing field's table (field/table.h, FieldTable::Patch): finer grids over the
-// table cells whose bilinear interpolant strays from the source, as at a kink.
+// Patches of a sizing field's table (field/table.h, FieldTable::Split): quadtrees over the table
+// cells whose bilinear interpolant strays from the source, as at a kink.
 #pragma once
 
 #include <algorithm>
@@ -11,7 +11,6 @@
 
 #include "table.h"
 #include "../cpu/thread_pool.h"
-#include "../cpu/uninitialised.h"
 
 namespace vrpd::detail {
 
@@ -59,35 +58,38 @@ struct TableDraft {
     double h;
 };
 
-// A patch before rounding: table cell `cell` (row by row) at `depth`, and `grid`, the source on
-// the grid twice as fine, (2^(depth+1) + 1)^2 values row by row, whose even entries are the
-// patch's nodes (those on an edge shared with a coarser cell made to lie on that cell's edge).
-// A grid point past a free box's edge is judged at the edge instead: `outside` holds, in index
-// order, each such point's index, the point at the edge (in the cell's units) and the source there
-// (0, not judged, for a cell wholly past the edge).
+// A patch before rounding: table cell `cell`'s quadtree of splits, the root first. A split's
+// square is at `level` (side 2^-level table cells) and (x, y) in squares of that side from the
+// cell's corner; `source` holds the five nodes it adds as the source gives them (node_value's),
+// `value` the same after continuity (where the other side of an edge is a leaf of the split's
+// size, halfway between the split's corners there).
 struct PatchDraft {
-    struct Outside {
-        std::uint32_t at;
-        double u, v, source;
+    struct Split {
+        double source[5];
+        double value[5];
+        std::int32_t child[4] = {-1, -1, -1, -1};  // child quadrant's split (bit 0: right, bit 1: upper)
+        // A child that is a leaf: its error with the source's nodes at its corners, once judged
+        // (else negative).
+        float error[4] = {-1, -1, -1, -1};
+        std::uint16_t x = 0, y = 0;
+        std::uint8_t level = 0;
     };
-    // Not zeroed on a resize: each grid's maker writes every entry.
-    using Grid = std::vector<double, Uninitialised<double>>;
-    std::uint32_t cell = 0, depth = 0;
-    double error = 0;  // the interpolant's largest relative distance from the source over the grid
-    Grid grid;
-    std::vector<Outside> outside;
+    std::uint32_t cell = 0;
+    std::vector<Split> splits;
 };
 
 // Patches the table cells whose error (cell_error: the largest relative distance at the cell's
-// centre and edge midpoints) exceeds `target`, the worst first, and deepens each while it does,
-// within `budget` patch nodes. Returns them in cell order; `error` (in: the table's error without
-// patches) becomes the patched table's.
+// centre and edge midpoints) exceeds `target`: each a quadtree whose leaves are split while their
+// error at their own centre and edge midpoints does, neighbouring leaves at most one level apart,
+// and split further where continuity takes a leaf past the target. Within `budget` table words
+// (FIELD_SPLIT_WORDS a split), or none. Returns them in cell order; `error` (in: the table's error
+// without patches) becomes the patched table's.
 std::vector<PatchDraft> draft_patches(ThreadPool& pool, const FieldSource& f, const Box& box, const TableDraft& d,
                                       const std::vector<double>& cell_error, double target, std::uint64_t budget,
                                       double& error);
 
-// Gives t (its lattice and quantum set) the patches' nodes in lattice units, indexed by cell,
-// on the pool's threads.
+// Gives t (its lattice, quantum and nodes set) the patches' splits in lattice units, indexed by
+// cell, and their bounds.
 void install_patches(FieldTable& t, const std::vector<PatchDraft>& patches, ThreadPool& pool);
 
 // A table's bounds as a chunk of its cells or patches sees them: the box's least and greatest r,

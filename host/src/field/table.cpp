@@ -5,8 +5,9 @@
 // lattice halved together) while its interpolant is further than 0.075 % from the source at some
 // table cell's centre or edge midpoint, within the 31-bit lattice and a budget of 8 nodes per
 // expected sample. A kink, such as abs()'s, converges only linearly, so the cells still past
-// 0.075 % then get patches (field/patches.cpp), finer grids of their own, if all of them fit a
-// budget of 8 nodes per expected sample (at least 2^18).
+// 0.075 % then get patches (field/patches.cpp), quadtrees of their own, within a budget of 8
+// table words per expected sample (at least 2^18; a split takes 8); where they cannot reach
+// 0.075 % within it, they reach the least target they can, up by factors of sqrt(2).
 #include "table.h"
 
 #include "patches.h"
@@ -37,8 +38,8 @@ constexpr double kNodesPerSample = 8;
 constexpr std::uint64_t kMinTableNodes = std::uint64_t(1) << 16;
 constexpr std::uint32_t kMinLatticeRadius = 4096;
 constexpr std::uint32_t kSurvey = 256;
-constexpr double kPatchNodesPerSample = 8;
-constexpr double kMinPatchNodes = 1 << 18;
+constexpr double kPatchWordsPerSample = 8;
+constexpr double kMinPatchWords = 1 << 18;
 
 // The double-valued table at a resolution: its nodes, the source at the points halfway between
 // them (which are the next resolution's nodes), and its largest relative error against the
@@ -207,7 +208,7 @@ Draft draft(ThreadPool& pool, const FieldSource& f, const Box& box, std::uint32_
 
 FieldStats FieldTable::stats() const {
     return {box_lo * quantum, box_hi * quantum, lipschitz, tabulation_error,
-            std::uint64_t(nodes.size() + patch_nodes.size())};
+            std::uint64_t(nodes.size() + 5 * splits.size())};
 }
 
 FieldTable tabulate(const Sizing& s, const Box& box, unsigned threads) {
@@ -295,15 +296,17 @@ FieldTable tabulate(const Sizing& s, const Box& box, unsigned threads) {
         ++a;
     }
     // Patches where the table strays from the source past the target (a kink), within their own
-    // budget of nodes; none under --lipschitz, whose field is the table's nodes themselves.
+    // budget of table words; none under --lipschitz, whose field is the table's nodes themselves.
+    // Where they cannot reach the target within it, the least target they reach, from the target up
+    // by factors of sqrt(2).
     double error = d.error;
     std::vector<PatchDraft> patches;
-    const double budget = std::max(kPatchNodesPerSample * samples, double(kMinPatchNodes));
-    // Each point past the target is in at most two cells, each to take at least 9 patch nodes.
-    if (s.lipschitz < 0 && d.error > kTargetError && 4.5 * double(d.over) <= budget) {
+    const double budget = std::max(kPatchWordsPerSample * samples, double(kMinPatchWords));
+    if (s.lipschitz < 0 && d.error > kTargetError) {
         const TableDraft view{d.values.data(), d.fine.data(), d.cells_x, d.cells_y, d.h};
-        patches =
-            draft_patches(pool, f, box, view, cell_errors(pool, f, box, d), kTargetError, std::uint64_t(budget), error);
+        const std::vector<double> cell_error = cell_errors(pool, f, box, d);
+        for (double target = kTargetError; patches.empty() && target < d.error; target *= std::sqrt(2.0))
+            patches = draft_patches(pool, f, box, view, cell_error, target, std::uint64_t(budget), error);
     }
     Doubles().swap(d.fine);
     if (lo == hi && std::all_of(d.values.begin(), d.values.end(), [&](double v) { return v == lo; })) t.constant = lo;
@@ -359,9 +362,15 @@ FieldTable scaled(const FieldTable& t, double scale, ThreadPool& pool) {
         });
     };
     scale_nodes(out.nodes);
-    scale_nodes(out.patch_nodes);
-    // A patch's least and greatest node scale with it: `times` is non-decreasing.
-    for (FieldTable::Patch& q : out.patches) q.lo = times(q.lo), q.hi = times(q.hi);
+    // A split's least and greatest node scale with it: `times` is non-decreasing.
+    pool.parallel_for(out.splits.size(), [&](std::size_t begin, std::size_t end, unsigned) {
+        for (std::size_t i = begin; i < end; ++i) {
+            FieldTable::Split& s = out.splits[i];
+            for (std::uint32_t& m : s.mid) m = times(m);
+            s.lo = times(s.lo);
+            s.hi = times(s.hi);
+        }
+    });
     out.constant = t.constant * scale;
     complete_bounds(out, pool);
     return out;

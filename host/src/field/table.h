@@ -42,18 +42,21 @@ struct FieldTableData {
     double constant = 0;  // the source's value where it is one constant, else 0
 
     // A table cell refined where its interpolant strays from the source (a kink, such as abs()'s):
-    // a patch of (2^depth + 1)^2 nodes over it, row by row in patch_nodes from `first`, whose own
-    // cells interpolate as the table's do. Its corners are the cell's nodes, and along an edge
-    // shared with a cell of lesser depth (or none) its nodes lie on that cell's edge, so the
-    // interpolant stays continuous (to its rounding).
-    struct Patch {
-        std::uint32_t first, depth;
-        std::uint32_t lo, hi;  // its least and greatest node
+    // a patch, a quadtree of splits over it whose leaves interpolate as the table's cells do
+    // (shared/field_table.h). A split's node on an edge whose other side is a leaf of its size (a
+    // table cell without a patch is one) lies on that leaf's edge, halfway between its corners, and
+    // neighbouring leaves differ by at most one level, so the interpolant stays continuous (to its
+    // rounding).
+    struct Split {
+        std::uint32_t children;  // the first child split's index << 4, and a bit per split child
+        std::uint32_t mid[5];    // bottom, left, centre, right and top midpoints
+        std::uint32_t lo, hi;    // its least and greatest node, its corners included
+        bool operator==(const Split&) const = default;
     };
-    std::vector<std::uint64_t> patched;      // a bit per table cell, row by row; empty without patches
-    std::vector<std::uint32_t> patch_rank;   // per word of `patched`: the patches of the cells before it
-    std::vector<Patch> patches;              // in cell order
-    std::vector<std::uint32_t> patch_nodes;  // the patches' nodes
+    std::vector<std::uint64_t> patched;     // a bit per table cell, row by row; empty without patches
+    std::vector<std::uint32_t> patch_rank;  // per word of `patched`: the patches of the cells before it
+    std::uint32_t patch_count = 0;
+    std::vector<Split> splits;  // patch q's root is splits[q]; the other splits follow the roots
 };
 
 struct FieldTable : FieldTableData {
@@ -81,28 +84,24 @@ struct FieldTable : FieldTableData {
     // set again by refresh_view whenever they change (complete_bounds does, and every copy).
     const shared::FieldTableView& view() const { return view_; }
     void refresh_view() {
-        static_assert(sizeof(Patch) == 4 * shared::FIELD_PATCH_WORDS && offsetof(Patch, first) == 0 &&
-                      offsetof(Patch, depth) == 4 && offsetof(Patch, lo) == 8 && offsetof(Patch, hi) == 12);
+        static_assert(sizeof(Split) == 4 * shared::FIELD_SPLIT_WORDS && offsetof(Split, mid) == 4 &&
+                      offsetof(Split, lo) == 24 && offsetof(Split, hi) == 28);
         view_ = {cell_bits,
                  cells_x,
                  cells_y,
-                 std::uint32_t(patched.empty() ? 0 : patches.size()),
+                 patch_count,
                  {nodes.data()},
                  {patched.data()},
                  {patch_rank.data()},
-                 {reinterpret_cast<const std::uint32_t*>(patches.data())},
-                 {patch_nodes.data()},
+                 {reinterpret_cast<const std::uint32_t*>(splits.data())},
                  {pyramid_lo.data()},
                  {pyramid_hi.data()},
                  {pyramid_start.data()}};
     }
     // The four nodes of table cell (i, j), in field_interpolate's order.
     glm::uvec4 cell_nodes(std::uint32_t i, std::uint32_t j) const { return shared::field_cell_nodes(view(), i, j); }
-    // Table cell (i, j)'s patch, or nullptr.
-    const Patch* patch(std::uint32_t i, std::uint32_t j) const {
-        const int q = shared::field_patch(view(), i, j);
-        return q < 0 ? nullptr : &patches[std::size_t(q)];
-    }
+    // Whether table cell (i, j) has a patch.
+    bool patch(std::uint32_t i, std::uint32_t j) const { return shared::field_patch(view(), i, j) >= 0; }
     // r at lattice point p (inside the lattice).
     std::uint32_t radius(glm::uvec2 p) const { return shared::field_radius(view(), p); }
     // Starts fetching the nodes radius(p) reads.
@@ -126,10 +125,10 @@ struct FieldTable : FieldTableData {
     // The same over a square of half-width `reach` around p (wrapping on a torus, clipped to a free box).
     std::uint32_t max_near(glm::uvec2 p, std::uint64_t reach) const;
     FieldStats stats() const;
-    // The bytes the nodes, the patches and the pyramids hold.
+    // The bytes the nodes, the patches' splits and the pyramids hold.
     std::uint64_t bytes() const {
-        std::uint64_t n = nodes.capacity() + patch_nodes.capacity() + patch_rank.capacity() + 2 * patched.capacity() +
-                          patches.capacity() * sizeof(Patch) / 4;
+        std::uint64_t n =
+            nodes.capacity() + patch_rank.capacity() + 2 * patched.capacity() + splits.capacity() * sizeof(Split) / 4;
         n += pyramid_lo.capacity() + pyramid_hi.capacity() + pyramid_start.capacity();
         return 4 * n;
     }

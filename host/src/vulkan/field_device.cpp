@@ -63,7 +63,6 @@ Sampling FieldVulkan::run(const FieldTable& table, const FieldQuadtree& tree, co
     run_args_.table = tv;
     for (auto [member, array] : {std::pair{&FieldTableView::nodes, &t_->nodes},
                                  {&FieldTableView::patch_rank, &t_->patch_rank},
-                                 {&FieldTableView::patch_nodes, &t_->patch_nodes},
                                  {&FieldTableView::pyramid_lo, &t_->pyramid_lo},
                                  {&FieldTableView::pyramid_hi, &t_->pyramid_hi},
                                  {&FieldTableView::pyramid_start, &t_->pyramid_start}}) {
@@ -72,8 +71,8 @@ Sampling FieldVulkan::run(const FieldTable& table, const FieldQuadtree& tree, co
     }
     tables_.push_back(words(t_->patched));
     run_args_.table.patched = device_ref<FieldBits>(tables_.back().address());
-    tables_.push_back(upload(t_->patches.data(), t_->patches.size() * sizeof(FieldTable::Patch), staging));
-    run_args_.table.patches = device_ref<FieldWords>(tables_.back().address());
+    tables_.push_back(upload(t_->splits.data(), t_->splits.size() * sizeof(FieldTable::Split), staging));
+    run_args_.table.splits = device_ref<FieldWords>(tables_.back().address());
     roots_ = words(tree.root_words());
     nodes_ = words(tree.node_words());
     cells_ = words(cells);

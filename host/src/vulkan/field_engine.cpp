@@ -26,8 +26,8 @@ using namespace shared;
 using field::ExponentCounts;
 
 static_assert(sizeof(FieldArgs) == 80 && offsetof(FieldArgs, count) == 56 && offsetof(FieldArgs, p2) == 72);
-static_assert(sizeof(FieldRun) == 176 && offsetof(FieldRun, tree) == 80 && offsetof(FieldRun, lattice) == 112 &&
-              offsetof(FieldRun, leaf_sample) == 144);
+static_assert(sizeof(FieldRun) == 168 && offsetof(FieldRun, tree) == 72 && offsetof(FieldRun, lattice) == 104 &&
+              offsetof(FieldRun, leaf_sample) == 136);
 
 namespace {
 constexpr std::uint32_t kPassesPerSubmit = 4;
