@@ -176,11 +176,15 @@ public:
         return e;
     }
 
-    // A table cell's patch of one split (its square), with its midpoints as nodes.
-    static PatchDraft root(const Square& s, const double* node) {
+    // Table cell c's patch of one split, its nodes the table draft's points halfway between the
+    // cell's (the same doubles as the source's at those points, as nodes).
+    PatchDraft root(std::uint32_t c) const {
+        const std::size_t row = 2 * std::size_t(d_.cells_x) + 1, i = 2 * (c % d_.cells_x), j = 2 * (c / d_.cells_x);
+        const double* low = &d_.fine[j * row + i];
+        const double node[5] = {low[1], low[row], low[row + 1], low[row + 2], low[2 * row + 1]};
         PatchDraft p;
-        p.cell = s.cell;
-        p.splits.push_back(made(s, node));
+        p.cell = c;
+        p.splits.push_back(made(Square{c, 0, 0, 0}, node));
         return p;
     }
 
@@ -245,9 +249,7 @@ public:
         ++split_count;
         if (l.patch < 0) {
             slot_[l.cell] = std::int32_t(patches.size());
-            PatchDraft& p = patches.emplace_back();
-            p.cell = l.cell;
-            p.splits.push_back(made(Square{l.cell, 0, 0, 0}));
+            patches.push_back(root(l.cell));
             return {slot_[l.cell], 0};
         }
         PatchDraft& p = patches[std::size_t(l.patch)];
@@ -298,9 +300,14 @@ public:
             Square square;
             Corners v, source;
         };
-        std::vector<Open> leaves;
+        // Each thread's scratch, kept from patch to patch.
+        thread_local std::vector<Open> leaves;
+        thread_local std::vector<Node> stack;
+        thread_local std::vector<Square> squares;
+        thread_local std::vector<Midpoints> m;
+        leaves.clear();
         const Corners first = corners(patch.cell);
-        std::vector<Node> stack{{0, first, first}};
+        stack.assign(1, {0, first, first});
         while (!stack.empty()) {
             const Node n = stack.back();
             stack.pop_back();
@@ -330,9 +337,9 @@ public:
                 leaves.push_back({leaf, sq.child(k), cv, cs});
             }
         }
-        std::vector<Square> squares(leaves.size());
+        squares.resize(leaves.size());
         for (std::size_t i = 0; i < leaves.size(); ++i) squares[i] = leaves[i].square;
-        std::vector<Midpoints> m(leaves.size());
+        m.resize(leaves.size());
         midpoints(squares.data(), squares.size(), m.data());
         for (std::size_t i = 0; i < leaves.size(); ++i) {
             const Open& o = leaves[i];

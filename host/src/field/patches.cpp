@@ -71,81 +71,72 @@ std::vector<PatchDraft> draft_patches(ThreadPool& pool, const FieldSource& f, co
     if (estimate > double(grown_limit)) return {};
     Forest forest(f, box, d);
     {
-        // Grown a level at a time over all patches, the squares of a level judged on the threads,
-        // their midpoints in batches.
-        struct Judged {
-            double node[5];
-            double error;
-        };
-        std::vector<Square> squares(over.size());
-        std::vector<Judged> judged;
-        // Judges the squares (their corners from corners_of(index)); returns those past the target,
-        // or more than `room` once past it, the level's other batches then left unjudged.
-        auto judge = [&](std::uint64_t room, auto&& corners_of) {
-            judged.resize(squares.size());
-            std::atomic<std::uint64_t> splits = 0;
-            each_reporting(pool, (squares.size() + kBatch - 1) / kBatch, 1, [&](std::size_t b) {
-                if (splits.load(std::memory_order_relaxed) > room) return;
-                const std::size_t first = b * kBatch, n = std::min(kBatch, squares.size() - first);
-                std::array<Midpoints, kBatch> m;
-                forest.midpoints(&squares[first], n, m.data());
-                std::uint64_t past = 0;
-                for (std::size_t i = 0; i < n; ++i) {
-                    Judged& j = judged[first + i];
-                    std::copy(std::begin(m[i].node), std::end(m[i].node), j.node);
-                    j.error = forest.error(m[i], corners_of(first + i));
-                    past += j.error > target;
-                }
-                splits.fetch_add(past, std::memory_order_relaxed);
-            });
-            return splits.load();
-        };
-        for (std::size_t k = 0; k < over.size(); ++k) squares[k] = {over[k], 0, 0, 0};
-        judge(UINT64_MAX, [&](std::size_t k) { return forest.corners(over[k]); });
+        // Grown a level at a time over all patches: the children of the last level's splits are
+        // judged on the threads in batches (their midpoints in one call of the source each), and
+        // those past the target split in order. A child left a leaf keeps its error.
+        if (over.size() > grown_limit) return {};
         std::vector<PatchDraft> grown(over.size());
-        for (std::size_t k = 0; k < over.size(); ++k) grown[k] = Forest::root(squares[k], judged[k].node);
-        struct Candidate {
+        for (std::size_t k = 0; k < over.size(); ++k) grown[k] = forest.root(over[k]);
+        struct Parent {
             std::uint32_t patch;
             std::int32_t split;
-            int child;
             Corners v;
         };
-        std::vector<Candidate> frontier, next;
-        frontier.reserve(4 * over.size());
-        next.reserve(4 * over.size());
-        auto open = [&](std::uint32_t p, std::int32_t s, const Corners& v) {
-            for (int c = 0; c < 4; ++c)
-                frontier.push_back({p, s, c, child_corners(v, grown[p].splits[std::size_t(s)].source, c)});
+        struct Past {
+            std::uint32_t child;  // in the level's children: 4 a parent
+            double node[5];
         };
-        for (std::uint32_t k = 0; k < over.size(); ++k) open(k, 0, forest.corners(over[k]));
+        std::vector<Parent> parents(over.size()), next;
+        for (std::uint32_t k = 0; k < over.size(); ++k) parents[k] = {k, 0, forest.corners(over[k])};
         std::uint64_t total = over.size();
-        if (total > grown_limit) return {};
-        while (!frontier.empty()) {
-            squares.resize(frontier.size());
-            for (std::size_t i = 0; i < frontier.size(); ++i) {
-                const Candidate& c = frontier[i];
-                const PatchDraft::Split& s = grown[c.patch].splits[std::size_t(c.split)];
-                squares[i] = Square{grown[c.patch].cell, s.level, s.x, s.y}.child(c.child);
-            }
-            if (judge(grown_limit - total, [&](std::size_t i) { return frontier[i].v; }) > grown_limit - total)
-                return {};
-            next.clear();
-            std::swap(frontier, next);  // `next` holds this level; `frontier` gathers the next
-            for (std::size_t i = 0; i < next.size(); ++i) {
-                if (judged[i].error <= target) {
-                    grown[next[i].patch].splits[std::size_t(next[i].split)].error[next[i].child] =
-                        float(judged[i].error);
-                    continue;
+        while (!parents.empty()) {
+            const std::size_t children = 4 * parents.size(), batches = (children + kBatch - 1) / kBatch;
+            std::vector<std::vector<Past>> past(batches);
+            // Past the budget, the level's other batches are not judged.
+            std::atomic<std::uint64_t> splits = total;
+            each_reporting(pool, batches, 1, [&](std::size_t b) {
+                if (splits.load(std::memory_order_relaxed) > grown_limit) return;
+                const std::size_t first = b * kBatch, n = std::min(kBatch, children - first);
+                std::array<Square, kBatch> squares;
+                std::array<Midpoints, kBatch> m;
+                for (std::size_t i = 0; i < n; ++i) {
+                    const Parent& p = parents[(first + i) / 4];
+                    const PatchDraft::Split& s = grown[p.patch].splits[std::size_t(p.split)];
+                    squares[i] = Square{over[p.patch], s.level, s.x, s.y}.child(int((first + i) % 4));
                 }
-                if (squares[i].level >= kMaxLevel) return {};
-                ++total;
-                const Candidate& c = next[i];
-                PatchDraft& p = grown[c.patch];
-                const std::int32_t s = std::int32_t(p.splits.size());
-                p.splits[std::size_t(c.split)].child[c.child] = s;
-                p.splits.push_back(Forest::made(squares[i], judged[i].node));
-                open(c.patch, s, c.v);
-            }
+                forest.midpoints(squares.data(), n, m.data());
+                for (std::size_t i = 0; i < n; ++i) {
+                    const Parent& p = parents[(first + i) / 4];
+                    const int c = int((first + i) % 4);
+                    PatchDraft::Split& s = grown[p.patch].splits[std::size_t(p.split)];
+                    const double e = forest.error(m[i], child_corners(p.v, s.source, c));
+                    if (e <= target) {
+                        s.error[c] = float(e);
+                        continue;
+                    }
+                    Past& q = past[b].emplace_back();
+                    q.child = std::uint32_t(first + i);
+                    std::copy(std::begin(m[i].node), std::end(m[i].node), q.node);
+                }
+                splits.fetch_add(past[b].size(), std::memory_order_relaxed);
+            });
+            if (splits > grown_limit) return {};
+            next.clear();
+            for (const std::vector<Past>& batch : past)
+                for (const Past& q : batch) {
+                    const Parent& p = parents[q.child / 4];
+                    const int c = int(q.child % 4);
+                    PatchDraft& patch = grown[p.patch];
+                    const PatchDraft::Split parent = patch.splits[std::size_t(p.split)];
+                    const Square square = Square{patch.cell, parent.level, parent.x, parent.y}.child(c);
+                    if (square.level >= kMaxLevel) return {};
+                    const std::int32_t s = std::int32_t(patch.splits.size());
+                    patch.splits[std::size_t(p.split)].child[c] = s;
+                    patch.splits.push_back(Forest::made(square, q.node));
+                    next.push_back({p.patch, s, child_corners(p.v, parent.source, c)});
+                }
+            total = splits;
+            std::swap(parents, next);
         }
         forest.adopt(std::move(grown));
     }
