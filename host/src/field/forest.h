@@ -281,16 +281,19 @@ public:
         double error = 0;        // the largest error
         double steepest = 0;     // the largest gradient with the source's nodes at every corner
         std::vector<Leaf> past;  // those past the target
-        // Those with a corner moved for continuity, and their gradient.
+        // Those with a corner moved for continuity that are steeper than the reference, and their
+        // gradient.
         std::vector<std::pair<Leaf, double>> moved;
     };
 
     // Sets each split's values (continuity: a midpoint whose edge has a leaf of the split's size
     // across it lies halfway between the split's corners there) and measures each leaf of patch p.
-    // Gradients are in node units per table cell.
-    Settled settle(std::size_t p, double target) {
+    // Gradients are in node units per table cell; `steepest` is the reference, a gradient reached
+    // already (only a steeper one is measured exactly).
+    Settled settle(std::size_t p, double target, double steepest) {
         PatchDraft& patch = patches[p];
         Settled out;
+        out.steepest = steepest;
         struct Node {
             std::int32_t split;
             Corners v, source;  // the corners as settled, and as the source gives them
@@ -350,9 +353,9 @@ public:
             const double scale = double(1u << o.leaf.level);
             raise_steepest(out.steepest, o.source[0], o.source[1], o.source[2], o.source[3], scale);
             if (o.v != o.source) {
-                double g = 0;
+                double g = steepest;
                 raise_steepest(g, o.v[0], o.v[1], o.v[2], o.v[3], scale);
-                out.moved.push_back({o.leaf, g});
+                if (g > steepest) out.moved.push_back({o.leaf, g});
             }
         }
         return out;

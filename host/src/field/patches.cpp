@@ -181,7 +181,7 @@ std::vector<PatchDraft> draft_patches(ThreadPool& pool, const FieldSource& f, co
         for (std::size_t p = 0; p < dirty.size(); ++p)
             if (dirty[p]) again.push_back(std::uint32_t(p));
         each_reporting(pool, again.size(), 4,
-                       [&](std::size_t k) { settled[again[k]] = forest.settle(again[k], target); });
+                       [&](std::size_t k) { settled[again[k]] = forest.settle(again[k], target, steepest); });
         for (const std::uint32_t p : again) steepest = std::max(steepest, settled[p].steepest);
         std::vector<Leaf> fix;
         for (const std::uint32_t p : again) {
