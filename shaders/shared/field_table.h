@@ -1,8 +1,8 @@
 // A sizing field's table as every device reads it (the host builds it: field/table.h): the nodes
 // in lattice units, the patches of the table cells where the field bends, and the min/max
 // pyramids. r at a lattice point, and bounds of r over a block of lattice points: exact inside one
-// table cell, where the bilinear interpolant's extremes lie at the block's corners, and from the
-// pyramids beyond it.
+// table cell or leaf of its patch, where the bilinear interpolant's extremes lie at the block's
+// corners, and from the splits' and the pyramids' bounds beyond it.
 #ifndef VRPD_FIELD_TABLE_H
 #define VRPD_FIELD_TABLE_H
 #include "bridge.h"
@@ -31,6 +31,7 @@ struct FieldBits {
 // nodes (the bottom, left, centre, right and top midpoints) and the least and greatest node over
 // its square, its corners included. Patch q's root is split q; the others follow the roots.
 const uint FIELD_SPLIT_WORDS = 8u;
+
 // The table as the functions below read it. On the host its arrays are pointers into the
 // table's vectors; on a device, buffer references (the same members, from FieldTableArgs).
 struct FieldTableView {

@@ -22,8 +22,8 @@ using Corners = std::array<double, 4>;  // field_interpolate's order: v00, v10, 
 
 // A square's midpoints in half-sides from its corner: bottom, left, centre, right, top.
 constexpr std::uint32_t kMid[5][2] = {{1, 0}, {0, 1}, {1, 1}, {2, 1}, {1, 2}};
-// Per edge (each_neighbour's numbering: 0 below, 1 above, 2 left, 3 right): its midpoint, and the
-// corners at its ends.
+// Per edge (0 below, 1 above, 2 left, 3 right, as Forest::across numbers them): its midpoint, and
+// the corners at its ends.
 constexpr int kEdgeMid[4] = {0, 4, 1, 3};
 constexpr int kEdgeEnds[4][2] = {{0, 1}, {2, 3}, {0, 2}, {1, 3}};
 
