@@ -97,7 +97,7 @@ std::vector<PatchDraft> draft_patches(ThreadPool& pool, const FieldSource& f, co
             each_reporting(pool, batches, 1, [&](std::size_t b) {
                 if (splits.load(std::memory_order_relaxed) > grown_limit) return;
                 const std::size_t first = b * kBatch, n = std::min(kBatch, children - first);
-                std::array<Square, kBatch> squares;
+                std::array<Square, kBatch> squares{};  // the first n are this batch's
                 std::array<Midpoints, kBatch> m;
                 for (std::size_t i = 0; i < n; ++i) {
                     const Parent& p = parents[(first + i) / 4];
