@@ -90,8 +90,28 @@ VRPD_FN int field_child_split(VRPD_IN(FieldTableView) t, uint s, uint c) {
     return int((w >> 4u) + uint(bitCount(w & ((1u << c) - 1u))));
 }
 
-// From split s, over a square of side 2^bits with corners v, down to the leaf that holds offset f
-// (inside the square): v, f and bits become the leaf's.
+// From split s, over a square of side 2^bits with corners v, down while the block [fa, fb]
+// (offsets inside the square) lies in one child: v, fa, fb and bits become that child's. Returns
+// the split whose children the block spans, or -1 where the block lies in one leaf.
+VRPD_FN int field_descend_block(VRPD_IN(FieldTableView) t, int s, VRPD_INOUT(uvec4) v, VRPD_INOUT(uvec2) fa,
+                                VRPD_INOUT(uvec2) fb, VRPD_INOUT(uint) bits) {
+    while (s >= 0) {
+        uint child_bits = bits - 1u;
+        uvec2 ca = uvec2(fa.x >> child_bits, fa.y >> child_bits);
+        if (ca != uvec2(fb.x >> child_bits, fb.y >> child_bits)) return s;
+        uint c = ca.x | (ca.y << 1u);
+        v = field_child_nodes(t, uint(s), v, c);
+        uvec2 corner = uvec2(ca.x << child_bits, ca.y << child_bits);
+        fa -= corner;
+        fb -= corner;
+        bits = child_bits;
+        s = field_child_split(t, uint(s), c);
+    }
+    return -1;
+}
+
+// The same down to the leaf that holds offset f: the block's loop for one point, without its
+// test (r at a point is the hot path).
 VRPD_FN void field_descend(VRPD_IN(FieldTableView) t, int s, VRPD_INOUT(uvec4) v, VRPD_INOUT(uvec2) f,
                            VRPD_INOUT(uint) bits) {
     while (s >= 0) {
@@ -138,20 +158,9 @@ VRPD_FN uvec2 field_corner_extremes(uvec4 v, uint bits, uvec2 fa, uvec2 fb) {
 VRPD_COLD_FN uvec2 field_patch_extremes(VRPD_IN(FieldTableView) t, int q, uint i, uint j, uvec2 fa, uvec2 fb) {
     uvec4 v = field_cell_nodes(t, i, j);
     uint bits = t.cell_bits;
-    uint s = uint(q);
-    for (;;) {
-        uint child_bits = bits - 1u;
-        uvec2 ca = uvec2(fa.x >> child_bits, fa.y >> child_bits);
-        if (ca != uvec2(fb.x >> child_bits, fb.y >> child_bits)) break;
-        uint c = ca.x | (ca.y << 1u);
-        v = field_child_nodes(t, s, v, c);
-        fa -= uvec2(ca.x << child_bits, ca.y << child_bits);
-        fb -= uvec2(ca.x << child_bits, ca.y << child_bits);
-        bits = child_bits;
-        int k = field_child_split(t, s, c);
-        if (k < 0) return field_corner_extremes(v, bits, fa, fb);
-        s = uint(k);
-    }
+    int split = field_descend_block(t, q, v, fa, fb, bits);
+    if (split < 0) return field_corner_extremes(v, bits, fa, fb);
+    uint s = uint(split);
     uint child_bits = bits - 1u;
     uint m = 1u << child_bits;
     uint lo = 0xFFFFFFFFu;

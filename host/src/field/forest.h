@@ -91,7 +91,7 @@ public:
 
     std::vector<PatchDraft> patches;
     std::vector<std::uint32_t> touched;  // the table cells split has split in, since last cleared
-    std::uint64_t split_count = 0;       // the splits split has made
+    std::uint64_t split_count = 0;       // the splits of all patches
 
     std::int32_t slot(std::uint32_t cell) const { return slot_[cell]; }
 
@@ -191,6 +191,7 @@ public:
     // Adds patches grown in cell order.
     void adopt(std::vector<PatchDraft>&& grown) {
         for (PatchDraft& p : grown) {
+            split_count += p.splits.size();
             slot_[p.cell] = std::int32_t(patches.size());
             patches.push_back(std::move(p));
         }

@@ -10,39 +10,13 @@
 #include <algorithm>
 #include <array>
 #include <atomic>
-#include <mutex>
 #include <optional>
-#include <string>
 #include <utility>
 
 namespace vrpd::detail {
 namespace {
 
 using namespace patch;
-
-// Runs body(k) for k in [0, n) on the pool's threads; a k that throws Error stops the run, the
-// lowest such k's message given, so that it does not depend on timing.
-template <typename Body>
-void each_reporting(ThreadPool& pool, std::size_t n, std::size_t grain, Body&& body) {
-    std::mutex mutex;
-    std::size_t failed = SIZE_MAX;
-    std::string message;
-    pool.parallel_for(
-        n,
-        [&](std::size_t begin, std::size_t end, unsigned) {
-            for (std::size_t k = begin; k < end; ++k) {
-                try {
-                    body(k);
-                } catch (const Error& e) {
-                    const std::lock_guard lock(mutex);
-                    if (k < failed) failed = k, message = e.what();
-                    return;
-                }
-            }
-        },
-        grain);
-    if (failed != SIZE_MAX) throw Error(message);
-}
 
 }  // namespace
 
@@ -161,13 +135,9 @@ std::vector<PatchDraft> draft_patches(ThreadPool& pool, const FieldSource& f, co
     std::vector<Forest::Settled> settled;
     std::vector<std::uint8_t> dirty;
     std::vector<std::uint32_t> again;  // the patches to settle again
-    std::uint64_t splits = 0;
-    for (const PatchDraft& p : forest.patches) splits += p.splits.size();
     for (;;) {
         forest.balance(work);
-        splits += forest.split_count;
-        forest.split_count = 0;
-        if (splits > limit) return {};
+        if (forest.split_count > limit) return {};
         const std::size_t before = settled.size();
         settled.resize(forest.patches.size());
         dirty.assign(forest.patches.size(), 0);

@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <mutex>
+#include <string>
 #include <vector>
 
 #include <fmt/format.h>
@@ -13,6 +15,31 @@
 #include "../cpu/thread_pool.h"
 
 namespace vrpd::detail {
+
+// Runs body(k) for k in [0, n) on the pool's threads, in chunks of at least `grain`; a k that
+// throws Error stops its chunk's work, and the lowest such k's message is rethrown, so that it
+// does not depend on timing.
+template <typename Body>
+void each_reporting(ThreadPool& pool, std::size_t n, std::size_t grain, Body&& body) {
+    std::mutex mutex;
+    std::size_t failed = SIZE_MAX;
+    std::string message;
+    pool.parallel_for(
+        n,
+        [&](std::size_t begin, std::size_t end, unsigned) {
+            for (std::size_t k = begin; k < end; ++k) {
+                try {
+                    body(k);
+                } catch (const Error& e) {
+                    const std::lock_guard lock(mutex);
+                    if (k < failed) failed = k, message = e.what();
+                    return;
+                }
+            }
+        },
+        grain);
+    if (failed != SIZE_MAX) throw Error(message);
+}
 
 // v = r(x, y), a point of the box; throws unless v is a radius.
 inline double checked_radius(double v, double x, double y) {

@@ -23,8 +23,6 @@
 #include <array>
 #include <cmath>
 #include <functional>
-#include <mutex>
-#include <string>
 
 #include <fmt/format.h>
 
@@ -56,28 +54,10 @@ struct Draft {
 };
 
 // Calls row(j) for j in [0, n) on the pool's threads, from two rows on (a row holds hundreds of
-// nodes or more). A row that throws Error stops its chunk's work; the error of the lowest such
-// row is rethrown, so the message does not depend on timing.
+// nodes or more); an Error stops the run as each_reporting says.
 void for_rows(ThreadPool& pool, std::size_t n, const std::function<void(std::size_t)>& row) {
-    std::mutex mutex;
-    std::size_t failed = SIZE_MAX;
-    std::string message;
     constexpr std::size_t kRowGrain = 2;
-    pool.parallel_for(
-        n,
-        [&](std::size_t begin, std::size_t end, unsigned) {
-            for (std::size_t j = begin; j < end; ++j) {
-                try {
-                    row(j);
-                } catch (const Error& e) {
-                    const std::lock_guard lock(mutex);
-                    if (j < failed) failed = j, message = e.what();
-                    return;
-                }
-            }
-        },
-        kRowGrain);
-    if (failed != SIZE_MAX) throw Error(message);
+    each_reporting(pool, n, kRowGrain, row);
 }
 
 // Fills entries first, first + step, ... of row j of the nodes of n_x x n_y cells of side h. On a
