@@ -73,6 +73,24 @@ TEST_CASE("a sizing field's discrete hierarchy gives the same levels on gpu as o
     }
 }
 
+TEST_CASE("a sizing field's continuous hierarchy gives the same samples and births on gpu as on cpu",
+          "[field][gpu][hierarchy]") {
+    // The first level runs on the device, the events after it on the host.
+    for (const SizingRule rule : {SizingRule::Current, SizingRule::Bigger}) {
+        SampleOptions o = field_options("0.02 + 0.008*sin(2*pi*x)*cos(2*pi*y)", rule, Boundary::Periodic, 4);
+        o.hierarchy.continuous = true;
+        o.hierarchy.start = 2;
+        INFO("rule " << sizing_rule_name(rule));
+        const Sampling cpu = sample(o);
+        o.backend = Backend::Gpu;
+        const Sampling gpu = sample(o);
+        REQUIRE(cpu.size() > 1000);
+        CHECK(gpu.backend == Backend::Gpu);
+        REQUIRE(gpu.lattice == cpu.lattice);
+        REQUIRE(gpu.birth == cpu.birth);
+    }
+}
+
 TEST_CASE("a sizing field completes given samples on gpu as on cpu, and refuses conflicting ones alike",
           "[field][gpu]") {
     // The given samples: the first 300 of a sampling under smaller, conflict-free under it (and

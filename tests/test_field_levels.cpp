@@ -102,8 +102,13 @@ TEST_CASE("a constant field's hierarchy is the one-radius hierarchy, and bad hie
     CHECK_THAT(refusal(levels(ramp, SizingRule::Prior, Boundary::Free, 1, 0)), Catch::Contains("2 to 1000 steps"));
     CHECK_THAT(refusal(levels(ramp, SizingRule::Prior, Boundary::Free, 4, 0.5)), Catch::Contains("start S must be"));
     SampleOptions continuous = field_options(ramp, SizingRule::Prior, Boundary::Free, 1);
-    continuous.hierarchy.continuous = true;
-    CHECK_THAT(refusal(continuous), Catch::Contains("continuous hierarchies of a sizing field are not built"));
+    continuous.hierarchy = {0, 0.5, true};
+    CHECK_THAT(refusal(continuous), Catch::Contains("start S must be"));
+    continuous.hierarchy = {4, 0, true};
+    CHECK_THAT(refusal(continuous), Catch::Contains("discrete (K steps) or continuous, not both"));
+    continuous.hierarchy = {0, 0, true};
+    continuous.initial = {{0.5, 0.5}};
+    CHECK_THAT(refusal(continuous), Catch::Contains("give --from or --hierarchy, not both"));
     SampleOptions from = levels(ramp, SizingRule::Prior, Boundary::Free, 4, 0);
     from.initial = {{0.5, 0.5}};
     CHECK_THAT(refusal(from), Catch::Contains("give --from or --hierarchy, not both"));
@@ -111,6 +116,9 @@ TEST_CASE("a constant field's hierarchy is the one-radius hierarchy, and bad hie
     CHECK(refusal(levels("0.06 + 0.04*sin(2*pi*x)", SizingRule::Smaller, Boundary::Periodic, 10, 0)) ==
           "the hierarchy's first step, at 10 times the field: its largest radius 1 is too large for a periodic box "
           "of 1 x 1: it must be < 0.5 (half the shorter side)");
+    SampleOptions wide = field_options("0.06 + 0.04*sin(2*pi*x)", SizingRule::Smaller, Boundary::Periodic, 1);
+    wide.hierarchy.continuous = true;  // S = 10 by default
+    CHECK_THAT(refusal(wide), Catch::Contains("its largest radius 1 is too large for a periodic box"));
 }
 
 TEST_CASE("sample --sizing --hierarchy: levels a prefix by t, and a warning where S t L passes the rule's bound",

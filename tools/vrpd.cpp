@@ -366,7 +366,7 @@ int main(int argc, char** argv) {
             validate(opt);
             if (output.empty()) output = "-";
             check_writable(output);
-            Sampling s = opt.hierarchy.continuous ? cli::continuous(opt) : sample(opt);
+            Sampling s = opt.hierarchy.continuous && !opt.sizing ? cli::continuous(opt) : sample(opt);
             write_points(s, output);
             const double area = s.box.width * s.box.height;
             if (opt.sizing) cli::print_field_summary(s, *opt.sizing, std::cerr);

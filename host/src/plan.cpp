@@ -123,6 +123,7 @@ std::vector<glm::uvec2> given_on_lattice(const SampleOptions& o, double quantum,
 
 std::vector<HierarchyStep> hierarchy_steps(const SampleOptions& o) {
     const unsigned steps = o.hierarchy.steps;
+    if (o.hierarchy.continuous) return {{1.0, hierarchy_start(o)}};  // its first level; the rest have no steps
     if (steps == 0) return {{1.0, 1.0}};
     const double start = hierarchy_start(o), last = double(steps - 1);
     std::vector<HierarchyStep> out;
@@ -160,13 +161,11 @@ void validate_hierarchy(const SampleOptions& o) {
     if (!o.initial.empty()) throw Error("a hierarchy starts from no samples: give --from or --hierarchy, not both");
 }
 
-// A run with a sizing field: the field replaces the radii. Its hierarchies are discrete; the
-// first step's field is checked where it is tabulated (field/run.cpp).
+// A run with a sizing field: the field replaces the radii. A hierarchy's first step's field
+// (discrete or continuous) is checked where it is tabulated (field/run.cpp).
 void validate_sizing(const SampleOptions& o) {
     if (o.radius != 0 || o.coverage != 0) throw Error("give a sizing field or radii, not both");
-    if (o.hierarchy.continuous)
-        throw Error("continuous hierarchies of a sizing field are not built: use --hierarchy discrete:K[:S]");
-    if (o.hierarchy.steps != 0) validate_hierarchy(o);
+    if (o.hierarchy.continuous || o.hierarchy.steps != 0) validate_hierarchy(o);
     if (o.threads > detail::kMaxThreads)
         throw Error(fmt::format("threads must be at most {} (got {})", detail::kMaxThreads, o.threads));
     validate_box(o.box);

@@ -40,7 +40,8 @@ std::vector<glm::uvec2> given_on_lattice(const SampleOptions& options, double qu
 
 // A discrete hierarchy's steps in order: t_k = 1 - (1 - 1/S) k / (K - 1) and the radii's scale
 // S t_k, each as one division of exact numerators for whole S (so S = K = 10 gives t = 0.2, not
-// 0.19999...). A direct run is one step at t = 1, scale 1.
+// 0.19999...). A direct run is one step at t = 1, scale 1; a continuous hierarchy's first level,
+// one at t = 1, scale S.
 struct HierarchyStep {
     double t, scale;
 };

@@ -395,13 +395,20 @@ Sampling sample_field(const SampleOptions& o, const FieldTable& t) {
         samples = std::move(s.lattice);
         if (o.hierarchy.steps != 0) out.birth.resize(samples.size(), birth);
     }
+    if (o.hierarchy.continuous) {
+        const auto events = Clock::now();
+        const std::uint64_t bytes =
+            continue_hierarchy(t, o, std::uint64_t(double(limit.bytes) / 64), samples, out.birth);
+        out.stats.peak_bytes = std::max(out.stats.peak_bytes, bytes + t.bytes());
+        phases.add("events", since(events));
+    }
     out.lattice = std::move(samples);
     out.quantum = t.quantum;
     out.radius = out.coverage = t.r_lo * t.quantum;
     out.local_radius.reserve(out.size());
     for (const glm::uvec2 p : out.lattice) out.local_radius.push_back(t.radius(p) * t.quantum);
     out.field = t.stats();
-    out.hierarchy_start = o.hierarchy.steps != 0 ? hierarchy_start(o) : 1.0;
+    out.hierarchy_start = o.hierarchy.steps != 0 || o.hierarchy.continuous ? hierarchy_start(o) : 1.0;
     out.stats.seconds = std::chrono::duration<double>(Clock::now() - start).count();
     out.box = o.box;
     out.backend = o.backend == Backend::Serial || o.backend == Backend::Gpu ? o.backend : Backend::Cpu;

@@ -20,4 +20,11 @@ inline constexpr double kFieldBytesPerSample = 400;
 // refused a field whose expected samples would not fit in memory.
 Sampling sample_field(const SampleOptions& o, const FieldTable& table);
 
+// A continuous hierarchy's events (field/continuous.cpp): `samples`, a maximal sampling at S
+// times the field t, born at t = 1, completed without steps down to t's own field, each event's
+// sample appended with its t to `birth` (which it sets). Runs on the host, one thread besides the
+// leaves' build, whatever the backend: the events are a sequence. Returns the bytes it held.
+std::uint64_t continue_hierarchy(const FieldTable& t, const SampleOptions& o, std::uint64_t max_leaves,
+                                 std::vector<glm::uvec2>& samples, std::vector<double>& birth);
+
 }  // namespace vrpd::detail

@@ -40,7 +40,9 @@ Sampling sample_sized(const SampleOptions& o) {
     const SizingField field(*o.sizing, o.box, o.backend == Backend::Serial ? 1 : o.threads);
     const FieldTable& t = field.table();
     const double tabulation = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    if (t.constant > 0) {
+    // A constant field's continuous hierarchy is the field sampler's: the one-radius one is CGAL's.
+    const bool levels = o.hierarchy.steps != 0 || o.hierarchy.continuous;
+    if (t.constant > 0 && !o.hierarchy.continuous) {
         SampleOptions uniform = o;
         uniform.sizing.reset();
         uniform.radius = t.constant;
@@ -49,7 +51,7 @@ Sampling sample_sized(const SampleOptions& o) {
         s.field = t.stats();
         return s;
     }
-    if (o.hierarchy.steps != 0 && o.box.boundary == Boundary::Periodic) {
+    if (levels && o.box.boundary == Boundary::Periodic) {
         // The first step's field, S times r, within half the torus as every field is.
         const double top = t.r_hi * t.quantum * hierarchy_start(o), short_side = std::min(o.box.width, o.box.height);
         if (top >= short_side / 2)
