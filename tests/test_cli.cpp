@@ -312,6 +312,11 @@ TEST_CASE("radii, seeds and limits: refused with one line, never taken silently,
     const Run memory = limited("400000", "sample --radius 0.0003 --device cpu --threads 2");
     CHECK(memory.code == 2);
     CHECK_THAT(memory.err, Catch::Contains("address-space limit"));
+    // A field's continuous hierarchy: its first level fits, its events would not.
+    const Run events =
+        limited("400000", "sample --sizing 0.0012 --rule smaller --hierarchy continuous:10 --device cpu --threads 2");
+    CHECK(events.code == 2);
+    CHECK_THAT(events.err, Catch::Contains("the continuous hierarchy needs about"));
     const Run threads = limited("1000000", "sample --radius 0.1 --device cpu --threads 1024");
     CHECK(threads.code == 2);
     CHECK_THAT(threads.err, Catch::Contains("cannot start 1024 host threads"));

@@ -396,6 +396,14 @@ Sampling sample_field(const SampleOptions& o, const FieldTable& t) {
         if (o.hierarchy.steps != 0) out.birth.resize(samples.size(), birth);
     }
     if (o.hierarchy.continuous) {
+        // The final field holds about S^2 times the first level's samples.
+        const double start = hierarchy_start(o), expected = double(samples.size()) * start * start;
+        if (!(expected * kContinuousBytesPerSample <= double(limit.bytes)))
+            throw Error(
+                fmt::format("the continuous hierarchy needs about {:.3g} samples and {:.0f} MiB, more than the "
+                            "{} ({:.0f} MiB)",
+                            expected, expected * kContinuousBytesPerSample / (1 << 20), limit.what,
+                            double(limit.bytes) / (1 << 20)));
         const auto events = Clock::now();
         const std::uint64_t bytes =
             continue_hierarchy(t, o, std::uint64_t(double(limit.bytes) / 64), samples, out.birth);

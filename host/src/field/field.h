@@ -20,6 +20,11 @@ inline constexpr double kFieldBytesPerSample = 400;
 // refused a field whose expected samples would not fit in memory.
 Sampling sample_field(const SampleOptions& o, const FieldTable& table);
 
+// Bytes per final sample that a continuous hierarchy's events hold at the peak: the leaves and
+// samples, the queue of blocks (about 10 a sample, 40 bytes each) and the table. Measured:
+// 463-602 under the four rules on the bench's sine at S = 4 (docs/performance.md).
+inline constexpr double kContinuousBytesPerSample = 1200;
+
 // A continuous hierarchy's events (field/continuous.cpp): `samples`, a maximal sampling at S
 // times the field t, born at t = 1, completed without steps down to t's own field, each event's
 // sample appended with its t to `birth` (which it sets). Runs on the host, one thread besides the
