@@ -81,7 +81,7 @@ public:
             for (std::uint32_t i = 0; i < t_.tiles_x; ++i)
                 if ((i << t_.tile_bits) < lattice_.extent_x && (j << t_.tile_bits) < lattice_.extent_y) {
                     Block tile{i << t_.tile_bits, j << t_.tile_bits, t_.tile_bits, 0, {}};
-                    evaluate(tile, Ratio{});
+                    evaluate(tile);
                     push(tile);
                 }
         while (!queue_.empty()) {
@@ -280,13 +280,13 @@ private:
         const glm::uvec2 a{b.x, b.y}, e = far_corner(b);
         std::erase_if(near_, [&](std::uint32_t k) { return !within(k, a, e); });
     }
-    // Sets b's bound against every sample so far, from a first search within about sqrt(hint)
-    // times r of it (`hint` bounds g^2 over the block; unbounded at first).
-    void evaluate(Block& b, Ratio hint) {
+    // Sets b's bound against every sample so far: from a first search within 1.5 S times its
+    // largest r (the first level's samples lie about S r apart), widened till it meets one, the
+    // samples gathered within that bound.
+    void evaluate(Block& b) {
         const glm::uvec2 a{b.x, b.y}, e = far_corner(b);
         const std::uint32_t lo = b.bits == 0 ? t_.radius(a) : t_.min_over(a, e);
-        const double scale = hint.den == 0 ? start_ * 1.5 : std::sqrt(hint.quotient);
-        std::uint64_t reach = std::uint64_t(scale * double(t_.max_over(a, e))) + 2;
+        std::uint64_t reach = std::uint64_t(start_ * 1.5 * double(t_.max_over(a, e))) + 2;
         Ratio best = search(a, e, lo, reach);
         while (best.den == 0 && reach < 2 * std::uint64_t(std::max(lattice_.extent_x, lattice_.extent_y)))
             best = search(a, e, lo, reach *= 2);

@@ -345,6 +345,7 @@ Sampling sample_field(const SampleOptions& o, const FieldTable& t) {
     // tabulate() refused a field whose expected samples exceed memory; the leaves stay within a
     // 64th of it besides.
     const MemoryLimit limit = host_memory_limit();
+    const std::uint64_t max_leaves = std::uint64_t(double(limit.bytes) / 64);
     using Clock = std::chrono::steady_clock;
     const auto start = Clock::now();
     Sampling out;
@@ -371,7 +372,6 @@ Sampling sample_field(const SampleOptions& o, const FieldTable& t) {
         }
         const FieldTable& level = own ? *own : t;
         const auto built = Clock::now();
-        const std::uint64_t max_leaves = std::uint64_t(double(limit.bytes) / 64);
         Sampling s;
         if (device) {
             // The options' given samples are checked on the host, as the host backends check them
@@ -397,16 +397,10 @@ Sampling sample_field(const SampleOptions& o, const FieldTable& t) {
     }
     if (o.hierarchy.continuous) {
         // The final field holds about S^2 times the first level's samples.
-        const double start = hierarchy_start(o), expected = double(samples.size()) * start * start;
-        if (!(expected * kContinuousBytesPerSample <= double(limit.bytes)))
-            throw Error(
-                fmt::format("the continuous hierarchy needs about {:.3g} samples and {:.0f} MiB, more than the "
-                            "{} ({:.0f} MiB)",
-                            expected, expected * kContinuousBytesPerSample / (1 << 20), limit.what,
-                            double(limit.bytes) / (1 << 20)));
+        const double scale = hierarchy_start(o);
+        require_memory("the continuous hierarchy", double(samples.size()) * scale * scale, kContinuousBytesPerSample);
         const auto events = Clock::now();
-        const std::uint64_t bytes =
-            continue_hierarchy(t, o, std::uint64_t(double(limit.bytes) / 64), samples, out.birth);
+        const std::uint64_t bytes = continue_hierarchy(t, o, max_leaves, samples, out.birth);
         out.stats.peak_bytes = std::max(out.stats.peak_bytes, bytes + t.bytes());
         phases.add("events", since(events));
     }

@@ -20,6 +20,10 @@ inline constexpr double kFieldBytesPerSample = 400;
 // refused a field whose expected samples would not fit in memory.
 Sampling sample_field(const SampleOptions& o, const FieldTable& table);
 
+// Throws Error, naming `what`, when `expected` samples at `bytes_per_sample` would pass the
+// host's memory limit (field/table.cpp).
+void require_memory(const char* what, double expected, double bytes_per_sample);
+
 // Bytes per final sample that a continuous hierarchy's events hold at the peak: the leaves and
 // samples, the queue of blocks (about 10 a sample, 40 bytes each) and the table. Measured:
 // 463-602 under the four rules on the bench's sine at S = 4 (docs/performance.md).

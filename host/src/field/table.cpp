@@ -191,6 +191,14 @@ FieldStats FieldTable::stats() const {
             std::uint64_t(nodes.size() + 5 * splits.size())};
 }
 
+void require_memory(const char* what, double expected, double bytes_per_sample) {
+    const MemoryLimit limit = host_memory_limit();
+    if (!(expected * bytes_per_sample <= double(limit.bytes)))
+        throw Error(fmt::format("{} needs about {:.3g} samples and {:.0f} MiB, more than the {} ({:.0f} MiB)", what,
+                                expected, expected * bytes_per_sample / (1 << 20), limit.what,
+                                double(limit.bytes) / (1 << 20)));
+}
+
 FieldTable tabulate(const Sizing& s, const Box& box, unsigned threads) {
     if (s.lipschitz != -1 && !(std::isfinite(s.lipschitz) && s.lipschitz >= 0))
         throw Error(fmt::format("the Lipschitz bound must be a finite number >= 0 (got {})", s.lipschitz));
@@ -224,11 +232,7 @@ FieldTable tabulate(const Sizing& s, const Box& box, unsigned threads) {
             expected += 0.70 * box.width * box.height / (kSurvey * kSurvey) / (v * v);
         }
     }
-    const MemoryLimit limit = host_memory_limit();
-    if (!(expected * kFieldBytesPerSample <= double(limit.bytes)))
-        throw Error(fmt::format("the field needs about {:.3g} samples and {:.0f} MiB, more than the {} ({:.0f} MiB)",
-                                expected, expected * kFieldBytesPerSample / (1 << 20), limit.what,
-                                double(limit.bytes) / (1 << 20)));
+    require_memory("the field", expected, kFieldBytesPerSample);
     const double short_side = std::min(box.width, box.height);
     if (periodic && hi >= short_side / 2)
         throw Error(
