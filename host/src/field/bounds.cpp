@@ -6,6 +6,7 @@
 #include "patches.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace vrpd::detail {
 
@@ -144,37 +145,54 @@ std::array<std::uint32_t, 4> FieldTable::children_min(glm::uvec2 a, glm::uvec2 e
     return least;
 }
 
-std::uint32_t FieldTable::max_near(glm::uvec2 p, std::uint64_t reach) const {
-    // Each axis as one or two inclusive ranges of the lattice.
-    auto ranges = [&](std::uint32_t c, std::uint32_t extent, std::uint64_t lo_r[2], std::uint64_t hi_r[2]) {
-        const std::int64_t a = std::int64_t(c) - std::int64_t(reach), b = std::int64_t(c) + std::int64_t(reach);
-        if (!lattice.periodic || b - a + 1 >= std::int64_t(extent)) {
-            lo_r[0] = std::uint64_t(std::max<std::int64_t>(a, 0));
-            hi_r[0] = std::uint64_t(std::min<std::int64_t>(b, std::int64_t(extent) - 1));
-            if (lattice.periodic) lo_r[0] = 0, hi_r[0] = extent - 1;
-            return 1;
-        }
-        if (a < 0) {
-            lo_r[0] = 0, hi_r[0] = std::uint64_t(b);
-            lo_r[1] = std::uint64_t(a + std::int64_t(extent)), hi_r[1] = extent - 1;
-            return 2;
-        }
-        if (b >= std::int64_t(extent)) {
-            lo_r[0] = std::uint64_t(a), hi_r[0] = extent - 1;
-            lo_r[1] = 0, hi_r[1] = std::uint64_t(b - std::int64_t(extent));
-            return 2;
-        }
-        lo_r[0] = std::uint64_t(a), hi_r[0] = std::uint64_t(b);
+int FieldTable::axis_ranges(std::uint32_t c, std::uint64_t reach, std::uint32_t extent, std::uint64_t lo[2],
+                            std::uint64_t hi[2]) const {
+    const std::int64_t a = std::int64_t(c) - std::int64_t(reach), b = std::int64_t(c) + std::int64_t(reach);
+    if (!lattice.periodic || b - a + 1 >= std::int64_t(extent)) {
+        lo[0] = std::uint64_t(std::max<std::int64_t>(a, 0));
+        hi[0] = std::uint64_t(std::min<std::int64_t>(b, std::int64_t(extent) - 1));
+        if (lattice.periodic) lo[0] = 0, hi[0] = extent - 1;
         return 1;
-    };
+    }
+    if (a < 0) {
+        lo[0] = 0, hi[0] = std::uint64_t(b);
+        lo[1] = std::uint64_t(a + std::int64_t(extent)), hi[1] = extent - 1;
+        return 2;
+    }
+    if (b >= std::int64_t(extent)) {
+        lo[0] = std::uint64_t(a), hi[0] = extent - 1;
+        lo[1] = 0, hi[1] = std::uint64_t(b - std::int64_t(extent));
+        return 2;
+    }
+    lo[0] = std::uint64_t(a), hi[0] = std::uint64_t(b);
+    return 1;
+}
+
+std::uint32_t FieldTable::max_near(glm::uvec2 p, std::uint64_t reach) const {
     std::uint64_t xl[2], xh[2], yl[2], yh[2];
-    const int nx = ranges(p.x, lattice.extent_x, xl, xh), ny = ranges(p.y, lattice.extent_y, yl, yh);
+    const int nx = axis_ranges(p.x, reach, lattice.extent_x, xl, xh),
+              ny = axis_ranges(p.y, reach, lattice.extent_y, yl, yh);
     std::uint32_t m = 0;
     for (int j = 0; j < ny; ++j)
         for (int i = 0; i < nx; ++i)
             m = std::max(m, max_over({std::uint32_t(xl[i]), std::uint32_t(yl[j])},
                                      {std::uint32_t(xh[i]), std::uint32_t(yh[j])}));
     return m;
+}
+
+std::uint64_t FieldTable::grown_reach(glm::uvec2 a, glm::uvec2 b, std::uint32_t r_hi, int steps, double scale) const {
+    std::uint64_t rho = std::max(this->r_hi, r_hi);
+    if (const double slope = scale * lipschitz; slope < 1)
+        rho = std::min<std::uint64_t>(rho, std::uint64_t(std::ceil((r_hi + 1.0) / (1 - slope))) + 1);
+    const glm::uvec2 centre((a.x + b.x) / 2, (a.y + b.y) / 2);
+    const std::uint64_t half = std::max(b.x - a.x, b.y - a.y) / 2 + 1;
+    for (int i = 0; i < steps; ++i) {
+        const std::uint64_t m =
+            std::max<std::uint64_t>(max_near(centre, std::uint64_t(std::ceil(scale * double(rho))) + half), r_hi);
+        if (m >= rho) break;
+        rho = m;
+    }
+    return rho;
 }
 
 }  // namespace vrpd::detail

@@ -143,33 +143,17 @@ private:
         const double root = std::sqrt(g2.quotient) * (1 + 1e-9);
         const std::uint32_t own = radius_.back();
         // Under prior and smaller f is at most r(p); under current and bigger r(y) counts too.
-        const std::int64_t need = std::int64_t(rule_ == shared::RULE_PRIOR || rule_ == shared::RULE_SMALLER
-                                                   ? std::uint64_t(root * double(own)) + 2
-                                                   : spread(p, 0, root, own));
-        // The lattice coordinates within `need` of c along an axis: one or, wrapped, two ranges.
-        auto ranges = [&](std::uint32_t c, std::uint32_t extent, std::int64_t out[2][2]) {
-            const std::int64_t from = std::int64_t(c) - need, to = std::int64_t(c) + need, n = extent;
-            if (!lattice_.periodic || to - from + 1 >= n) {
-                out[0][0] = std::max<std::int64_t>(from, 0), out[0][1] = std::min(to, n - 1);
-                if (lattice_.periodic) out[0][0] = 0, out[0][1] = n - 1;
-                return 1;
-            }
-            out[0][0] = std::max<std::int64_t>(from, 0), out[0][1] = std::min(to, n - 1);
-            if (from < 0)
-                out[1][0] = from + n, out[1][1] = n - 1;
-            else if (to >= n)
-                out[1][0] = 0, out[1][1] = to - n;
-            else
-                return 1;
-            return 2;
-        };
-        std::int64_t xs[2][2], ys[2][2];
-        const int nx = ranges(p.x, lattice_.extent_x, xs), ny = ranges(p.y, lattice_.extent_y, ys);
+        const std::uint64_t need = rule_ == shared::RULE_PRIOR || rule_ == shared::RULE_SMALLER
+                                       ? std::uint64_t(root * double(own)) + 2
+                                       : spread(p, p, root, own);
+        std::uint64_t xl[2], xh[2], yl[2], yh[2];
+        const int nx = t_.axis_ranges(p.x, need, lattice_.extent_x, xl, xh),
+                  ny = t_.axis_ranges(p.y, need, lattice_.extent_y, yl, yh);
         const std::uint32_t stamp = std::uint32_t(points_.size());  // the sample's index + 1
         for (int j = 0; j < ny; ++j)
-            for (std::int64_t cy = ys[j][0] >> mark_bits_; cy <= ys[j][1] >> mark_bits_; ++cy)
+            for (std::uint64_t cy = yl[j] >> mark_bits_; cy <= yh[j] >> mark_bits_; ++cy)
                 for (int i = 0; i < nx; ++i)
-                    for (std::int64_t cx = xs[i][0] >> mark_bits_; cx <= xs[i][1] >> mark_bits_; ++cx)
+                    for (std::uint64_t cx = xl[i] >> mark_bits_; cx <= xh[i] >> mark_bits_; ++cx)
                         marks_[std::size_t(cy) * marks_x_ + std::size_t(cx)] = stamp;
     }
     // Whether a sample placed since b's bound was set may lower it: one marked a cell b meets
@@ -232,31 +216,22 @@ private:
         for (const std::uint32_t k : near_) best = std::min(best, bound_from(k, a, e, lo));
         return best;
     }
-    // How far a point within `half` (per axis) of c, where r is at most `known`, and a point
-    // whose r is unknown can be while f of the two may pass their distance / root. f is at most
-    // max(r(x), r(y)) under every rule, so nothing is past d >= root max(known, M), M the largest
-    // r within d: from the largest r anywhere, then twice from the largest r within the last
-    // reach. Where root L < 1 also past root (known + 1) / (1 - root L): the unknown r is at
-    // most known + L d + 1 (r is the floor of an L-Lipschitz interpolant).
-    std::uint64_t spread(glm::uvec2 c, std::uint64_t half, double root, std::uint32_t known) const {
-        std::uint64_t need = std::uint64_t(root * double(std::max(known, t_.r_hi))) + 2;
-        for (int k = 0; k < 2; ++k)
-            need = std::min(need, std::uint64_t(root * double(std::max(known, t_.max_near(c, need + half)))) + 2);
-        if (const double slope = root * t_.lipschitz; slope < 1)
-            need = std::min(need, std::uint64_t(root * (double(known) + 1) / (1 - slope)) + 2);
-        return need;
+    // How far from [a, e], where r is at most `known`, a point can be while f between it and a
+    // point of [a, e] may pass their distance / root: root times the grown f (every rule's f is
+    // at most max(r(x), r(y))).
+    std::uint64_t spread(glm::uvec2 a, glm::uvec2 e, double root, std::uint32_t known) const {
+        return std::uint64_t(std::ceil(root * double(t_.grown_reach(a, e, known, 2, root)))) + 2;
     }
     // Lists in near_ every sample that may give a block inside [a, e] a bound below g2 (bounded):
     // a sample x at distance d from [a, e] gives a block in it at least d^2 / f(x, y)^2 for some
     // y in [a, e], so nothing below g2 once d >= sqrt(g2) f. Under current and smaller f is at
     // most r(y), so at most the largest r over [a, e]; under prior and bigger r(x) counts too.
     void gather(glm::uvec2 a, glm::uvec2 e, Ratio g2) {
-        const glm::uvec2 c = (a + e) / 2u;
         const double root = std::sqrt(g2.quotient) * (1 + 1e-9);
         const std::uint32_t hi = t_.max_over(a, e);
         const std::uint64_t need = rule_ == shared::RULE_CURRENT || rule_ == shared::RULE_SMALLER
                                        ? std::uint64_t(root * double(hi)) + 2
-                                       : spread(c, std::max(e.x - c.x, e.y - c.y), root, hi);
+                                       : spread(a, e, root, hi);
         near_.clear();
         near_root_ = root;
         near_hi_ = hi;

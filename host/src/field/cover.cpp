@@ -22,31 +22,13 @@ std::uint64_t far_gap(std::uint32_t v, std::uint32_t from, std::uint32_t to, std
 std::uint64_t FieldSampler::reach(uvec2 a, uvec2 b, std::uint32_t r_hi) const {
     // current, smaller: f <= r(y) <= r_hi.
     if (rule_ == shared::RULE_CURRENT || rule_ == shared::RULE_SMALLER) return r_hi;
-    return grown_reach(a, b, r_hi, 1);
+    return t_.grown_reach(a, b, r_hi, 1);
 }
 
 std::uint64_t FieldSampler::cover_reach(uvec2 x, std::uint32_t r) const {
     // prior, smaller: f <= r(x); current, bigger: f <= max(r(x), r(y)), with y within the reach.
     if (rule_ == shared::RULE_PRIOR || rule_ == shared::RULE_SMALLER) return r;
-    return grown_reach(x, x, r, 4);
-}
-
-std::uint64_t FieldSampler::grown_reach(uvec2 a, uvec2 b, std::uint32_t r_hi, int steps) const {
-    // A point z within the reach of [a, b] with |z - [a, b]| < max(r(z), r_hi): start from the
-    // field's largest radius, or r_hi grown by the Lipschitz bound (r(z) <= r(y) + L |z - y| + 1,
-    // the 1 for the floor), and shrink to the largest r over the square around [a, b] while it
-    // does, at most `steps` times.
-    std::uint64_t rho = t_.r_hi;
-    if (t_.lipschitz < 1)
-        rho = std::min<std::uint64_t>(rho, std::uint64_t(std::ceil((r_hi + 1.0) / (1 - t_.lipschitz))) + 1);
-    const uvec2 centre((a.x + b.x) / 2, (a.y + b.y) / 2);
-    const std::uint64_t half = std::max(b.x - a.x, b.y - a.y) / 2 + 1;
-    for (int i = 0; i < steps; ++i) {
-        const std::uint64_t m = std::max<std::uint64_t>(t_.max_near(centre, rho + half), r_hi);
-        if (m >= rho) break;
-        rho = m;
-    }
-    return rho;
+    return t_.grown_reach(x, x, r, 4);
 }
 
 bool FieldSampler::conflicts_with(std::uint32_t s, uvec2 p, std::uint32_t r) const {

@@ -103,10 +103,9 @@ private:
     std::uint64_t reach(uvec2 a, uvec2 b, std::uint32_t r_hi) const;
     // The farthest a point sample x (radius r) may cover under the rule.
     std::uint64_t cover_reach(uvec2 x, std::uint32_t r) const;
-    // The reach of f = max(r(z), r_hi) (grown_reach in engine.cpp). A search takes one tightening
+    // Both grow f = max(r(z), r_hi) by FieldTable::grown_reach: a search takes one tightening
     // step (a second costs more than its narrower square saves); a sample's stamps take up to
     // four (each leaf stamped costs a re-test of its cells).
-    std::uint64_t grown_reach(uvec2 a, uvec2 b, std::uint32_t r_hi, int steps) const;
     // Is the reach of a search for point p (radius r) so much wider than r (a steep field) that
     // subtrees are worth testing before they are entered (within)?
     static bool steep(std::uint64_t reach, std::uint32_t r) { return reach > 4 * std::uint64_t(r) + 4; }

@@ -124,6 +124,15 @@ struct FieldTable : FieldTableData {
     std::pair<std::uint32_t, std::uint32_t> extremes_over(glm::uvec2 a, glm::uvec2 b) const;
     // The same over a square of half-width `reach` around p (wrapping on a torus, clipped to a free box).
     std::uint32_t max_near(glm::uvec2 p, std::uint64_t reach) const;
+    // The lattice coordinates within `reach` of c along an axis of `extent` points, as one or (on
+    // a torus, wrapped) two inclusive ranges [lo[k], hi[k]]; returns how many.
+    int axis_ranges(std::uint32_t c, std::uint64_t reach, std::uint32_t extent, std::uint64_t lo[2],
+                    std::uint64_t hi[2]) const;
+    // A bound on f = max(r(z), r_hi) over the points z within `scale` f of [a, b], where r_hi >= r
+    // over [a, b]: r_hi grown by the Lipschitz bound (r(z) <= r_hi + L |z - [a, b]| + 1, the 1 for
+    // the floor; where scale L < 1) or the field's largest r, then shrunk to the largest r over
+    // the square around [a, b] that reaches while it shrinks, at most `steps` times.
+    std::uint64_t grown_reach(glm::uvec2 a, glm::uvec2 b, std::uint32_t r_hi, int steps, double scale = 1) const;
     FieldStats stats() const;
     // The bytes the nodes, the patches' splits and the pyramids hold.
     std::uint64_t bytes() const {
