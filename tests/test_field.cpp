@@ -127,10 +127,12 @@ TEST_CASE("each rule on a ramp, rectified sines, a kink and an image: conflict-f
 
 TEST_CASE("radii near half the torus: each rule conflict-free and maximal, cpu = serial", "[field]") {
     // A split cell's samples may lie past half the torus from its far end: its children's tests
-    // then take the shorter way round to each end (open_children's wrapped case).
+    // then take the shorter way round to each end (open_children's wrapped case). A block may hold
+    // a sample's antipode, farther from it than any of its corners: bigger's seed 10 on the first
+    // field leaves one uncovered where that goes unseen.
     for (const char* expr : {"0.4 + 0.05*sin(2*pi*x)", "0.3 + 0.15*sin(2*pi*x)*sin(2*pi*y)"})
         for (SizingRule rule : kRules)
-            for (std::uint32_t seed : {1u, 2u, 3u}) {
+            for (std::uint32_t seed : {1u, 2u, 3u, 10u}) {
                 SampleOptions o = field_options(expr, rule, Boundary::Periodic, seed);
                 const Sampling s = sample(o);
                 o.backend = Backend::Serial;

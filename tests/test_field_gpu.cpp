@@ -51,6 +51,13 @@ TEST_CASE("a sizing field samples the same points on gpu, cpu and serial under e
                 REQUIRE(serial.lattice == cpu.lattice);
                 CHECK(gpu.local_radius == cpu.local_radius);
             }
+    // Radii near half the torus: a cell may hold a sample's antipode, farther than its corners.
+    SampleOptions o = field_options("0.4 + 0.05*sin(2*pi*x)", SizingRule::Bigger, Boundary::Periodic, 10);
+    const Sampling cpu = sample(o);
+    o.backend = Backend::Gpu;
+    const Sampling gpu = sample(o);
+    REQUIRE(gpu.lattice == cpu.lattice);
+    CHECK(test::judge(gpu, *o.sizing).uncovered == 0);
 }
 
 TEST_CASE("a sizing field's discrete hierarchy gives the same levels on gpu as on cpu under each rule",

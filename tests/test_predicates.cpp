@@ -52,6 +52,30 @@ TEST_CASE("predicates: the lattice distance is the shorter way round, exactly, u
     }
 }
 
+TEST_CASE("predicates: the farthest gap to an interval is its farthest coordinate's, half a torus where it holds one",
+          "[predicates]") {
+    // Against every coordinate of the interval on small extents, odd and even; on a torus an
+    // interval past the point's antipode has a farther coordinate than either end.
+    std::mt19937_64 rng(11);
+    int antipodal = 0;
+    for (int i = 0; i < 20000; ++i) {
+        const std::uint32_t periodic = std::uint32_t(i % 2), extent = 2 + std::uint32_t(rng() % 60);
+        const std::uint32_t v = std::uint32_t(rng() % extent), a = std::uint32_t(rng() % extent);
+        const std::uint32_t b = a + std::uint32_t(rng() % (extent - a));
+        std::uint32_t far = 0;
+        for (std::uint32_t c = a; c <= b; ++c) far = std::max(far, shared::axis_gap(v, c, extent, periodic));
+        INFO("extent " << extent << " periodic " << periodic << " v " << v << " [" << a << ", " << b << "]");
+        REQUIRE(shared::axis_far_gap(v, a, b, extent, periodic) == far);
+        antipodal += far > std::max(shared::axis_gap(v, a, extent, periodic), shared::axis_gap(v, b, extent, periodic));
+    }
+    CHECK(antipodal > 1000);
+    // At the largest extent the sums stay within 32 bits.
+    const std::uint32_t big = 0x80000000u;
+    CHECK(shared::axis_far_gap(big - 1, big / 2 - 1, big / 2 - 1, big, 1u) == big / 2);
+    CHECK(shared::axis_far_gap(big - 1, 0, 5, big, 1u) == 6u);
+    CHECK(shared::axis_far_gap(big - 1, 0, big - 1, big, 0u) == big - 1);
+}
+
 TEST_CASE("predicates: conflict and cover are strict, a pair at exactly r neither conflicts nor covers",
           "[predicates]") {
     const shared::Lattice l{1000, 1000, 0};

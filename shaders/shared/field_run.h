@@ -197,11 +197,11 @@ VRPD_FN uint field_cover_reach(VRPD_IN(FieldRun) run, uvec2 x, uint r) {
     return field_grown_reach(run, x, x, r);
 }
 
-// The squared distance from x to the farthest point of [a, b]: the larger gap along each axis (on
-// a torus, to each end the shorter way round).
+// The squared distance from x to the farthest point of [a, b]: the greatest gap along each axis
+// (axis_far_gap's).
 VRPD_FN uint64_t field_far_distance2(Lattice l, uvec2 x, uvec2 a, uvec2 b) {
-    uint64_t gx = uint64_t(max(axis_gap(x.x, a.x, l.extent_x, l.periodic), axis_gap(x.x, b.x, l.extent_x, l.periodic)));
-    uint64_t gy = uint64_t(max(axis_gap(x.y, a.y, l.extent_y, l.periodic), axis_gap(x.y, b.y, l.extent_y, l.periodic)));
+    uint64_t gx = uint64_t(axis_far_gap(x.x, a.x, b.x, l.extent_x, l.periodic));
+    uint64_t gy = uint64_t(axis_far_gap(x.y, a.y, b.y, l.extent_y, l.periodic));
     return gx * gx + gy * gy;
 }
 

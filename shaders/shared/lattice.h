@@ -25,6 +25,18 @@ VRPD_FN uint axis_gap(uint a, uint b, uint extent, uint periodic) {
     return d;
 }
 
+// The greatest gap along one axis from v to a coordinate of [from, to] (from <= to): at an end, or
+// on a torus half of it where [from, to] holds the coordinates that far round either way. Sums
+// stay below 2^32: v < extent <= 2^31.
+VRPD_FN uint axis_far_gap(uint v, uint from, uint to, uint extent, uint periodic) {
+    if (periodic != 0u) {
+        uint half_extent = extent / 2u;
+        uint ahead = (v + half_extent) % extent, behind = (v + (extent - half_extent)) % extent;
+        if ((ahead >= from && ahead <= to) || (behind >= from && behind <= to)) return half_extent;
+    }
+    return max(axis_gap(v, from, extent, periodic), axis_gap(v, to, extent, periodic));
+}
+
 VRPD_FN uint64_t distance2(Lattice l, uvec2 p, uvec2 q) {
     uint64_t dx = uint64_t(axis_gap(p.x, q.x, l.extent_x, l.periodic));
     uint64_t dy = uint64_t(axis_gap(p.y, q.y, l.extent_y, l.periodic));

@@ -172,20 +172,6 @@ private:
         return {std::uint32_t(std::min<std::uint64_t>(b.x + side, lattice_.extent_x) - 1),
                 std::uint32_t(std::min<std::uint64_t>(b.y + side, lattice_.extent_y) - 1)};
     }
-    // The greatest distance along an axis from c to a point of [a, e]: at an end, or half the
-    // torus where [a, e] holds a point that far.
-    std::uint64_t farthest(std::uint32_t c, std::uint32_t a, std::uint32_t e, std::uint32_t extent) const {
-        const std::uint32_t to_a = shared::axis_gap(c, a, extent, lattice_.periodic),
-                            to_e = shared::axis_gap(c, e, extent, lattice_.periodic);
-        if (lattice_.periodic) {
-            const std::uint32_t half = extent / 2;
-            for (const std::uint32_t d : {half, extent - half}) {
-                const std::uint32_t q = std::uint32_t((std::uint64_t(c) + d) % extent);
-                if (q >= a && q <= e) return half;
-            }
-        }
-        return std::max(to_a, to_e);
-    }
     // The least distance along an axis from c to a point of [a, e].
     std::uint32_t nearest(std::uint32_t c, std::uint32_t a, std::uint32_t e, std::uint32_t extent) const {
         if (c >= a && c <= e) return 0;
@@ -196,8 +182,8 @@ private:
     // over f with r(y) at its least (f is non-decreasing in r(y)); exact for a single point.
     Ratio bound_from(std::uint32_t k, glm::uvec2 a, glm::uvec2 e, std::uint32_t lo) const {
         const glm::uvec2 x = points_[k];
-        const std::uint64_t dx = farthest(x.x, a.x, e.x, lattice_.extent_x),
-                            dy = farthest(x.y, a.y, e.y, lattice_.extent_y);
+        const std::uint64_t dx = shared::axis_far_gap(x.x, a.x, e.x, lattice_.extent_x, lattice_.periodic),
+                            dy = shared::axis_far_gap(x.y, a.y, e.y, lattice_.extent_y, lattice_.periodic);
         const std::uint64_t f = shared::rule_f(rule_, radius_[k], lo);
         return {dx * dx + dy * dy, f * f};
     }

@@ -10,15 +10,6 @@
 
 namespace vrpd::detail::field {
 
-namespace {
-// Coordinate v's gap to the farther end of [from, to] along one axis (on a torus, to each end the
-// shorter way round).
-std::uint64_t far_gap(std::uint32_t v, std::uint32_t from, std::uint32_t to, std::uint32_t extent,
-                      std::uint32_t periodic) {
-    return std::max(shared::axis_gap(v, from, extent, periodic), shared::axis_gap(v, to, extent, periodic));
-}
-}  // namespace
-
 std::uint64_t FieldSampler::reach(uvec2 a, uvec2 b, std::uint32_t r_hi) const {
     // current, smaller: f <= r(y) <= r_hi.
     if (rule_ == shared::RULE_CURRENT || rule_ == shared::RULE_SMALLER) return r_hi;
@@ -133,11 +124,10 @@ bool FieldSampler::covered_by_fresh(uvec2 a, uvec2 b, std::uint32_t leaf) const 
 }
 
 std::uint64_t FieldSampler::far_distance2(std::uint32_t s, uvec2 a, uvec2 b) const {
-    // The larger gap along each axis, squared and added.
     const uvec2 x = lattice_[s];
     const shared::Lattice& l = t_.lattice;
-    const std::uint64_t gx = far_gap(x.x, a.x, b.x, l.extent_x, l.periodic),
-                        gy = far_gap(x.y, a.y, b.y, l.extent_y, l.periodic);
+    const std::uint64_t gx = shared::axis_far_gap(x.x, a.x, b.x, l.extent_x, l.periodic),
+                        gy = shared::axis_far_gap(x.y, a.y, b.y, l.extent_y, l.periodic);
     return gx * gx + gy * gy;
 }
 
@@ -172,7 +162,7 @@ std::uint8_t FieldSampler::open_children(const std::vector<std::uint32_t>& near,
     // A sample's farther gap to each part along one axis. Off a torus, or on one where o, the
     // offset from a to the image of v nearest a (o <= extent / 2), is at least w - extent / 2 so
     // that the image lies within half the torus of every end of the cell, the gaps to [from, to]
-    // are max(o - from, to - o) in that image; else the shorter way to each end.
+    // are max(o - from, to - o) in that image; else axis_far_gap's.
     auto gaps = [&](std::uint32_t v, std::uint32_t a, std::uint32_t e, std::uint32_t m, std::uint32_t b,
                     std::uint32_t extent, std::uint64_t out[2]) {
         const std::int64_t o = l.periodic ? shared::axis_offset(a, v, extent, 1u) : std::int64_t(v) - std::int64_t(a);
@@ -183,8 +173,8 @@ std::uint8_t FieldSampler::open_children(const std::vector<std::uint32_t>& near,
             out[1] = std::uint64_t(std::max(o - ma, w - o));
             return;
         }
-        out[0] = far_gap(v, a, e, extent, 1u);
-        out[1] = far_gap(v, m, b, extent, 1u);
+        out[0] = shared::axis_far_gap(v, a, e, extent, 1u);
+        out[1] = shared::axis_far_gap(v, m, b, extent, 1u);
     };
     // The rule is fixed for the run: each rule's loop has its f known, and tests the four children
     // without a branch (a child already covered stays covered).
