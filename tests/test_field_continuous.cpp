@@ -188,3 +188,24 @@ TEST_CASE("sample --sizing --hierarchy continuous: a level by t passes check at 
     CHECK(cli("check " + level + " --sizing \"0.01 + 0.02*x\" --rule current --boundary free --scale 2").code == 0);
     CHECK(cli("check " + out + " --sizing \"0.01 + 0.02*x\" --rule current --boundary free").code == 0);
 }
+
+TEST_CASE("check --scale allows the scaled table's rounding: a level whose last sample is born just past t passes",
+          "[field][hierarchy][cli]") {
+    // The prefix at t = 0.75 ends with a sample born at 0.7500025, 3.4e-6 past its conflict with
+    // an earlier one at S t = 1.5: exact there, but within the scaled table's rounding of it.
+    const std::string expr = "\"0.03 + (0.005-0.03)*abs(sin(3*pi*d))\"";
+    const std::string out = (scratch() / "field_continuous_tight.csv").string(),
+                      level = (scratch() / "field_continuous_tight_level.csv").string();
+    REQUIRE(cli("sample --sizing " + expr +
+                " --rule smaller --boundary free --hierarchy continuous:2 --seed 1 --device cpu -o " + out)
+                .code == 0);
+    const Run lod = cli("lod " + out + " --t 0.75 -o " + level);
+    REQUIRE(lod.code == 0);
+    CHECK(lod.err.find("t >= 0.7500025") != std::string::npos);
+    const std::string check = "check " + level + " --sizing " + expr + " --rule smaller --boundary free --scale 1.5";
+    CHECK(cli(check).code == 0);
+    // Without the rounding, the pair counts as a conflict.
+    const std::string json = (scratch() / "field_continuous_tight.json").string();
+    CHECK(cli(check + " --tolerance 2e-8 --json " + json).code == 1);
+    CHECK(slurp(json).find("\"conflicts\": 2,") != std::string::npos);
+}

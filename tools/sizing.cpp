@@ -25,10 +25,15 @@ int run_check_sizing(const CheckOptions& o) {
         throw Error("extent must be two finite numbers > 0");
     if (o.tolerance && !(*o.tolerance >= 0))
         throw Error(fmt::format("--tolerance must be >= 0 (got {})", *o.tolerance));
-    const double tolerance = o.tolerance ? *o.tolerance : kDefaultTolerance * std::max(box.width, box.height);
     // The field as vrpd sample tabulates it: the same r at each of its samples.
     if (!o.json.empty()) check_writable(o.json);
     const SizingField r = o.scale ? SizingField(sizing, box).scaled(*o.scale) : SizingField(sizing, box);
+    // Scaled, each node is rounded again: r then lies within F + 2 lattice units of F times the
+    // run's field (each interpolant rounds within 1, each scaled node within 1/2), which a
+    // continuous hierarchy's births, exact at F times the run's field, do not follow.
+    const double rounding = o.scale ? (*o.scale + 2) * r.quantum() : 0;
+    const double tolerance =
+        o.tolerance ? *o.tolerance : kDefaultTolerance * std::max(box.width, box.height) + rounding;
     const std::vector<glm::dvec2> points = read_points(o.file);
     const FieldStats f = r.stats();
     FieldSummary field{f.r_min, f.r_max, f.lipschitz, std::size_t(std::llround(std::sqrt(double(f.table_nodes))))};

@@ -277,8 +277,10 @@ int main(int argc, char** argv) {
                           "box's longer side: vrpd's CSV digits and lattice)");
     check_cmd->add_option("--json", check.json, "also write the report as JSON to FILE");
     cli::add_sizing_options(*check_cmd, check.sizing, false);
-    check_cmd->add_option("--scale", check.scale,
-                          "judge under the sizing field times F, as a hierarchy's level at birth t has it (F = S t)");
+    check_cmd->add_option(
+        "--scale", check.scale,
+        "judge under the sizing field times F, as a hierarchy's level at birth t has it (F = S t); the "
+        "default tolerance adds the scaled table's rounding, F + 2 lattice units");
 
     cli::AnalyzeOptions analyze;
     auto* analyze_cmd = app.add_subcommand(
