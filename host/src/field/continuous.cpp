@@ -91,7 +91,9 @@ public:
                 // Stale: lowered by the samples placed near it since (else it stands), and taken
                 // on now only if it still comes first.
                 if (touched(b)) {
-                    update(b);
+                    const std::uint32_t lo = least_r(b);
+                    if (covered_by_marks(b, lo)) continue;
+                    update(b, lo);
                     if (b.g2.below_one() || (!queue_.empty() && After{}(b, queue_.top()))) {
                         push(b);
                         continue;
@@ -165,6 +167,27 @@ private:
             for (std::uint32_t x = a.x; x <= e.x; ++x)
                 if (marks_[std::size_t(y) * marks_x_ + x] > b.seen) return true;
         return false;
+    }
+    // Whether one of the samples that last marked the cells b meets covers b at the final field
+    // (gives it a bound below 1), given r's least value `lo` over it: so are most stale blocks,
+    // by a sample placed beside them since, found without a search.
+    bool covered_by_marks(const Block& b, std::uint32_t lo) const {
+        const glm::uvec2 a{b.x, b.y}, e = far_corner(b), ca = a >> mark_bits_, ce = e >> mark_bits_;
+        if (std::uint64_t(ce.x - ca.x + 1) * (ce.y - ca.y + 1) > 64) return false;
+        std::uint32_t tried = 0;
+        for (std::uint32_t y = ca.y; y <= ce.y; ++y)
+            for (std::uint32_t x = ca.x; x <= ce.x; ++x) {
+                const std::uint32_t stamp = marks_[std::size_t(y) * marks_x_ + x];
+                if (stamp <= b.seen || stamp == tried) continue;
+                tried = stamp;
+                if (bound_from(stamp - 1, a, e, lo).below_one()) return true;
+            }
+        return false;
+    }
+    // The least r over b's lattice points.
+    std::uint32_t least_r(const Block& b) const { return least_r({b.x, b.y}, far_corner(b), b.bits); }
+    std::uint32_t least_r(glm::uvec2 a, glm::uvec2 e, std::uint32_t bits) const {
+        return bits == 0 ? t_.radius(a) : t_.min_over(a, e);
     }
     // The block's last lattice point on each axis.
     glm::uvec2 far_corner(const Block& b) const {
@@ -246,7 +269,7 @@ private:
     // samples gathered within that bound.
     void evaluate(Block& b) {
         const glm::uvec2 a{b.x, b.y}, e = far_corner(b);
-        const std::uint32_t lo = b.bits == 0 ? t_.radius(a) : t_.min_over(a, e);
+        const std::uint32_t lo = least_r(a, e, b.bits);
         std::uint64_t reach = std::uint64_t(start_ * 1.5 * double(t_.max_over(a, e))) + 2;
         Ratio best = search(a, e, lo, reach);
         while (best.den == 0 && reach < 2 * std::uint64_t(std::max(lattice_.extent_x, lattice_.extent_y)))
@@ -270,7 +293,7 @@ private:
             Block child{b.x + (c & 1) * half, b.y + (c >> 1) * half, b.bits - 1, std::uint32_t(points_.size()), {}};
             if (child.x >= lattice_.extent_x || child.y >= lattice_.extent_y) continue;
             const glm::uvec2 a{child.x, child.y}, e = far_corner(child);
-            child.g2 = std::min(b.g2, least(a, e, child.bits == 0 ? t_.radius(a) : t_.min_over(a, e)));
+            child.g2 = std::min(b.g2, least(a, e, least_r(a, e, child.bits)));
             if (After{}(first, child)) std::swap(first, child);
             push(child);
         }
@@ -278,10 +301,10 @@ private:
     }
     // Lowers b's bound by the samples placed since it was set: by each directly where they are
     // few, else by those of them gathered near it (the others give no less than its bound).
-    void update(Block& b) {
+    void update(Block& b, std::uint32_t lo) {
         constexpr std::size_t kDirect = 32;
         const glm::uvec2 a{b.x, b.y}, e = far_corner(b);
-        const std::uint32_t lo = b.bits == 0 ? t_.radius(a) : t_.min_over(a, e), seen = b.seen;
+        const std::uint32_t seen = b.seen;
         if (points_.size() - seen > kDirect) {
             gather(a, e, b.g2);
             for (const std::uint32_t k : near_)
