@@ -11,8 +11,10 @@
 // bound reaches. Design and bounds: docs/design.md, "Continuous hierarchies of a field".
 #include <algorithm>
 #include <bit>
+#include <array>
 #include <cmath>
-#include <queue>
+#include <deque>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -56,6 +58,89 @@ struct After {
         if (a.bits != b.bits) return a.bits < b.bits;
         return a.y != b.y ? a.y > b.y : a.x > b.x;
     }
+};
+
+// The blocks in the queue's order (After): those of the greatest buckets in a heap, the others
+// in buckets by their bound's quotient, 64 a doubling (the quotient's exponent and first six
+// bits of mantissa, which order positive doubles as their values). A greater bucket holds greater
+// bounds, so the heap's top is the greatest block; the queue's greatest bound only falls (a block
+// is pushed with a bound at most the one just popped), so the heap stays one bucket or two of
+// blocks, near in memory, where one heap of every block would take a cache miss a level. A
+// bucket is a list of chunks of blocks from a shared pool, whose freed chunks are taken again
+// first: the pool holds little more than the queue's most blocks at once.
+class BlockQueue {
+public:
+    bool empty() const { return heap_.empty() && stored_ == 0; }
+    // The bytes the pool and the heap hold.
+    std::size_t bytes() const { return pool_.size() * sizeof(Chunk) + heap_.capacity() * sizeof(Block); }
+    const Block& top() {
+        fill();
+        return heap_.front();
+    }
+    void pop() {
+        fill();
+        std::pop_heap(heap_.begin(), heap_.end(), After{});
+        heap_.pop_back();
+    }
+    void push(const Block& b) {
+        const std::size_t k = bucket(b.g2);
+        if (!heap_.empty() && k >= current_) {
+            heap_.push_back(b);
+            std::push_heap(heap_.begin(), heap_.end(), After{});
+            return;
+        }
+        if (k >= heads_.size()) heads_.resize(k + 1, kEnd);
+        std::uint32_t c = heads_[k];
+        if (c == kEnd || pool_[c].count == kChunk) {
+            std::uint32_t fresh = free_;
+            if (fresh != kEnd) {
+                free_ = pool_[fresh].next;
+            } else {
+                fresh = std::uint32_t(pool_.size());
+                pool_.emplace_back();
+            }
+            pool_[fresh].count = 0;
+            pool_[fresh].next = c;
+            heads_[k] = c = fresh;
+        }
+        pool_[c].blocks[pool_[c].count++] = b;
+        ++stored_;
+        top_ = std::max(top_, k);
+    }
+
+private:
+    static constexpr std::uint32_t kEnd = UINT32_MAX;
+    static constexpr std::uint32_t kChunk = 63;
+    struct Chunk {
+        std::array<Block, kChunk> blocks;
+        std::uint32_t count, next;
+    };
+    static std::size_t bucket(const Ratio& r) {
+        constexpr std::uint64_t kOne = std::bit_cast<std::uint64_t>(1.0) >> 46;
+        const std::uint64_t bits = std::bit_cast<std::uint64_t>(r.quotient) >> 46;
+        return bits > kOne ? std::size_t(bits - kOne) : 0;
+    }
+    // Moves the greatest bucket into the heap where the heap is empty (and the queue is not).
+    void fill() {
+        if (!heap_.empty()) return;
+        while (heads_[top_] == kEnd) --top_;
+        for (std::uint32_t c = heads_[top_], next; c != kEnd; c = next) {
+            Chunk& chunk = pool_[c];
+            heap_.insert(heap_.end(), chunk.blocks.begin(), chunk.blocks.begin() + chunk.count);
+            stored_ -= chunk.count;
+            next = chunk.next;
+            chunk.next = free_;
+            free_ = c;
+        }
+        heads_[top_] = kEnd;
+        std::make_heap(heap_.begin(), heap_.end(), After{});
+        current_ = top_;
+    }
+    std::vector<Block> heap_;
+    std::deque<Chunk> pool_;
+    std::vector<std::uint32_t> heads_;  // per bucket, its first chunk
+    std::uint32_t free_ = kEnd;
+    std::size_t stored_ = 0, top_ = 0, current_ = 0;
 };
 
 class Events {
@@ -126,7 +211,7 @@ public:
             mark(samples.back(), b.g2);
         }
     }
-    std::uint64_t bytes() const { return tree_.bytes() + points_.capacity() * 12 + peak_queue_ * sizeof(Block); }
+    std::uint64_t bytes() const { return tree_.bytes() + points_.capacity() * 12 + peak_queue_; }
 
 private:
     void insert(glm::uvec2 p) {
@@ -318,7 +403,7 @@ private:
     void push(const Block& b) {
         if (b.g2.below_one()) return;
         queue_.push(b);
-        peak_queue_ = std::max<std::size_t>(peak_queue_, queue_.size());
+        peak_queue_ = std::max<std::size_t>(peak_queue_, queue_.bytes());
     }
 
     const FieldTable& t_;
@@ -328,7 +413,7 @@ private:
     FieldQuadtree tree_;
     std::vector<glm::uvec2> points_;
     std::vector<std::uint32_t> radius_;  // r at each sample, in lattice units
-    std::priority_queue<Block, std::vector<Block>, After> queue_;
+    BlockQueue queue_;
     std::vector<std::uint32_t> near_;  // gather's list
     double near_root_ = 0;             // sqrt of the gathered g2, and the gathered block's largest r
     std::uint32_t near_hi_ = 0;
