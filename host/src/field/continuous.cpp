@@ -316,6 +316,19 @@ private:
     std::uint64_t spread(glm::uvec2 a, glm::uvec2 e, double root, std::uint32_t known) const {
         return std::uint64_t(std::ceil(root * double(t_.grown_reach(a, e, known, 2, root)))) + 2;
     }
+    // The test a steep gather asks before it enters a subtree: may a sample in it pass within
+    // for [a, e]? Its r is at most the subtree's largest, and f is non-decreasing in it.
+    auto reaches(glm::uvec2 a, glm::uvec2 e) const {
+        return [this, a, e](glm::i64vec2 image, glm::uvec2 corner, std::uint32_t bits) {
+            const glm::u64vec2 g = tree_.image_gaps(image, bits, a, e);
+            const std::uint64_t side = std::uint64_t(1) << bits;
+            const glm::uvec2 last{std::uint32_t(std::min<std::uint64_t>(corner.x + side, lattice_.extent_x) - 1),
+                                  std::uint32_t(std::min<std::uint64_t>(corner.y + side, lattice_.extent_y) - 1)};
+            const double reach = near_root_ * double(shared::rule_f(rule_, t_.max_over(corner, last), near_hi_)) + 2;
+            const double dx = double(g.x), dy = double(g.y);
+            return dx * dx + dy * dy < reach * reach;
+        };
+    }
     // Lists in near_ every sample that may give a block inside [a, e] a bound below g2 (bounded):
     // a sample x at distance d from [a, e] gives a block in it at least d^2 / f(x, y)^2 for some
     // y in [a, e], so nothing below g2 once d >= sqrt(g2) f. Under current and smaller f is at
@@ -329,10 +342,16 @@ private:
         near_.clear();
         near_root_ = root;
         near_hi_ = hi;
-        tree_.near_samples(a, e, need, [&](std::uint32_t leaf) {
+        auto keep = [&](std::uint32_t leaf) {
             if (const std::uint32_t k = tree_.sample(leaf); within(k, a, e)) near_.push_back(k);
             return false;
-        });
+        };
+        // Under prior and bigger a reach grown far past root r (larger r nearby) meets many
+        // samples whose own r keeps them out: subtrees are tested before they are entered.
+        if (need > 4 * std::uint64_t(root * double(hi)) + 4)
+            tree_.near_samples(a, e, need, keep, reaches(a, e));
+        else
+            tree_.near_samples(a, e, need, keep);
     }
     // Whether sample k may give a block inside [a, e] (within the gathered one) a bound below the
     // gathered g2: whether it is nearer than sqrt(g2) f(r(k), the gathered block's largest r).

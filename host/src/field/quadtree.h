@@ -87,6 +87,23 @@ public:
                flat_first_.capacity() * 4;
     }
 
+    // The gaps along each axis from the block of side 2^bits met at `image` (an `enter` test's
+    // argument: its place in the query's unwrapped coordinates) to [a, b]; on a torus, from the
+    // nearest image of the block.
+    glm::u64vec2 image_gaps(glm::i64vec2 image, std::uint32_t bits, glm::uvec2 a, glm::uvec2 b) const {
+        const shared::Lattice& l = t_.lattice;
+        const std::int64_t side = std::int64_t(1) << bits;
+        auto gap = [&](std::int64_t at, std::int64_t from, std::int64_t to, std::int64_t extent) {
+            std::int64_t g = INT64_MAX;
+            for (const std::int64_t shift : {std::int64_t(0), extent, -extent}) {
+                if (shift != 0 && !l.periodic) break;
+                const std::int64_t lo = at + shift, hi = lo + side - 1;
+                g = std::min(g, to < lo ? lo - to : from > hi ? from - hi : 0);
+            }
+            return std::uint64_t(g);
+        };
+        return {gap(image.x, a.x, b.x, l.extent_x), gap(image.y, a.y, b.y, l.extent_y)};
+    }
     // A search's test before it enters a subtree (see near): this one enters every subtree.
     struct EnterAll {
         bool operator()(glm::i64vec2, glm::uvec2, std::uint32_t) const { return true; }

@@ -115,18 +115,8 @@ private:
     // torus the nearest image of the block counts.
     auto within(uvec2 a, uvec2 b, std::uint32_t r, bool block_earlier) const {
         return [this, a, b, r, block_earlier](glm::i64vec2 image, uvec2 corner, std::uint32_t bits) {
-            const shared::Lattice& l = t_.lattice;
-            const std::int64_t side = std::int64_t(1) << bits;
-            auto gap = [&](std::int64_t at, std::int64_t from, std::int64_t to, std::int64_t extent) {
-                std::int64_t g = INT64_MAX;
-                for (const std::int64_t shift : {std::int64_t(0), extent, -extent}) {
-                    if (shift != 0 && !l.periodic) break;
-                    const std::int64_t lo = at + shift, hi = lo + side - 1;
-                    g = std::min(g, to < lo ? lo - to : from > hi ? from - hi : 0);
-                }
-                return std::uint64_t(g);
-            };
-            const std::uint64_t gx = gap(image.x, a.x, b.x, l.extent_x), gy = gap(image.y, a.y, b.y, l.extent_y);
+            const glm::u64vec2 g = tree_.image_gaps(image, bits, a, b);
+            const std::uint64_t gx = g.x, gy = g.y;
             const std::uint32_t hi = t_.max_over(corner, far_corner(corner, bits));
             // A gap of f or more is out along one axis (and the squares below stay below 2^63).
             const std::uint32_t f = block_earlier ? shared::rule_f(rule_, hi, r) : shared::rule_f(rule_, r, hi);
