@@ -61,8 +61,8 @@ struct After {
 };
 
 // The blocks in the queue's order (After): those of the greatest buckets in a heap, the others
-// in buckets by their bound's quotient, 64 a doubling (the quotient's exponent and first six
-// bits of mantissa, which order positive doubles as their values). A greater bucket holds greater
+// in buckets by their bound's quotient, 1 024 a doubling (the bits of its double, which order
+// positive doubles as their values). A greater bucket holds greater
 // bounds, so the heap's top is the greatest block; the queue's greatest bound only falls (a block
 // is pushed with a bound at most the one just popped), so the heap stays one bucket or two of
 // blocks, near in memory, where one heap of every block would take a cache miss a level. A
@@ -115,10 +115,14 @@ private:
         std::array<Block, kChunk> blocks;
         std::uint32_t count, next;
     };
+    // A quotient's bucket: its double's exponent and first ten bits of mantissa, from 1 up.
+    // Quotients of 64-bit integers stay below 2^64; an unbounded one takes the bucket past them.
     static std::size_t bucket(const Ratio& r) {
-        constexpr std::uint64_t kOne = std::bit_cast<std::uint64_t>(1.0) >> 46;
-        const std::uint64_t bits = std::bit_cast<std::uint64_t>(r.quotient) >> 46;
-        return bits > kOne ? std::size_t(bits - kOne) : 0;
+        constexpr int kShift = 52 - 10;
+        constexpr std::uint64_t kOne = std::bit_cast<std::uint64_t>(1.0) >> kShift;
+        constexpr std::uint64_t kUnbounded = std::uint64_t(65) << (52 - kShift);
+        const std::uint64_t bits = std::bit_cast<std::uint64_t>(r.quotient) >> kShift;
+        return bits > kOne ? std::size_t(std::min(bits - kOne, kUnbounded)) : 0;
     }
     // Moves the greatest bucket into the heap where the heap is empty (and the queue is not).
     void fill() {
