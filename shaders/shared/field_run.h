@@ -197,18 +197,10 @@ VRPD_FN uint field_cover_reach(VRPD_IN(FieldRun) run, uvec2 x, uint r) {
     return field_grown_reach(run, x, x, r);
 }
 
-// The squared distance from x to the farthest point of [a, b]: the greatest gap along each axis
-// (axis_far_gap's).
-VRPD_FN uint64_t field_far_distance2(Lattice l, uvec2 x, uvec2 a, uvec2 b) {
-    uint64_t gx = uint64_t(axis_far_gap(x.x, a.x, b.x, l.extent_x, l.periodic));
-    uint64_t gy = uint64_t(axis_far_gap(x.y, a.y, b.y, l.extent_y, l.periodic));
-    return gx * gx + gy * gy;
-}
-
 // Does sample s cover every point of [a, b], given r's least value `lo` over it?
 VRPD_FN bool field_covers(VRPD_IN(FieldRun) run, uint s, uint lo, uvec2 a, uvec2 b) {
     uint f = rule_f(run.rule, run.radii.value[s], lo);
-    return field_conflict(f, field_far_distance2(run.lattice, run.points.value[s], a, b));
+    return field_conflict(f, far_distance2(run.lattice, run.points.value[s], a, b));
 }
 
 // Does a sample conflict with point p of radius r, a later point? (p's leaf holds no sample.)

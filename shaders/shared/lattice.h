@@ -37,6 +37,13 @@ VRPD_FN uint axis_far_gap(uint v, uint from, uint to, uint extent, uint periodic
     return max(axis_gap(v, from, extent, periodic), axis_gap(v, to, extent, periodic));
 }
 
+// The squared distance from x to the farthest point of [a, b]: the greatest gap along each axis.
+VRPD_FN uint64_t far_distance2(Lattice l, uvec2 x, uvec2 a, uvec2 b) {
+    uint64_t gx = uint64_t(axis_far_gap(x.x, a.x, b.x, l.extent_x, l.periodic));
+    uint64_t gy = uint64_t(axis_far_gap(x.y, a.y, b.y, l.extent_y, l.periodic));
+    return gx * gx + gy * gy;
+}
+
 VRPD_FN uint64_t distance2(Lattice l, uvec2 p, uvec2 q) {
     uint64_t dx = uint64_t(axis_gap(p.x, q.x, l.extent_x, l.periodic));
     uint64_t dy = uint64_t(axis_gap(p.y, q.y, l.extent_y, l.periodic));

@@ -10,8 +10,8 @@
 // queue's top is split until it is one lattice point with its exact g^2, which no other point's
 // bound reaches. Design and bounds: docs/design.md, "Continuous hierarchies of a field".
 #include <algorithm>
-#include <bit>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <deque>
 #include <vector>
@@ -62,12 +62,12 @@ struct After {
 
 // The blocks in the queue's order (After): those of the greatest buckets in a heap, the others
 // in buckets by their bound's quotient, 1 024 a doubling (the bits of its double, which order
-// positive doubles as their values). A greater bucket holds greater
-// bounds, so the heap's top is the greatest block; the queue's greatest bound only falls (a block
-// is pushed with a bound at most the one just popped), so the heap stays one bucket or two of
-// blocks, near in memory, where one heap of every block would take a cache miss a level. A
-// bucket is a list of chunks of blocks from a shared pool, whose freed chunks are taken again
-// first: the pool holds little more than the queue's most blocks at once.
+// positive doubles as their values). A greater bucket holds greater bounds, so the heap's top is
+// the greatest block; the queue's greatest bound only falls (a block is pushed with a bound at
+// most the one just popped), so the heap stays one bucket or two of blocks, near in memory, where
+// one heap of every block would take a cache miss a level. A bucket is a list of chunks of
+// blocks from a shared pool, whose freed chunks are taken again first: the pool holds little
+// more than the queue's most blocks at once.
 class BlockQueue {
 public:
     bool empty() const { return heap_.empty() && stored_ == 0; }
@@ -279,10 +279,11 @@ private:
         return bits == 0 ? t_.radius(a) : t_.min_over(a, e);
     }
     // The block's last lattice point on each axis.
-    glm::uvec2 far_corner(const Block& b) const {
-        const std::uint64_t side = std::uint64_t(1) << b.bits;
-        return {std::uint32_t(std::min<std::uint64_t>(b.x + side, lattice_.extent_x) - 1),
-                std::uint32_t(std::min<std::uint64_t>(b.y + side, lattice_.extent_y) - 1)};
+    glm::uvec2 far_corner(const Block& b) const { return far_corner({b.x, b.y}, b.bits); }
+    glm::uvec2 far_corner(glm::uvec2 corner, std::uint32_t bits) const {
+        const std::uint64_t side = std::uint64_t(1) << bits;
+        return {std::uint32_t(std::min<std::uint64_t>(corner.x + side, lattice_.extent_x) - 1),
+                std::uint32_t(std::min<std::uint64_t>(corner.y + side, lattice_.extent_y) - 1)};
     }
     // The least distance along an axis from c to a point of [a, e].
     std::uint32_t nearest(std::uint32_t c, std::uint32_t a, std::uint32_t e, std::uint32_t extent) const {
@@ -325,10 +326,8 @@ private:
     auto reaches(glm::uvec2 a, glm::uvec2 e) const {
         return [this, a, e](glm::i64vec2 image, glm::uvec2 corner, std::uint32_t bits) {
             const glm::u64vec2 g = tree_.image_gaps(image, bits, a, e);
-            const std::uint64_t side = std::uint64_t(1) << bits;
-            const glm::uvec2 last{std::uint32_t(std::min<std::uint64_t>(corner.x + side, lattice_.extent_x) - 1),
-                                  std::uint32_t(std::min<std::uint64_t>(corner.y + side, lattice_.extent_y) - 1)};
-            const double reach = near_root_ * double(shared::rule_f(rule_, t_.max_over(corner, last), near_hi_)) + 2;
+            const std::uint32_t largest = t_.max_over(corner, far_corner(corner, bits));
+            const double reach = near_root_ * double(shared::rule_f(rule_, largest, near_hi_)) + 2;
             const double dx = double(g.x), dy = double(g.y);
             return dx * dx + dy * dy < reach * reach;
         };

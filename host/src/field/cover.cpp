@@ -124,11 +124,7 @@ bool FieldSampler::covered_by_fresh(uvec2 a, uvec2 b, std::uint32_t leaf) const 
 }
 
 std::uint64_t FieldSampler::far_distance2(std::uint32_t s, uvec2 a, uvec2 b) const {
-    const uvec2 x = lattice_[s];
-    const shared::Lattice& l = t_.lattice;
-    const std::uint64_t gx = shared::axis_far_gap(x.x, a.x, b.x, l.extent_x, l.periodic),
-                        gy = shared::axis_far_gap(x.y, a.y, b.y, l.extent_y, l.periodic);
-    return gx * gx + gy * gy;
+    return shared::far_distance2(t_.lattice, lattice_[s], a, b);
 }
 
 bool FieldSampler::covers(std::uint32_t s, std::uint32_t lo, uvec2 a, uvec2 b) const {

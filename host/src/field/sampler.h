@@ -169,7 +169,7 @@ private:
     bool covers(std::uint32_t s, std::uint32_t lo, uvec2 a, uvec2 b) const;
     // The same, reading lo only where the rule needs it.
     bool covers(std::uint32_t s, uvec2 a, uvec2 b) const;
-    // The squared distance from sample s to the farthest point of [a, b] (as field_far_distance2).
+    // The squared distance from sample s to the farthest point of [a, b] (shared::far_distance2).
     std::uint64_t far_distance2(std::uint32_t s, uvec2 a, uvec2 b) const;
     Cell make_cell(uvec2 corner, std::uint32_t bits) const;
     // The corner of child k of c (x, then y, low first), unless it lies outside the lattice.
