@@ -134,6 +134,11 @@ TEST_CASE("point files: a long or binary line is refused in a short, printable m
     }
     write_text(p, std::string("x,y\n1,\x1b[31mred") + '\0' + "\n");
     CHECK_THROWS_WITH(read_point_set(p.string()), Catch::Contains("got `1,\\x1b[31mred\\x00`"));
+    // U+0085 (NEXT LINE) in UTF-8, which some readers take for a line break.
+    write_text(p,
+               "x,y\n1,\xc2\x85"
+               "2\n");
+    CHECK_THROWS_WITH(read_point_set(p.string()), Catch::Contains("got `1,\\xc2\\x852`"));
     CHECK_THROWS_WITH(read_point_set("/dev/zero"), Catch::Contains("/dev/zero:1: a line longer than 4096 characters"));
 }
 

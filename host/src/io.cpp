@@ -227,13 +227,15 @@ std::vector<std::string> split_header(std::string_view row) {
     }
 }
 
-// A row as an error message shows it: cut to 60 characters, control bytes as \xNN.
+// A row as an error message shows it: cut to 60 characters, bytes other than printable ASCII as
+// \xNN (a row of numbers is ASCII; a UTF-8 line separator would break the message's one line).
 std::string shown_row(std::string_view row) {
     constexpr std::size_t kShown = 60;
     std::string out = "`";
     for (std::size_t i = 0; i < row.size() && i < kShown; ++i) {
         const unsigned char ch = (unsigned char)row[i];
-        if (ch < 0x20 || ch == 0x7f) out += fmt::format("\\x{:02x}", ch);
+        if (ch < 0x20 || ch >= 0x7f)
+            out += fmt::format("\\x{:02x}", ch);
         else out += char(ch);
     }
     out += row.size() > kShown ? "`..." : "`";
