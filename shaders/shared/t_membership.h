@@ -354,9 +354,18 @@ inline bool pair_crossing_uncovered(ivec2 a, ivec2 b, uint i, uint j, uint n, ui
 // cell still holds a point of U (the cell as the box, its corner the origin; every side of it and
 // every disk centre within 2 Rc of that corner). See the method above. T_INSIDE, T_OUTSIDE, or
 // T_UNKNOWN past the step budget. A witness found before the budget runs out is a witness: only
-// "no witness" needs the whole search.
+// "no witness" needs the whole search. It first sorts disk_at[0, n), nearest the origin first:
+// those are the likeliest to cover a vertex near it, and a vertex's search stops at the first
+// disk that covers it.
 VRPD_FN uint reaches_uncovered(uint n, uint64_t r2, ivec2 lo, ivec2 hi, bool in_disk) {
     t_steps = 0u;
+    for (uint i = 1u; i < n; i++) {
+        ivec2 v = disk_at[i];
+        uint64_t key = norm2(v);
+        uint j = i;
+        for (; j > 0u && norm2(disk_at[j - 1u]) > key; j--) disk_at[j] = disk_at[j - 1u];
+        disk_at[j] = v;
+    }
 #ifdef __cplusplus
     estimate_disks(n);
 #endif
