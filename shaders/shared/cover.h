@@ -129,6 +129,39 @@ VRPD_FN uint64_t far2(int c, int lo, int hi) {
     return uint64_t(m) * uint64_t(m);
 }
 
+#ifdef VRPD_HOST_AVX2
+// The host's body of base_covered's scan where it neither wraps nor meets a free boundary and
+// reaches at most MAX_REACH cells, on processors with AVX2, as window_holds_near reads the
+// window: each lane's farthest gap to the cell [0, h.x] x [0, h.y] from its corner `origin`, per
+// axis max(o, h - o) in 32 bits (at least 0), squared and summed in 64. Cells past the rows'
+// reaches hold no cover, so testing their samples changes no answer.
+[[gnu::target("avx2")]] inline bool window_covers_cell(const uvec2* centre, int stride, int reach, uvec2 origin,
+                                                       ivec2 h, uint64_t limit2) {
+    const int width = 2 * reach + 1;
+    const int low_lanes = (1 << (width < 4 ? width : 4)) - 1, high_lanes = width > 4 ? (1 << (width - 4)) - 1 : 0;
+    const __m256i lane = _mm256_setr_epi64x(0, 1, 2, 3);
+    const __m256i low = _mm256_cmpgt_epi64(_mm256_set1_epi64x(width), lane);
+    const __m256i high = _mm256_cmpgt_epi64(_mm256_set1_epi64x(width - 4), lane);
+    const __m256i corner = _mm256_set1_epi64x(int64_t(uint64_t(origin.y) << 32 | origin.x));
+    const __m256i far_side = _mm256_set1_epi64x(int64_t(uint64_t(uint(h.y)) << 32 | uint(h.x)));
+    const __m256i limit = _mm256_set1_epi64x(int64_t(limit2));
+    for (int dy = -reach; dy <= reach; dy++) {
+        const auto* row = reinterpret_cast<const long long*>(centre + dy * stride - reach);
+        for (int half = 0; half < (width > 4 ? 2 : 1); half++) {
+            const __m256i w = _mm256_maskload_epi64(row + 4 * half, half == 0 ? low : high);
+            const __m256i o = _mm256_sub_epi32(w, corner);
+            const __m256i m = _mm256_max_epi32(o, _mm256_sub_epi32(far_side, o));
+            const __m256i m_y = _mm256_srli_epi64(m, 32);
+            const __m256i f2 = _mm256_add_epi64(_mm256_mul_epi32(m, m), _mm256_mul_epi32(m_y, m_y));
+            const int close = _mm256_movemask_pd(_mm256_castsi256_pd(_mm256_cmpgt_epi64(limit, f2)));
+            const int tagged = _mm256_movemask_pd(_mm256_castsi256_pd(_mm256_slli_epi64(w, 32)));  // GRID_TAG
+            if ((close & ~tagged & (half == 0 ? low_lanes : high_lanes)) != 0) return true;
+        }
+    }
+    return false;
+}
+#endif
+
 // Two radii: does one sample cover every point of base cell `base` (its closed square, clipped
 // to a free boundary)? Then it covers every cell of the base cell and every child, and their
 // cover tests need no gather: most base cells of a run's first refinement end here. Such a sample
@@ -147,6 +180,11 @@ VRPD_FN bool base_covered(Domain dom, Grid grid, uvec2 base) {
     int reach = 1;
     while (uint64_t(reach + 1) * uint64_t(side) * (uint64_t(reach + 1) * uint64_t(side)) + half2 < dom.radii.coverage2)
         reach++;
+#ifdef VRPD_HOST_AVX2
+    if (reach <= int(MAX_REACH) && dom.lattice.periodic == 0u && inner_cell(dom, base) && host_has_avx2())
+        return window_covers_cell(grid.word + base_index(dom, base), int(dom.cells_x), reach, origin, ivec2(hx, hy),
+                                  dom.radii.coverage2);
+#endif
     VRPD_FOR_EACH_NEIGHBOUR(dom, base, reach, dom.radii.coverage2, dx, dy, nb) {
         uvec2 p = grid.word[nb];
         if (!grid_is_sample(p)) continue;
