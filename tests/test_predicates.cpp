@@ -196,8 +196,10 @@ TEST_CASE("predicates: the host's bitCount and findLSB are GLSL's, on every bit 
     }
 }
 
-TEST_CASE("predicates: the host's vectorised window scans find the samples within a radius of a point or a cell",
-          "[predicates]") {
+TEST_CASE(
+    "predicates: the host's vectorised window scans find the samples within a radius of a point or a cell, "
+    "or covering a cell",
+    "[predicates]") {
 #ifndef VRPD_HOST_AVX2
     SUCCEED("not x86-64: near_sample keeps its scalar scan");
 #else
@@ -205,7 +207,7 @@ TEST_CASE("predicates: the host's vectorised window scans find the samples withi
     if (!shared::host_has_avx2()) return;
     std::mt19937_64 rng(13);
     constexpr int kSide = 9;  // a 9 x 9 grid of base cells, the window around the middle one
-    int found = 0;
+    int found = 0, covering = 0;
     for (int trial = 0; trial < 20000; ++trial) {
         const std::uint32_t bits = 1 + std::uint32_t(rng() % 20), side = 1u << bits;
         const int reach = 1 + int(rng() % 3);
@@ -242,7 +244,7 @@ TEST_CASE("predicates: the host's vectorised window scans find the samples withi
         for (std::uint64_t g : gaps) oracle |= g < limit2;
         found += oracle ? 1 : 0;
         INFO("trial " << trial << " bits " << bits << " reach " << reach << " limit2 " << limit2);
-        REQUIRE(shared::window_holds_near(&grid[4 * kSide + 4], kSide, reach, p, limit2) == oracle);
+        REQUIRE(shared::window_holds_within<false>(&grid[4 * kSide + 4], kSide, reach, p, limit2) == oracle);
         // The gather: the samples whose squared gap to the middle cell's closed square is below
         // limit2, as offsets from its corner, the 3 x 3 adjacent cells' first, rows in order.
         const glm::uvec2 corner((origin + 4) << bits, (origin + 4) << bits);
@@ -257,6 +259,25 @@ TEST_CASE("predicates: the host's vectorised window scans find the samples withi
                 if (std::uint64_t(gx * gx + gy * gy) < limit2)
                     expected[std::abs(dx) <= 1 && std::abs(dy) <= 1 ? 0 : 1].emplace_back(o);
             }
+        // The cover of the middle cell [0, far.x] x [0, far.y] from its corner (base_covered's, far
+        // clipped as at a free boundary): a sample's farthest squared distance to it below limit2,
+        // at random or tied with the least (at it or one unit past).
+        const glm::ivec2 far(int(rng() % (side + 1)), int(rng() % (side + 1)));
+        std::vector<std::uint64_t> farthest;
+        for (int dy = -reach; dy <= reach; ++dy)
+            for (int dx = -reach; dx <= reach; ++dx) {
+                const glm::uvec2 w = grid[std::size_t((4 + dy) * kSide + 4 + dx)];
+                if (w.x & shared::GRID_TAG) continue;
+                const glm::i64vec2 o(std::int64_t(w.x) - corner.x, std::int64_t(w.y) - corner.y);
+                const std::int64_t fx = std::max(o.x, far.x - o.x), fy = std::max(o.y, far.y - o.y);
+                farthest.push_back(std::uint64_t(fx * fx + fy * fy));
+            }
+        std::uint64_t cover2 = rng() % (std::uint64_t(reach + 2) * side * (std::uint64_t(reach + 2) * side));
+        if (!farthest.empty() && rng() % 2) cover2 = *std::min_element(farthest.begin(), farthest.end()) + rng() % 2;
+        bool covered = false;
+        for (std::uint64_t f : farthest) covered |= f < cover2;
+        covering += covered ? 1 : 0;
+        REQUIRE(shared::window_holds_within<true>(&grid[4 * kSide + 4], kSide, reach, corner, cover2, far) == covered);
         expected[0].insert(expected[0].end(), expected[1].begin(), expected[1].end());
         std::vector<glm::ivec2> got(shared::MAX_CELL_SAMPLES);
         got.resize(shared::window_gather(&grid[4 * kSide + 4], kSide, reach, corner, int(side), limit2, got.data()));
@@ -264,6 +285,8 @@ TEST_CASE("predicates: the host's vectorised window scans find the samples withi
     }
     CHECK(found > 2000);
     CHECK(found < 18000);
+    CHECK(covering > 2000);
+    CHECK(covering < 18000);
 #endif
 }
 

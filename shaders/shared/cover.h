@@ -15,27 +15,32 @@
 VRPD_BEGIN
 
 #ifdef VRPD_HOST_AVX2
-// The host's body of near_sample where the scan neither wraps nor meets a free boundary and reaches
-// at most MAX_REACH cells, on processors with AVX2: each row of the (2 reach + 1)^2 window of base
-// cells around `centre` in two masked loads of four grid words, each lane's (x, y) offset from p in
-// 32 bits and its squared length in 64 (coordinates within the window differ by less than 2^31:
-// distance2's value on a straight domain). A sample in a cell the rows' reaches leave out lies at
-// least sqrt(limit2) from every point of the centre cell, so testing it changes no answer.
-[[gnu::target("avx2")]] inline bool window_holds_near(const uvec2* centre, int stride, int reach, uvec2 p,
-                                                      uint64_t limit2) {
+// The host's body of the scans of near_sample and base_covered where they neither wrap nor meet
+// a free boundary and reach at most MAX_REACH cells, on processors with AVX2: does a sample in the
+// (2 reach + 1)^2 window of base cells around `centre` lie closer than sqrt(limit2), from `at`
+// (near_sample's point) or, with kFarthest, at its farthest from the cell [0, far.x] x [0, far.y]
+// with corner `at` (base_covered's cover)? Each row is two masked loads of four grid words; each
+// lane's offset o from `at` in 32 bits (coordinates within the window differ by less than 2^31:
+// distance2's value on a straight domain), or per axis max(o, far - o) >= 0, squared and summed in
+// 64. A sample in a cell the rows' reaches leave out lies at least sqrt(limit2) from every point
+// of the centre cell, so testing it changes no answer.
+template <bool kFarthest>
+[[gnu::target("avx2")]] inline bool window_holds_within(const uvec2* centre, int stride, int reach, uvec2 at,
+                                                        uint64_t limit2, ivec2 far = ivec2(0)) {
     const int width = 2 * reach + 1;  // 3, 5 or 7 words a row
     const int low_lanes = (1 << (width < 4 ? width : 4)) - 1, high_lanes = width > 4 ? (1 << (width - 4)) - 1 : 0;
     const __m256i lane = _mm256_setr_epi64x(0, 1, 2, 3);
     const __m256i low = _mm256_cmpgt_epi64(_mm256_set1_epi64x(width), lane);
     const __m256i high = _mm256_cmpgt_epi64(_mm256_set1_epi64x(width - 4), lane);
-    const __m256i at = _mm256_set1_epi64x(int64_t(uint64_t(p.y) << 32 | p.x));
+    const __m256i from = _mm256_set1_epi64x(int64_t(uint64_t(at.y) << 32 | at.x));
+    const __m256i far_side = _mm256_set1_epi64x(int64_t(uint64_t(uint(far.y)) << 32 | uint(far.x)));
     const __m256i limit = _mm256_set1_epi64x(int64_t(limit2));
     for (int dy = -reach; dy <= reach; dy++) {
         const auto* row = reinterpret_cast<const long long*>(centre + dy * stride - reach);
         for (int half = 0; half < (width > 4 ? 2 : 1); half++) {
-            // The lanes of four words that hold a sample closer than sqrt(limit2) to p.
             const __m256i w = _mm256_maskload_epi64(row + 4 * half, half == 0 ? low : high);
-            const __m256i d = _mm256_sub_epi32(w, at);
+            __m256i d = _mm256_sub_epi32(w, from);
+            if constexpr (kFarthest) d = _mm256_max_epi32(d, _mm256_sub_epi32(far_side, d));
             const __m256i d_y = _mm256_srli_epi64(d, 32);
             const __m256i d2 = _mm256_add_epi64(_mm256_mul_epi32(d, d), _mm256_mul_epi32(d_y, d_y));
             const int close = _mm256_movemask_pd(_mm256_castsi256_pd(_mm256_cmpgt_epi64(limit, d2)));
@@ -45,7 +50,8 @@ VRPD_BEGIN
     }
     return false;
 }
-inline bool host_has_avx2() {
+// Whether the vector bodies may run: inlined, as a call would cost the hot scans more than the test.
+[[gnu::always_inline]] inline bool host_has_avx2() {
     static const bool has = (__builtin_cpu_init(), __builtin_cpu_supports("avx2"));
     return has;
 }
@@ -58,8 +64,8 @@ VRPD_FN bool near_sample(Domain dom, Grid grid, uvec2 base, uvec2 p, uint which)
     int reach = radius_reach(dom.radii, which);
 #ifdef VRPD_HOST_AVX2
     if (reach <= int(MAX_REACH) && dom.lattice.periodic == 0u && inner_cell(dom, base) && host_has_avx2())
-        return window_holds_near(grid.word + base_index(dom, base), int(dom.cells_x), reach, p,
-                                 radius2(dom.radii, which));
+        return window_holds_within<false>(grid.word + base_index(dom, base), int(dom.cells_x), reach, p,
+                                          radius2(dom.radii, which));
 #endif
     VRPD_FOR_EACH_NEIGHBOUR(dom, base, reach, radius2(dom.radii, which), dx, dy, nb) {
         uvec2 w = grid.word[nb];
@@ -129,39 +135,6 @@ VRPD_FN uint64_t far2(int c, int lo, int hi) {
     return uint64_t(m) * uint64_t(m);
 }
 
-#ifdef VRPD_HOST_AVX2
-// The host's body of base_covered's scan where it neither wraps nor meets a free boundary and
-// reaches at most MAX_REACH cells, on processors with AVX2, as window_holds_near reads the
-// window: each lane's farthest gap to the cell [0, h.x] x [0, h.y] from its corner `origin`, per
-// axis max(o, h - o) in 32 bits (at least 0), squared and summed in 64. Cells past the rows'
-// reaches hold no cover, so testing their samples changes no answer.
-[[gnu::target("avx2")]] inline bool window_covers_cell(const uvec2* centre, int stride, int reach, uvec2 origin,
-                                                       ivec2 h, uint64_t limit2) {
-    const int width = 2 * reach + 1;
-    const int low_lanes = (1 << (width < 4 ? width : 4)) - 1, high_lanes = width > 4 ? (1 << (width - 4)) - 1 : 0;
-    const __m256i lane = _mm256_setr_epi64x(0, 1, 2, 3);
-    const __m256i low = _mm256_cmpgt_epi64(_mm256_set1_epi64x(width), lane);
-    const __m256i high = _mm256_cmpgt_epi64(_mm256_set1_epi64x(width - 4), lane);
-    const __m256i corner = _mm256_set1_epi64x(int64_t(uint64_t(origin.y) << 32 | origin.x));
-    const __m256i far_side = _mm256_set1_epi64x(int64_t(uint64_t(uint(h.y)) << 32 | uint(h.x)));
-    const __m256i limit = _mm256_set1_epi64x(int64_t(limit2));
-    for (int dy = -reach; dy <= reach; dy++) {
-        const auto* row = reinterpret_cast<const long long*>(centre + dy * stride - reach);
-        for (int half = 0; half < (width > 4 ? 2 : 1); half++) {
-            const __m256i w = _mm256_maskload_epi64(row + 4 * half, half == 0 ? low : high);
-            const __m256i o = _mm256_sub_epi32(w, corner);
-            const __m256i m = _mm256_max_epi32(o, _mm256_sub_epi32(far_side, o));
-            const __m256i m_y = _mm256_srli_epi64(m, 32);
-            const __m256i f2 = _mm256_add_epi64(_mm256_mul_epi32(m, m), _mm256_mul_epi32(m_y, m_y));
-            const int close = _mm256_movemask_pd(_mm256_castsi256_pd(_mm256_cmpgt_epi64(limit, f2)));
-            const int tagged = _mm256_movemask_pd(_mm256_castsi256_pd(_mm256_slli_epi64(w, 32)));  // GRID_TAG
-            if ((close & ~tagged & (half == 0 ? low_lanes : high_lanes)) != 0) return true;
-        }
-    }
-    return false;
-}
-#endif
-
 // Two radii: does one sample cover every point of base cell `base` (its closed square, clipped
 // to a free boundary)? Then it covers every cell of the base cell and every child, and their
 // cover tests need no gather: most base cells of a run's first refinement end here. Such a sample
@@ -182,8 +155,8 @@ VRPD_FN bool base_covered(Domain dom, Grid grid, uvec2 base) {
         reach++;
 #ifdef VRPD_HOST_AVX2
     if (reach <= int(MAX_REACH) && dom.lattice.periodic == 0u && inner_cell(dom, base) && host_has_avx2())
-        return window_covers_cell(grid.word + base_index(dom, base), int(dom.cells_x), reach, origin, ivec2(hx, hy),
-                                  dom.radii.coverage2);
+        return window_holds_within<true>(grid.word + base_index(dom, base), int(dom.cells_x), reach, origin,
+                                         dom.radii.coverage2, ivec2(hx, hy));
 #endif
     VRPD_FOR_EACH_NEIGHBOUR(dom, base, reach, dom.radii.coverage2, dx, dy, nb) {
         uvec2 p = grid.word[nb];
@@ -196,7 +169,7 @@ VRPD_FN bool base_covered(Domain dom, Grid grid, uvec2 base) {
 
 #ifdef VRPD_HOST_AVX2
 // The host's body of gather_cell_samples where the scan neither wraps nor meets a free boundary and
-// reaches at most MAX_REACH cells, on processors with AVX2, as window_holds_near reads it: each
+// reaches at most MAX_REACH cells, on processors with AVX2, as window_holds_within reads it: each
 // sample's offset from the base cell's corner `origin` (side `side`) in 32 bits, kept if its
 // squared gap to the closed base cell is below limit2 (Rc^2; an adjacent cell's sample always is,
 // and one in a cell the rows' reaches leave out never). Writes the kept offsets to `out`, the 3 x 3
