@@ -278,6 +278,29 @@ TEST_CASE(
         for (std::uint64_t f : farthest) covered |= f < cover2;
         covering += covered ? 1 : 0;
         REQUIRE(shared::window_holds_within<true>(&grid[4 * kSide + 4], kSide, reach, corner, cover2, far) == covered);
+        // The two-radii dart's gather: the samples closer than sqrt(limit2) to p in a window of any
+        // reach (up to the grid's 4: one to three loads a row, the last partial), as offsets from
+        // p in the scan's order, or past `most` its count plus one.
+        const int wide = 1 + int(rng() % 4);
+        const std::uint32_t most = rng() % 2 ? shared::MAX_DISKS : std::uint32_t(rng() % 4);
+        std::vector<glm::ivec2> near;
+        for (int dy = -wide; dy <= wide; ++dy)
+            for (int dx = -wide; dx <= wide; ++dx) {
+                const glm::uvec2 w = grid[std::size_t((4 + dy) * kSide + 4 + dx)];
+                const glm::i64vec2 o(std::int64_t(w.x) - p.x, std::int64_t(w.y) - p.y);
+                if (!(w.x & shared::GRID_TAG) && std::uint64_t(o.x * o.x + o.y * o.y) < limit2) near.emplace_back(o);
+            }
+        const glm::ivec2 unwritten(INT32_MIN);
+        std::vector<glm::ivec2> gathered(most + 1, unwritten);  // nothing past `most` is written
+        const std::uint32_t count =
+            shared::window_gather_near(&grid[4 * kSide + 4], kSide, wide, p, limit2, gathered.data(), most);
+        REQUIRE(gathered[most] == unwritten);
+        if (near.size() > most) {
+            REQUIRE(count == most + 1);
+        } else {
+            gathered.resize(count);
+            REQUIRE(gathered == near);
+        }
         expected[0].insert(expected[0].end(), expected[1].begin(), expected[1].end());
         std::vector<glm::ivec2> got(shared::MAX_CELL_SAMPLES);
         got.resize(shared::window_gather(&grid[4 * kSide + 4], kSide, reach, corner, int(side), limit2, got.data()));

@@ -213,6 +213,43 @@ VRPD_FN bool base_covered(Domain dom, Grid grid, uvec2 base) {
 }
 #endif
 
+#ifdef VRPD_HOST_AVX2
+// The host's scan of the (2 reach + 1)^2 window of base cells around `centre` (any reach) for the
+// samples closer than sqrt(limit2) to p, on processors with AVX2: writes their offsets from p to
+// `out` in the order VRPD_FOR_EACH_NEIGHBOUR visits them (rows, then columns), and returns their
+// count, or `most` + 1 once more than `most` are found. Lanes as window_holds_within reads them;
+// a sample in a cell the rows' reaches leave out lies at least sqrt(limit2) from p.
+[[gnu::target("avx2")]] inline uint window_gather_near(const uvec2* centre, int stride, int reach, uvec2 p,
+                                                       uint64_t limit2, ivec2* out, uint most) {
+    const int width = 2 * reach + 1;
+    const __m256i lane = _mm256_setr_epi64x(0, 1, 2, 3);
+    const __m256i from = _mm256_set1_epi64x(int64_t(uint64_t(p.y) << 32 | p.x));
+    const __m256i limit = _mm256_set1_epi64x(int64_t(limit2));
+    uint n = 0u;
+    for (int dy = -reach; dy <= reach; dy++) {
+        const auto* row = reinterpret_cast<const long long*>(centre + dy * stride - reach);
+        for (int x = 0; x < width; x += 4) {
+            const int lanes = width - x < 4 ? width - x : 4;
+            const __m256i w = _mm256_maskload_epi64(row + x, _mm256_cmpgt_epi64(_mm256_set1_epi64x(lanes), lane));
+            const __m256i d = _mm256_sub_epi32(w, from);
+            const __m256i d_y = _mm256_srli_epi64(d, 32);
+            const __m256i d2 = _mm256_add_epi64(_mm256_mul_epi32(d, d), _mm256_mul_epi32(d_y, d_y));
+            const uint close = uint(_mm256_movemask_pd(_mm256_castsi256_pd(_mm256_cmpgt_epi64(limit, d2))));
+            const uint tagged = uint(_mm256_movemask_pd(_mm256_castsi256_pd(_mm256_slli_epi64(w, 32))));  // GRID_TAG
+            uint kept = close & ~tagged & ((1u << lanes) - 1u);
+            if (kept == 0u) continue;
+            alignas(32) ivec2 offset[4];
+            _mm256_store_si256(reinterpret_cast<__m256i*>(offset), d);
+            for (; kept != 0u; kept &= kept - 1u) {
+                if (n == most) return most + 1u;
+                out[n++] = offset[std::countr_zero(kept)];
+            }
+        }
+    }
+    return n;
+}
+#endif
+
 // Fills cell_sample_at with the samples near base cell `base`, those of the 8 adjacent cells
 // first (the likeliest to cover a cell wholly, so that cover tests stop early); returns their
 // count, or MAX_CELL_SAMPLES + 1 if they do not fit.
