@@ -221,22 +221,23 @@ VRPD_FN bool base_covered(Domain dom, Grid grid, uvec2 base) {
 // a sample in a cell the rows' reaches leave out lies at least sqrt(limit2) from p.
 [[gnu::target("avx2")]] inline uint window_gather_near(const uvec2* centre, int stride, int reach, uvec2 p,
                                                        uint64_t limit2, ivec2* out, uint most) {
-    const int width = 2 * reach + 1;
-    const __m256i lane = _mm256_setr_epi64x(0, 1, 2, 3);
+    const int width = 2 * reach + 1, last = (width - 1) & ~3;  // the last load's first word
+    const __m256i all = _mm256_set1_epi64x(-1);
+    const __m256i tail = _mm256_cmpgt_epi64(_mm256_set1_epi64x(width - last), _mm256_setr_epi64x(0, 1, 2, 3));
+    const uint tail_lanes = (1u << (width - last)) - 1u;
     const __m256i from = _mm256_set1_epi64x(int64_t(uint64_t(p.y) << 32 | p.x));
     const __m256i limit = _mm256_set1_epi64x(int64_t(limit2));
     uint n = 0u;
     for (int dy = -reach; dy <= reach; dy++) {
         const auto* row = reinterpret_cast<const long long*>(centre + dy * stride - reach);
-        for (int x = 0; x < width; x += 4) {
-            const int lanes = width - x < 4 ? width - x : 4;
-            const __m256i w = _mm256_maskload_epi64(row + x, _mm256_cmpgt_epi64(_mm256_set1_epi64x(lanes), lane));
+        for (int x = 0; x <= last; x += 4) {
+            const __m256i w = _mm256_maskload_epi64(row + x, x == last ? tail : all);
             const __m256i d = _mm256_sub_epi32(w, from);
             const __m256i d_y = _mm256_srli_epi64(d, 32);
             const __m256i d2 = _mm256_add_epi64(_mm256_mul_epi32(d, d), _mm256_mul_epi32(d_y, d_y));
             const uint close = uint(_mm256_movemask_pd(_mm256_castsi256_pd(_mm256_cmpgt_epi64(limit, d2))));
             const uint tagged = uint(_mm256_movemask_pd(_mm256_castsi256_pd(_mm256_slli_epi64(w, 32))));  // GRID_TAG
-            uint kept = close & ~tagged & ((1u << lanes) - 1u);
+            uint kept = close & ~tagged & (x == last ? tail_lanes : 15u);
             if (kept == 0u) continue;
             alignas(32) ivec2 offset[4];
             _mm256_store_si256(reinterpret_cast<__m256i*>(offset), d);
