@@ -293,7 +293,7 @@ TEST_CASE(
         const glm::ivec2 unwritten(INT32_MIN);
         std::vector<glm::ivec2> gathered(most + 1, unwritten);  // nothing past `most` is written
         const std::uint32_t count =
-            shared::window_gather_near(&grid[4 * kSide + 4], kSide, wide, p, limit2, gathered.data(), most);
+            shared::window_gather_within<false>(&grid[4 * kSide + 4], kSide, wide, p, limit2, gathered.data(), most);
         REQUIRE(gathered[most] == unwritten);
         if (near.size() > most) {
             REQUIRE(count == most + 1);
@@ -301,6 +301,22 @@ TEST_CASE(
             gathered.resize(count);
             REQUIRE(gathered == near);
         }
+        // The same for a cell's T test: the samples whose squared gap to the box [0, far] from the
+        // middle cell's corner is below limit2, as offsets from the corner.
+        std::vector<glm::ivec2> boxed;
+        for (int dy = -wide; dy <= wide; ++dy)
+            for (int dx = -wide; dx <= wide; ++dx) {
+                const glm::uvec2 w = grid[std::size_t((4 + dy) * kSide + 4 + dx)];
+                const glm::i64vec2 o(std::int64_t(w.x) - corner.x, std::int64_t(w.y) - corner.y);
+                const std::int64_t gx = std::max<std::int64_t>({-o.x, o.x - far.x, 0});
+                const std::int64_t gy = std::max<std::int64_t>({-o.y, o.y - far.y, 0});
+                if (!(w.x & shared::GRID_TAG) && std::uint64_t(gx * gx + gy * gy) < limit2) boxed.emplace_back(o);
+            }
+        gathered.assign(shared::MAX_DISKS + 1, unwritten);
+        const std::uint32_t in_box = shared::window_gather_within<true>(
+            &grid[4 * kSide + 4], kSide, wide, corner, limit2, gathered.data(), shared::MAX_DISKS, far);
+        gathered.resize(in_box);
+        REQUIRE(gathered == boxed);
         expected[0].insert(expected[0].end(), expected[1].begin(), expected[1].end());
         std::vector<glm::ivec2> got(shared::MAX_CELL_SAMPLES);
         got.resize(shared::window_gather(&grid[4 * kSide + 4], kSide, reach, corner, int(side), limit2, got.data()));

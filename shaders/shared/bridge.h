@@ -38,6 +38,9 @@ using std::uint64_t;
 #define VRPD_FN inline
 // A rarely taken path: kept out of line, so compilers do not compute it on every call.
 #define VRPD_COLD_FN [[gnu::cold, gnu::noinline]] inline
+// A path that one mode of a caller takes and another never does: kept out of line, so the other
+// mode's inlined body stays small.
+#define VRPD_OUTLINED_FN [[gnu::noinline]] inline
 // An input read by reference on the host (a struct too large to copy per call), an output (or
 // in-out) parameter, and a variable private to each invocation (each host thread).
 #define VRPD_IN(T) const T&
@@ -51,6 +54,7 @@ using std::uint64_t;
 #define VRPD_BUFFER(T) T
 #define VRPD_FN
 #define VRPD_COLD_FN
+#define VRPD_OUTLINED_FN
 #define VRPD_IN(T) T
 #define VRPD_OUT(T) out T
 #define VRPD_INOUT(T) inout T

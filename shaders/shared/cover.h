@@ -80,12 +80,62 @@ VRPD_FN bool inhibited(Domain dom, Grid grid, uvec2 base, uvec2 p) {
     return !in_lattice(dom.lattice, p) || near_sample(dom, grid, base, p, INHIBITION);
 }
 
+#ifdef VRPD_HOST_AVX2
+// The host's gathers of the (2 reach + 1)^2 window of base cells around `centre` (any reach), on
+// processors with AVX2: writes to `out` the offsets from `at` of the samples closer than
+// sqrt(limit2) to `at` or, with kBox, to the box [at, at + box] (per axis max(-o, o - box, 0)),
+// in the order VRPD_FOR_EACH_NEIGHBOUR visits them (rows, then columns); returns their count, or
+// `most` + 1 once more than `most` are found. Lanes as window_holds_within reads them; a sample
+// in a cell the rows' reaches leave out lies at least sqrt(limit2) from the centre cell.
+template <bool kBox>
+[[gnu::target("avx2")]] inline uint window_gather_within(const uvec2* centre, int stride, int reach, uvec2 at,
+                                                         uint64_t limit2, ivec2* out, uint most, ivec2 box = ivec2(0)) {
+    const int width = 2 * reach + 1, last = (width - 1) & ~3;  // the last load's first word
+    const __m256i all = _mm256_set1_epi64x(-1);
+    const __m256i tail = _mm256_cmpgt_epi64(_mm256_set1_epi64x(width - last), _mm256_setr_epi64x(0, 1, 2, 3));
+    const uint tail_lanes = (1u << (width - last)) - 1u;
+    const __m256i from = _mm256_set1_epi64x(int64_t(uint64_t(at.y) << 32 | at.x));
+    const __m256i far_side = _mm256_set1_epi64x(int64_t(uint64_t(uint(box.y)) << 32 | uint(box.x)));
+    const __m256i zero = _mm256_setzero_si256();
+    const __m256i limit = _mm256_set1_epi64x(int64_t(limit2));
+    uint n = 0u;
+    for (int dy = -reach; dy <= reach; dy++) {
+        const auto* row = reinterpret_cast<const long long*>(centre + dy * stride - reach);
+        for (int x = 0; x <= last; x += 4) {
+            const __m256i w = _mm256_maskload_epi64(row + x, x == last ? tail : all);
+            const __m256i d = _mm256_sub_epi32(w, from);
+            __m256i g = d;
+            if constexpr (kBox)
+                g = _mm256_max_epi32(_mm256_max_epi32(_mm256_sub_epi32(zero, d), _mm256_sub_epi32(d, far_side)), zero);
+            const __m256i g_y = _mm256_srli_epi64(g, 32);
+            const __m256i g2 = _mm256_add_epi64(_mm256_mul_epi32(g, g), _mm256_mul_epi32(g_y, g_y));
+            const uint close = uint(_mm256_movemask_pd(_mm256_castsi256_pd(_mm256_cmpgt_epi64(limit, g2))));
+            const uint tagged = uint(_mm256_movemask_pd(_mm256_castsi256_pd(_mm256_slli_epi64(w, 32))));  // GRID_TAG
+            uint kept = close & ~tagged & (x == last ? tail_lanes : 15u);
+            if (kept == 0u) continue;
+            alignas(32) ivec2 offset[4];
+            _mm256_store_si256(reinterpret_cast<__m256i*>(offset), d);
+            for (; kept != 0u; kept &= kept - 1u) {
+                if (n == most) return most + 1u;
+                out[n++] = offset[std::countr_zero(kept)];
+            }
+        }
+    }
+    return n;
+}
+#endif
+
 // Two radii: fills disk_at with the samples whose Rc-disk meets the box [cc, cc + hi] (hi >= 0),
 // as offsets from cc: only they can cover a point of it or cross inside it. Returns the count,
 // MAX_DISKS + 1 if they do not fit.
-VRPD_FN uint gather_near_box(Domain dom, Grid grid, uvec2 base, uvec2 cc, ivec2 hi) {
+VRPD_OUTLINED_FN uint gather_near_box(Domain dom, Grid grid, uvec2 base, uvec2 cc, ivec2 hi) {
     uint n = 0u;
     int reach = cover_reach(dom.radii);
+#ifdef VRPD_HOST_AVX2
+    if (dom.lattice.periodic == 0u && inner_cell(dom, base) && host_has_avx2())
+        return window_gather_within<true>(grid.word + base_index(dom, base), int(dom.cells_x), reach, cc,
+                                          dom.radii.coverage2 + uint64_t(1), disk_at, MAX_DISKS, hi);
+#endif
     VRPD_FOR_EACH_NEIGHBOUR(dom, base, reach, dom.radii.coverage2 + uint64_t(1), dx, dy, nb) {
         uvec2 w = grid.word[nb];
         if (!grid_is_sample(w)) continue;
@@ -209,44 +259,6 @@ VRPD_FN bool base_covered(Domain dom, Grid grid, uvec2 base) {
     uint n = 0u;
     for (uint64_t m = kept & adjacent; m != 0u; m &= m - 1u) out[n++] = offset[std::countr_zero(m)];
     for (uint64_t m = kept & ~adjacent; m != 0u; m &= m - 1u) out[n++] = offset[std::countr_zero(m)];
-    return n;
-}
-#endif
-
-#ifdef VRPD_HOST_AVX2
-// The host's scan of the (2 reach + 1)^2 window of base cells around `centre` (any reach) for the
-// samples closer than sqrt(limit2) to p, on processors with AVX2: writes their offsets from p to
-// `out` in the order VRPD_FOR_EACH_NEIGHBOUR visits them (rows, then columns), and returns their
-// count, or `most` + 1 once more than `most` are found. Lanes as window_holds_within reads them;
-// a sample in a cell the rows' reaches leave out lies at least sqrt(limit2) from p.
-[[gnu::target("avx2")]] inline uint window_gather_near(const uvec2* centre, int stride, int reach, uvec2 p,
-                                                       uint64_t limit2, ivec2* out, uint most) {
-    const int width = 2 * reach + 1, last = (width - 1) & ~3;  // the last load's first word
-    const __m256i all = _mm256_set1_epi64x(-1);
-    const __m256i tail = _mm256_cmpgt_epi64(_mm256_set1_epi64x(width - last), _mm256_setr_epi64x(0, 1, 2, 3));
-    const uint tail_lanes = (1u << (width - last)) - 1u;
-    const __m256i from = _mm256_set1_epi64x(int64_t(uint64_t(p.y) << 32 | p.x));
-    const __m256i limit = _mm256_set1_epi64x(int64_t(limit2));
-    uint n = 0u;
-    for (int dy = -reach; dy <= reach; dy++) {
-        const auto* row = reinterpret_cast<const long long*>(centre + dy * stride - reach);
-        for (int x = 0; x <= last; x += 4) {
-            const __m256i w = _mm256_maskload_epi64(row + x, x == last ? tail : all);
-            const __m256i d = _mm256_sub_epi32(w, from);
-            const __m256i d_y = _mm256_srli_epi64(d, 32);
-            const __m256i d2 = _mm256_add_epi64(_mm256_mul_epi32(d, d), _mm256_mul_epi32(d_y, d_y));
-            const uint close = uint(_mm256_movemask_pd(_mm256_castsi256_pd(_mm256_cmpgt_epi64(limit, d2))));
-            const uint tagged = uint(_mm256_movemask_pd(_mm256_castsi256_pd(_mm256_slli_epi64(w, 32))));  // GRID_TAG
-            uint kept = close & ~tagged & (x == last ? tail_lanes : 15u);
-            if (kept == 0u) continue;
-            alignas(32) ivec2 offset[4];
-            _mm256_store_si256(reinterpret_cast<__m256i*>(offset), d);
-            for (; kept != 0u; kept &= kept - 1u) {
-                if (n == most) return most + 1u;
-                out[n++] = offset[std::countr_zero(kept)];
-            }
-        }
-    }
     return n;
 }
 #endif

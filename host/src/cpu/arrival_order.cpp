@@ -47,8 +47,8 @@ uint state_given_samples(const Domain& dom, Grid grid, uvec2 p, uvec2 cell) {
     uint n = 0u;
     const uint64_t limit2 = influence2(dom.radii);
     if (dom.lattice.periodic == 0u && inner_cell(dom, cell) && host_has_avx2()) {
-        n = window_gather_near(grid.word + base_index(dom, cell), int(dom.cells_x), int(influence_reach(dom.radii)), p,
-                               limit2, disk_at, MAX_DISKS);
+        n = window_gather_within<false>(grid.word + base_index(dom, cell), int(dom.cells_x),
+                                        int(influence_reach(dom.radii)), p, limit2, disk_at, MAX_DISKS);
         return n > MAX_DISKS ? DART_TOO_COMPLEX : state_of_t(reaches_uncovered_at(dom, p, n));
     }
     VRPD_FOR_EACH_NEIGHBOUR(dom, cell, int(influence_reach(dom.radii)), limit2, dx, dy, nb) {
