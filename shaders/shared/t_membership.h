@@ -190,6 +190,7 @@ bool side_crossing_uncovered(ivec2 centre, uint skip, int s, int v0, int v1, boo
 // steps. N < 2^39 is exact as a double and its correctly rounded root is within 2^-33 of sqrt(N);
 // the offsets here stay below 2^22, so v (and v less an offset) is within 2^-30, its square within
 // 2^-6, and each squared distance less R2 (sums below 2^46, each rounding within 2^-7) within 0.05.
+// Always inlined into the box's boundary loop: as a call it costs two radii 2 % more instructions.
 [[gnu::always_inline]] inline bool side_crossing_uncovered(ivec2 centre, uint skip, int s, int v0, int v1, bool swap,
                                                            int tau, uint n, uint64_t r2, bool in_disk) {
     ivec2 c = swizzle(centre, swap);
