@@ -155,7 +155,7 @@ VRPD_FN uvec2 field_corner_extremes(uvec4 v, uint bits, uvec2 fa, uvec2 fb) {
 // leaf, exact. Else the block meets two or four quadrants of the least split that holds it: in a
 // quadrant that is a leaf, exact over its part of the block; in one that is split, that split's
 // least and greatest node.
-VRPD_COLD_FN uvec2 field_patch_extremes(VRPD_IN(FieldTableView) t, int q, uint i, uint j, uvec2 fa, uvec2 fb) {
+VRPD_OUTLINED_FN uvec2 field_patch_extremes(VRPD_IN(FieldTableView) t, int q, uint i, uint j, uvec2 fa, uvec2 fb) {
     uvec4 v = field_cell_nodes(t, i, j);
     uint bits = t.cell_bits;
     int split = field_descend_block(t, q, v, fa, fb, bits);
