@@ -121,12 +121,6 @@ void FieldQuadtree::set_sample(std::uint32_t leaf, glm::uvec2 p, std::uint32_t s
     mark(p, kOccupied | kFresh, true);
 }
 
-FieldQuadtree::Leaf FieldQuadtree::leaf_at(glm::uvec2 p) const {
-    const glm::uvec2 leaf = shared::field_leaf_at(view(), p);
-    const std::uint32_t mask = ~((std::uint32_t(1) << leaf.y) - 1);  // bits < 32: a leaf is within a tile
-    return {leaf.x, leaf.y, {p.x & mask, p.y & mask}};
-}
-
 void FieldQuadtree::mark(glm::uvec2 c, std::uint32_t flag, bool on) {
     // A node's flags change by atomic or and and, written only where they change (the nodes near
     // the root are on most paths); its index never changes.

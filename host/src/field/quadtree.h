@@ -46,12 +46,17 @@ public:
             return (p.x >> bits) == (corner.x >> bits) && (p.y >> bits) == (corner.y >> bits);
         }
     };
-    // The leaf holding lattice point p, found by descent from its tile's root.
-    Leaf leaf_at(glm::uvec2 p) const;
     // The tree's words as the shared descent reads them (shared/field_tree.h), and the arrays
     // they point into.
     shared::FieldTreeView view() const {
         return {t_.tile_bits, t_.tiles_x, t_.tiles_y, {roots_.data()}, {nodes_.data()}};
+    }
+    // The leaf holding lattice point p, found by descent from its tile's root (inline: the hot
+    // loops find a leaf per dart and per cell).
+    Leaf leaf_at(glm::uvec2 p) const {
+        const glm::uvec2 leaf = shared::field_leaf_at(view(), p);
+        const std::uint32_t mask = ~((std::uint32_t(1) << leaf.y) - 1);  // bits < 32: a leaf is within a tile
+        return {leaf.x, leaf.y, {p.x & mask, p.y & mask}};
     }
     std::span<const std::uint32_t> root_words() const { return roots_; }
     std::span<const std::uint32_t> node_words() const { return nodes_; }
