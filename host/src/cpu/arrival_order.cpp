@@ -22,10 +22,10 @@ namespace vrpd::detail {
 
 using namespace shared;
 
-void sort_by_key(std::vector<std::uint64_t>& values) {
+void sort_by_key(Keys& values) {
     constexpr int kBits = 11;
     constexpr std::size_t kBuckets = std::size_t(1) << kBits;
-    std::vector<std::uint64_t> other(values.size());
+    Keys other(values.size());
     for (int shift = 32; shift < 64; shift += kBits) {
         std::vector<std::size_t> start(kBuckets + 1, 0);
         for (std::uint64_t v : values) ++start[((v >> shift) & (kBuckets - 1)) + 1];
@@ -119,14 +119,14 @@ std::uint64_t decide_in_arrival_order(const Domain& dom, Grid grid, Darts darts,
     const bool whole = parts == 1u;
     std::vector<Progress> progress(parts);
     // listed[v][w]: the quarter's undecided darts of strip w among chunk v of the dart indices.
-    std::vector<std::vector<std::vector<std::uint64_t>>> listed(parts, std::vector<std::vector<std::uint64_t>>(parts));
-    std::vector<std::vector<Accepted>> accepted(parts);
+    std::vector<std::vector<Keys>> listed(parts, std::vector<Keys>(parts));
+    std::vector<std::vector<Accepted, Uninitialised<Accepted, true>>> accepted(parts);
     std::vector<std::uint64_t> held(parts, 0);
     std::atomic<bool> failed = false;
     auto list_quarter = [&](uint v, uint quarter) {
         const uint begin = uint(std::uint64_t(count) * v / parts) & ~15u,
                    end = v + 1u == parts ? count : uint(std::uint64_t(count) * (v + 1u) / parts) & ~15u;
-        std::vector<std::vector<std::uint64_t>>& lists = listed[v];
+        std::vector<Keys>& lists = listed[v];
         for (uint block = begin; block < end; block += 16u) {  // darts.h: 16 records, then their states
             const uint states = load_state_word(darts, dart_state_word(block));
             const uint* word = &darts.word[dart_record(block)];
@@ -142,7 +142,7 @@ std::uint64_t decide_in_arrival_order(const Domain& dom, Grid grid, Darts darts,
     // the earlier darts accepted near it and no later one, as on one thread: the same states.
     // The thread furthest behind never waits, so the waits end.
     auto decide_strip = [&](uint w) {
-        std::vector<std::uint64_t> order;
+        Keys order;
         std::size_t lists = 0;  // the listed capacity, held beside the list while it is copied
         if (whole) {
             order.swap(listed[0][0]);
@@ -152,7 +152,7 @@ std::uint64_t decide_in_arrival_order(const Domain& dom, Grid grid, Darts darts,
             order.reserve(n);
             for (uint v = 0; v < parts; ++v) {  // chunks in index order, as the sort needs
                 order.insert(order.end(), listed[v][w].begin(), listed[v][w].end());
-                std::vector<std::uint64_t>().swap(listed[v][w]);
+                Keys().swap(listed[v][w]);
             }
         }
         sort_by_key(order);
@@ -204,7 +204,7 @@ std::uint64_t decide_in_arrival_order(const Domain& dom, Grid grid, Darts darts,
     // Strip w's accepted darts written to their places among all strips' in arrival order.
     auto place_strip = [&](uint w, std::size_t base) {
         std::vector<std::size_t> at(parts, 0);
-        const std::vector<Accepted>& mine = accepted[w];
+        const auto& mine = accepted[w];
         for (std::size_t i = 0; i < mine.size(); ++i) {
             std::size_t before = i;
             for (uint u = 0; u < parts; ++u) {

@@ -7,6 +7,7 @@
 
 #include "shared/kernels.h"
 #include "thread_pool.h"
+#include "uninitialised.h"
 
 namespace vrpd::detail {
 
@@ -22,8 +23,11 @@ std::uint64_t decide_in_arrival_order(const shared::Domain& dom, shared::Grid gr
                                       shared::uint count, std::vector<shared::uvec2>& out, ThreadPool& pool,
                                       shared::uint strip_darts);
 
+// Darts' sort keys: a key in the high 32 bits, the dart's index in the low.
+using Keys = std::vector<std::uint64_t, Uninitialised<std::uint64_t, true>>;
+
 // Sorts values whose high 32 bits are a key and low 32 bits an index, listed in ascending index
 // order, into ascending (key, index) order: a stable radix sort on the key (3 passes of 11 bits).
-void sort_by_key(std::vector<std::uint64_t>& values);
+void sort_by_key(Keys& values);
 
 }  // namespace vrpd::detail

@@ -23,8 +23,10 @@ namespace vrpd::detail {
 namespace {
 using namespace shared;
 
-// The grid and cell lists: a resize leaves them unwritten, for the pool to fill.
-using Words = std::vector<uvec2, Uninitialised<uvec2>>;
+// The engine's arrays: a resize leaves them unwritten, for the pool to fill; from 2 MiB on they
+// take kept blocks (blocks.h), so that a round's arrays reuse the memory the last round's freed.
+using Words = std::vector<uvec2, Uninitialised<uvec2, true>>;
+using Counts = std::vector<uint, Uninitialised<uint, true>>;
 
 // Up to this many threads the darts are decided in arrival order, a strip of base-cell rows a
 // thread (arrival_order.h); more resolve in parallel (docs/performance.md).
@@ -84,7 +86,7 @@ public:
         timed("commit", [&] { commit(); });
         if (!in_arrival_order()) timed("emit", [&] { emit(); });
         // The darts are spent: give their memory back before refinement.
-        std::vector<uint>().swap(darts_);
+        Counts().swap(darts_);
         dart_count_ = 0;
         Words().swap(dart_cells_);
         const std::uint64_t active = timed("refine", [&] { return masked_ ? refine_masked(spec) : refine(spec); });
@@ -121,6 +123,15 @@ private:
         v.resize(n);
     }
 
+    // Sizes the darts' array to `total` darts, every word 0 (undecided), on the pool's threads.
+    void clear_darts(std::uint64_t total) {
+        darts_.resize(dart_words(total));
+        dart_count_ = total;
+        pool_.parallel_for(darts_.size(), [&](std::size_t b, std::size_t e, unsigned) {
+            std::fill(darts_.begin() + b, darts_.begin() + e, 0u);
+        });
+    }
+
     template <class V>
     static std::uint64_t bytes(const V& v) {
         return v.capacity() * sizeof(typename V::value_type);
@@ -152,8 +163,7 @@ private:
         });
         const std::uint64_t total = exclusive_scan(n);
         if (total >= MAX_ROUND_DARTS) throw Error("a round would throw more than 2^30 darts");
-        darts_.resize(dart_words(total));
-        dart_count_ = total;
+        clear_darts(total);
         pool_.parallel_for(n, [&](std::size_t b, std::size_t e, unsigned) {
             for (std::size_t i = b; i < e; ++i)
                 if (first_in_base_cell(dom, cells, uint(i))) mark_dart_range(args, cells, scan(), grid(), uint(i));
@@ -164,7 +174,7 @@ private:
                 if (first_in_base_cell(dom, cells, uint(i)))
                     throw_base_cell(args, cells, scan(), darts(), grid(), uint(i));
         });
-        std::vector<uint>().swap(scan_);
+        Counts().swap(scan_);
         return total;
     }
 
@@ -192,8 +202,7 @@ private:
         if (crowded) throw Error("internal: a base cell got more than 65535 darts in one round");
         const std::uint64_t total = chunk_offsets(first);
         if (total >= MAX_ROUND_DARTS) throw Error("a round would throw more than 2^30 darts");
-        darts_.resize(dart_words(total));
-        dart_count_ = total;
+        clear_darts(total);
         // Numbering is a pass of its own: throwing reads the neighbours' words.
         pool_.parallel_for(bases, [&](std::size_t b, std::size_t e, unsigned w) {
             std::uint64_t next = first[w];
@@ -311,7 +320,7 @@ private:
                 for (std::size_t i = b; i < e; ++i)
                     grid_[i] = masked_word(grid_[i], masks_[i]);
             });
-            std::vector<uint>().swap(masks_);
+            Counts().swap(masks_);
             return chunk_offsets(first);
         }
         // Each chunk of base cells keeps its nonzero masks, in order, then writes their children.
@@ -467,10 +476,11 @@ private:
         });
         cells_.swap(next_);
         Words().swap(next_);
-        std::vector<uint>().swap(masks_);
+        Counts().swap(masks_);
         return cells_.size();
     }
 
+    BlocksReleased released_;  // first, so that it goes last
     Plan plan_;
     Resolution resolution_;
     ThreadPool pool_;
@@ -481,10 +491,10 @@ private:
     Words cells_;
     Words next_;
     Words dart_cells_;               // two radii: the base cells that get darts this round
-    std::vector<uint> darts_;        // this round's darts, stored as darts.h says
+    Counts darts_;                   // this round's darts, stored as darts.h says
     std::uint64_t dart_count_ = 0;
-    std::vector<uint> scan_;
-    std::vector<uint> masks_;
+    Counts scan_;
+    Counts masks_;
     std::vector<uvec2> out_;  // samples in acceptance order
     std::uint64_t peak_ = 0;  // see note_peak
     bool profiling_ = false;

@@ -7,18 +7,18 @@
 #include <new>
 #include <utility>
 
-#ifdef __linux__
-#include <sys/mman.h>
-#endif
+#include "blocks.h"
 
 namespace vrpd::detail {
 
 // Vectors of this allocator leave trivial elements uninitialised on a resize, so that the pool's
 // threads, filling a fresh array, make the first touch of its pages in parallel. With kHugePages,
-// an array of 2 MiB or more is aligned to 2 MiB and offered to the kernel as huge pages (where it
-// takes them on advice): a fresh array then costs a page fault per 2 MiB, not per 4 KiB. That
-// suits short-lived arrays written once (the field table's drafts); the samplers' own arrays stay
-// on small pages (on huge ones the field's resolution runs slower: docs/performance.md).
+// an array of 2 MiB or more takes a block of blocks.h: aligned to 2 MiB and offered to the kernel
+// as huge pages (a fresh block costs a page fault per 2 MiB, not per 4 KiB), and kept when freed
+// for the next array, so that the arrays a round frees and the next round allocates again fault
+// no page at all. The uniform engine's arrays and the field table's drafts take them; the field
+// sampler's arrays stay on small pages (on huge ones its resolution runs slower:
+// docs/performance.md).
 template <class T, bool kHugePages = false>
 struct Uninitialised : std::allocator<T> {
     static constexpr std::size_t kHuge = std::size_t(2) << 20;
@@ -32,19 +32,13 @@ struct Uninitialised : std::allocator<T> {
     T* allocate(std::size_t n) {
         if (n > (SIZE_MAX - kHuge) / sizeof(T)) throw std::bad_array_new_length();
         if (!kHugePages || n * sizeof(T) < kHuge) return std::allocator<T>::allocate(n);
-        const std::size_t rounded = (n * sizeof(T) + kHuge - 1) / kHuge * kHuge;
-        void* p = std::aligned_alloc(kHuge, rounded);
-        if (p == nullptr) throw std::bad_alloc();
-#ifdef MADV_HUGEPAGE
-        madvise(p, rounded, MADV_HUGEPAGE);  // advice: where it is refused, the pages stay small
-#endif
-        return static_cast<T*>(p);
+        return static_cast<T*>(take_block(n * sizeof(T)));
     }
     void deallocate(T* p, std::size_t n) {
         if (!kHugePages || n * sizeof(T) < kHuge)
             std::allocator<T>::deallocate(p, n);
         else
-            std::free(p);
+            give_block(p);
     }
     template <class U>
     void construct(U* p) noexcept {

@@ -200,6 +200,7 @@ void require_memory(const char* what, double expected, double bytes_per_sample) 
 }
 
 FieldTable tabulate(const Sizing& s, const Box& box, unsigned threads) {
+    const BlocksReleased released;  // the drafts' blocks, once the drafts are gone
     if (s.lipschitz != -1 && !(std::isfinite(s.lipschitz) && s.lipschitz >= 0))
         throw Error(fmt::format("the Lipschitz bound must be a finite number >= 0 (got {})", s.lipschitz));
     const FieldSource f = field_source(s, box);
