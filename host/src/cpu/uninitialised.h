@@ -16,9 +16,7 @@ namespace vrpd::detail {
 // an array of 2 MiB or more takes a block of blocks.h: aligned to 2 MiB and offered to the kernel
 // as huge pages (a fresh block costs a page fault per 2 MiB, not per 4 KiB), and kept when freed
 // for the next array, so that the arrays a round frees and the next round allocates again fault
-// no page at all. The uniform engine's arrays and the field table's drafts take them; the field
-// sampler's arrays stay on small pages (on huge ones its resolution runs slower:
-// docs/performance.md).
+// no page at all. The engines' large arrays and the field table's drafts take them.
 template <class T, bool kHugePages = false>
 struct Uninitialised : std::allocator<T> {
     static constexpr std::size_t kHuge = std::size_t(2) << 20;

@@ -59,8 +59,8 @@ public:
 
 private:
     bool weighted_;
-    std::vector<uvec2, Uninitialised<uvec2>> words_;
-    std::vector<std::uint8_t, Uninitialised<std::uint8_t>> weights_;
+    std::vector<uvec2, Uninitialised<uvec2, true>> words_;
+    std::vector<std::uint8_t, Uninitialised<std::uint8_t, true>> weights_;
 };
 
 // A dart still undecided after its throw, in throwing order (cell order, then index in the cell):
@@ -273,6 +273,7 @@ private:
                                                      lattice_.capacity() * 12 + got_.capacity() +
                                                      touched_.capacity() * 4 + extra);
     }
+    BlocksReleased released_;  // first, so that it goes last
     const FieldTable& t_;
     ThreadPool pool_;
     FieldQuadtree tree_;
@@ -291,10 +292,10 @@ private:
     // so they never carry kStampedMany.
     static constexpr std::uint32_t kStampedMany = 0x80000000u;
     static constexpr std::uint32_t kUnstamped = 0xFFFFFFFFu;  // many in a round that never comes
-    std::vector<std::uint32_t, Uninitialised<std::uint32_t>> touched_;
+    std::vector<std::uint32_t, Uninitialised<std::uint32_t, true>> touched_;
     // The stamps' round (0 for the given samples, dart round k stamps as k + 1) and its first sample.
     std::uint32_t round_ = 0, round_first_ = 0;
-    std::vector<Dart, Uninitialised<Dart>> darts_;
+    std::vector<Dart, Uninitialised<Dart, true>> darts_;
     std::vector<uvec2> lattice_;
     std::vector<std::uint32_t> radii_;
     std::uint32_t exp_neg_[128] = {};
