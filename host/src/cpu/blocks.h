@@ -1,8 +1,9 @@
-// Large blocks for the host engines' arrays, kept for reuse once freed. A run frees its arrays as
-// each round spends them and allocates the next round's at similar sizes: from the system, each
-// would be fresh memory, a page fault per page on first touch (a sixth of a run's time at
-// r = 0.001, docs/performance.md); from the blocks kept, none. Blocks are whole huge pages, and a
-// kept block larger than an array is split, its rest kept apart.
+// Large blocks for the host engines' arrays: whole huge pages, and kept for reuse once freed.
+// On small pages a run's arrays cost a page fault per 4 KiB on first touch, a sixth of a run's
+// time at r = 0.001 (docs/performance.md); a block advised as huge pages costs one per 2 MiB. A
+// run frees its arrays as each round spends them and allocates the next round's at similar
+// sizes: kept blocks serve them without a fresh mapping's faults and zeroing. A kept block
+// larger than an array is split, its rest kept apart.
 #pragma once
 
 #include <cstddef>
