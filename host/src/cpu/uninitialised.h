@@ -16,10 +16,16 @@ namespace vrpd::detail {
 // an array of 2 MiB or more takes a block of blocks.h: aligned to 2 MiB and offered to the kernel
 // as huge pages (a fresh block costs a page fault per 2 MiB, not per 4 KiB), and kept when freed
 // for the next array, so that the arrays a round frees and the next round allocates again fault
-// no page at all. The engines' large arrays and the field table's drafts take them.
+// no page at all. The engines' large arrays and the field table's drafts take them. Under
+// AddressSanitizer every array stays on the heap, where its bounds are checked.
 template <class T, bool kHugePages = false>
 struct Uninitialised : std::allocator<T> {
     static constexpr std::size_t kHuge = std::size_t(2) << 20;
+#ifdef __SANITIZE_ADDRESS__
+    static constexpr bool kBlocks = false;  // AddressSanitizer checks the bounds of heap arrays only
+#else
+    static constexpr bool kBlocks = kHugePages;
+#endif
     template <class U>
     struct rebind {
         using other = Uninitialised<U, kHugePages>;
@@ -29,11 +35,11 @@ struct Uninitialised : std::allocator<T> {
     Uninitialised(const Uninitialised<U, kHugePages>&) noexcept {}
     T* allocate(std::size_t n) {
         if (n > (SIZE_MAX - kHuge) / sizeof(T)) throw std::bad_array_new_length();
-        if (!kHugePages || n * sizeof(T) < kHuge) return std::allocator<T>::allocate(n);
+        if (!kBlocks || n * sizeof(T) < kHuge) return std::allocator<T>::allocate(n);
         return static_cast<T*>(take_block(n * sizeof(T)));
     }
     void deallocate(T* p, std::size_t n) {
-        if (!kHugePages || n * sizeof(T) < kHuge)
+        if (!kBlocks || n * sizeof(T) < kHuge)
             std::allocator<T>::deallocate(p, n);
         else
             give_block(p);
