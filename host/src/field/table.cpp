@@ -17,8 +17,6 @@
 #include "../cpu/uninitialised.h"
 #include "../plan.h"
 
-#include <malloc.h>
-
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -321,12 +319,9 @@ FieldTable tabulate(const Sizing& s, const Box& box, unsigned threads) {
             t.nodes[i] = std::max<std::uint32_t>(1, std::uint32_t(std::round(d.values[i] / t.quantum)));
     });
     install_patches(t, patches, pool);
-    if (!patches.empty()) {
-        // The drafts are many small blocks of the heap: handed back to the system before the
-        // sampler's arrays are allocated, rather than held below them.
-        std::vector<PatchDraft>().swap(patches);
-        malloc_trim(0);
-    }
+    // The drafts are many small blocks of the heap, freed before the bounds are made: their pages
+    // stay with the heap, whose later small arrays reuse them without a page fault.
+    std::vector<PatchDraft>().swap(patches);
     t.rule = std::uint32_t(s.rule);
     complete_bounds(t, pool);
     return t;
