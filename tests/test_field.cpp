@@ -434,6 +434,10 @@ TEST_CASE("sample --sizing from the command line: x,y,r rows, and bad input refu
           std::string("--sizing-image missing.png --r-min 0.01 --r-max 0.02 --rule prior"),
           std::string("--sizing-image missing.png --r-min 0.02 --r-max 0.01 --rule prior"),
           std::string("--sizing \"0.01 + 0.01*x\" --rule prior --lipschitz -1"),
+          std::string("--sizing \"0.01 + 0.01*x\" --rule prior --table-budget 0"),
+          std::string("--sizing \"0.01 + 0.01*x\" --rule prior --table-budget 1025"),
+          std::string("--sizing \"0.01 + 0.01*x\" --rule prior --table-budget nan"),
+          std::string("--radius 0.01 --table-budget 16"),
           std::string("--sizing \"0.01 + 0.01*x\" --rule prior --weighting heavy"),
           std::string("--sizing \"3e-5 + 1e-6*x\" --rule prior")}) {
         const test::Run r = cli("sample " + bad + " -o " + never);

@@ -122,6 +122,25 @@ TEST_CASE("patches reach the least target their budget allows", "[field]") {
     CHECK(t.tabulation_error < 0.004);
     // Continuous across the leaves' edges, around the torus too.
     CHECK(worst_leaf_step(t) <= std::int64_t(std::ceil(t.lipschitz)) + 2);
+    // A larger budget (Sizing::table_budget, words a sample) brings it closer, and at 64 words a
+    // sample to the target, with about five times the splits; past what it needs, it takes no more.
+    s.table_budget = 32;
+    const detail::FieldTable closer = detail::tabulate(s, {1, 1, Boundary::Periodic});
+    CHECK(closer.tabulation_error < 0.5 * t.tabulation_error);
+    CHECK(closer.tabulation_error > 0.00075);
+    s.table_budget = 64;
+    const detail::FieldTable within = detail::tabulate(s, {1, 1, Boundary::Periodic});
+    CHECK(within.tabulation_error <= 0.00075);
+    CHECK(within.splits.size() > 4 * t.splits.size());
+    CHECK(worst_leaf_step(within) <= std::int64_t(std::ceil(within.lipschitz)) + 2);
+    s.table_budget = 128;
+    CHECK(detail::tabulate(s, {1, 1, Boundary::Periodic}).splits == within.splits);
+    for (double bad : {0.0, 0.5, 1025.0, std::nan("")}) {
+        s.table_budget = bad;
+        CHECK_THROWS_WITH(detail::tabulate(s, {1, 1, Boundary::Periodic}),
+                          Catch::Contains("the table budget must be 1 to 1024 words a sample"));
+    }
+    s.table_budget = 8;
     // A field that does not wrap jumps across a torus's edge: no patch can follow a jump.
     s.expression = "0.02 + 0.1*abs(x - 0.3)";
     const detail::FieldTable jump = detail::tabulate(s, {1, 1, Boundary::Periodic});

@@ -256,8 +256,13 @@ TEST_CASE("check --sizing from the command line", "[sizing][cli]") {
     const std::string stipple = (dir / "stipple.csv").string();
     const std::string image = " --sizing-image " + pgm + " --r-min 0.01 --r-max 0.04 --rule current --boundary free";
     REQUIRE(cli("sample" + image + " --seed 4 -o " + stipple).code == 0);
-    CHECK(cli("check " + stipple + image).code == 0);
-    CHECK(cli("check " + stipple + image + " --lipschitz 0.01").code == 1);  // a smaller field: uncovered
+    // The file's r column is the run's field: another field (here a smaller one, which leaves
+    // points uncovered) differs from it, which the report counts.
+    const std::string differs = (dir / "differs.json").string();
+    CHECK(cli("check " + stipple + image + " --json " + differs).code == 0);
+    CHECK(nlohmann::json::parse(test::slurp(differs))["r_column_differs"] == 0);
+    CHECK(cli("check " + stipple + image + " --lipschitz 0.01 --json " + differs).code == 1);
+    CHECK(nlohmann::json::parse(test::slurp(differs))["r_column_differs"].get<int>() > 0);
     const std::string json = (dir / "sizing.json").string();
     REQUIRE(cli("check " + u + " --sizing \"0.02 + 0.01*x\" --rule smaller --boundary free --json " + json).code == 1);
     const auto j = nlohmann::json::parse(test::slurp(json));

@@ -41,7 +41,7 @@ inline constexpr double kDefaultTolerance = 2e-8;
 // with --r-min and --r-max, --lipschitz L, --rule R, and (sample) --weighting W.
 struct SizingArgs {
     std::string expression, image, rule, weighting;
-    std::optional<double> r_min, r_max, lipschitz;
+    std::optional<double> r_min, r_max, lipschitz, table_budget;
     bool given() const;  // any of them
 };
 // The Sizing they name, or nullopt if none is given; throws Error for a half-given field (an

@@ -1,5 +1,6 @@
 // `vrpd check --sizing EXPR --rule RULE`: a point file judged under a spatially varying radius
 // (paper section 5): conflicts under the rule, coverage under the rule on a stated grid.
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <iostream>
@@ -34,7 +35,8 @@ int run_check_sizing(const CheckOptions& o) {
     const double rounding = o.scale ? (*o.scale + 2) * r.quantum() : 0;
     const double tolerance =
         o.tolerance ? *o.tolerance : kDefaultTolerance * std::max(box.width, box.height) + rounding;
-    const std::vector<glm::dvec2> points = read_points(o.file);
+    const PointSet file = read_point_set(o.file);
+    const std::vector<glm::dvec2>& points = file.points;
     const FieldStats f = r.stats();
     FieldSummary field{f.r_min, f.r_max, f.lipschitz, std::size_t(std::llround(std::sqrt(double(f.table_nodes))))};
     const SizingReport rep = check_sizing(points, std::cref(r), rule, box, tolerance, field);
@@ -43,6 +45,23 @@ int run_check_sizing(const CheckOptions& o) {
                              "within {:.3g} % of the source\n",
                              rep.points, rep.field.r_min, rep.field.r_max, rep.field.lipschitz, f.table_nodes,
                              100 * f.tabulation_error);
+    // vrpd sample writes each sample's r: another r here means another field than the run's.
+    const std::vector<double>* written = file.column("r");
+    std::size_t differ = 0;
+    if (written && !o.scale) {
+        double most = 0;
+        for (std::size_t i = 0; i < points.size(); ++i) {
+            const double here = r(points[i]), there = (*written)[i];
+            const double gap = std::abs(here - there) / here;
+            if (gap > 1e-9) ++differ, most = std::max(most, gap);
+        }
+        if (differ)
+            std::cout << fmt::format(
+                "warning: the file's r column differs from this field's r at {} of {} points "
+                "(by up to {:.3g} %): the run had other field options (--table-budget, "
+                "--lipschitz, --extent, --boundary)?\n",
+                differ, points.size(), 100 * most);
+    }
     if (rep.field.lipschitz > bound)
         std::cout << fmt::format("warning: L {:.4g} exceeds the {} rule's bound {} (Table 1): its quality "
                                  "guarantees lapse\n",
@@ -69,6 +88,7 @@ int run_check_sizing(const CheckOptions& o) {
                                {"lipschitz_bound", bound},
                                {"table_nodes", f.table_nodes},
                                {"tabulation_error", f.tabulation_error},
+                               {"r_column_differs", differ},
                                {"tolerance", tolerance},
                                {"conflicts", rep.conflicts},
                                {"first_conflict", {rep.first_a, rep.first_b}},

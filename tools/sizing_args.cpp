@@ -11,7 +11,8 @@
 namespace vrpd::cli {
 
 bool SizingArgs::given() const {
-    return !expression.empty() || !image.empty() || !rule.empty() || !weighting.empty() || r_min || r_max || lipschitz;
+    return !expression.empty() || !image.empty() || !rule.empty() || !weighting.empty() || r_min || r_max ||
+           lipschitz || table_budget;
 }
 
 std::optional<Sizing> parse_sizing(const SizingArgs& a) {
@@ -31,6 +32,11 @@ std::optional<Sizing> parse_sizing(const SizingArgs& a) {
             throw Error(fmt::format("--lipschitz must be a finite number >= 0 (got {})", *a.lipschitz));
         s.lipschitz = *a.lipschitz;
     }
+    if (a.table_budget) {
+        if (!(*a.table_budget >= 1 && *a.table_budget <= 1024))
+            throw Error(fmt::format("--table-budget must be 1 to 1024 words a sample (got {})", *a.table_budget));
+        s.table_budget = *a.table_budget;
+    }
     if (a.weighting == "density")
         s.weighting = Weighting::Density;
     else if (!a.weighting.empty() && a.weighting != "uniform")
@@ -47,6 +53,9 @@ void add_sizing_options(CLI::App& app, SizingArgs& a, bool weighting) {
     app.add_option("--r-max", a.r_max, "with --sizing-image: r at white");
     app.add_option("--lipschitz", a.lipschitz, "use the largest L-Lipschitz field below r");
     app.add_option("--rule", a.rule, "with a sizing field: prior, current, bigger or smaller (Table 1)");
+    app.add_option("--table-budget", a.table_budget,
+                   "table words a sample (default 8) that patches may add where the table strays from the "
+                   "source (kinks): more brings it closer, at that memory; give check the same");
     if (weighting)
         app.add_option("--weighting", a.weighting,
                        "uniform (default: each sample uniform over the uncovered set) or density (1/r^2, Eq. 12)");
@@ -82,8 +91,8 @@ void print_field_summary(const Sampling& s, const Sizing& sizing, std::ostream& 
         out << fmt::format(
             "vrpd: warning: the table is {:.3g} % from the source somewhere (more than 0.1 %): at a kink or "
             "a jump (on a torus, a field that does not wrap) the lattice or the node budgets (the table's, "
-            "and its patches' at kinks) stopped its refinement\n",
-            100 * f.tabulation_error);
+            "and its patches' at kinks: --table-budget, {:g} words a sample) stopped its refinement\n",
+            100 * f.tabulation_error, sizing.table_budget);
 }
 
 }  // namespace vrpd::cli

@@ -34,7 +34,6 @@ constexpr double kNodesPerSample = 8;
 constexpr std::uint64_t kMinTableNodes = std::uint64_t(1) << 16;
 constexpr std::uint32_t kMinLatticeRadius = 4096;
 constexpr std::uint32_t kSurvey = 256;
-constexpr double kPatchWordsPerSample = 8;
 constexpr double kMinPatchWords = 1 << 18;
 
 // The double-valued table at a resolution: its nodes, the source at the points halfway between
@@ -201,6 +200,8 @@ FieldTable tabulate(const Sizing& s, const Box& box, unsigned threads) {
     const BlocksReleased released;  // the drafts' blocks, once the drafts are gone
     if (s.lipschitz != -1 && !(std::isfinite(s.lipschitz) && s.lipschitz >= 0))
         throw Error(fmt::format("the Lipschitz bound must be a finite number >= 0 (got {})", s.lipschitz));
+    if (!(s.table_budget >= 1 && s.table_budget <= 1024))
+        throw Error(fmt::format("the table budget must be 1 to 1024 words a sample (got {})", s.table_budget));
     const FieldSource f = field_source(s, box);
     const bool periodic = box.boundary == Boundary::Periodic;
     double lo = INFINITY, hi = 0;
@@ -231,7 +232,8 @@ FieldTable tabulate(const Sizing& s, const Box& box, unsigned threads) {
             expected += 0.70 * box.width * box.height / (kSurvey * kSurvey) / (v * v);
         }
     }
-    require_memory("the field", expected, kFieldBytesPerSample);
+    // A budget past the default adds its words to each sample's bytes.
+    require_memory("the field", expected, kFieldBytesPerSample + 4 * std::max(0.0, s.table_budget - 8));
     const double short_side = std::min(box.width, box.height);
     if (periodic && hi >= short_side / 2)
         throw Error(
@@ -284,7 +286,7 @@ FieldTable tabulate(const Sizing& s, const Box& box, unsigned threads) {
     // by factors of sqrt(2).
     double error = d.error;
     std::vector<PatchDraft> patches;
-    const double budget = std::max(kPatchWordsPerSample * samples, double(kMinPatchWords));
+    const double budget = std::max(s.table_budget * samples, double(kMinPatchWords));
     if (s.lipschitz < 0 && d.error > kTargetError) {
         const TableDraft view{d.values.data(), d.fine.data(), d.cells_x, d.cells_y, d.h};
         const std::vector<double> cell_error = cell_errors(pool, f, box, d);
