@@ -112,19 +112,9 @@ private:
         return f();
     }
 
-    // Resizes v to n elements (contents not kept), reallocating unless its capacity is within an
-    // eighth above n: the arrays' high-water marks from earlier rounds would otherwise add up.
-    template <class V>
-    static void fit(V& v, std::size_t n) {
-        if (v.capacity() < n || v.capacity() > n + n / 8) {
-            V().swap(v);
-            v.reserve(n);
-        }
-        v.resize(n);
-    }
-
     // Sizes the darts' array to `total` darts, every word 0 (undecided), on the pool's threads.
     void clear_darts(std::uint64_t total) {
+        if (total >= MAX_ROUND_DARTS) throw Error("a round would throw more than 2^30 darts");
         darts_.resize(dart_words(total));
         dart_count_ = total;
         pool_.parallel_for(darts_.size(), [&](std::size_t b, std::size_t e, unsigned) {
@@ -132,15 +122,11 @@ private:
         });
     }
 
-    template <class V>
-    static std::uint64_t bytes(const V& v) {
-        return v.capacity() * sizeof(typename V::value_type);
-    }
-
     // Records the memory held by the engine's arrays now, plus `extra` bytes held elsewhere.
     void note_peak(std::uint64_t extra = 0) {
-        const std::uint64_t held = bytes(grid_) + bytes(cells_) + bytes(next_) + bytes(dart_cells_) + bytes(darts_) +
-                                   bytes(scan_) + bytes(masks_) + bytes(out_) + extra;
+        const std::uint64_t held = capacity_bytes(grid_) + capacity_bytes(cells_) + capacity_bytes(next_) +
+                                   capacity_bytes(dart_cells_) + capacity_bytes(darts_) + capacity_bytes(scan_) +
+                                   capacity_bytes(masks_) + capacity_bytes(out_) + extra;
         peak_ = std::max(peak_, held);
     }
 
@@ -162,7 +148,6 @@ private:
                 scan_[i] = dart_count(cell_stream(key, targets[i]), spec.exp_neg_lambda);
         });
         const std::uint64_t total = exclusive_scan(n);
-        if (total >= MAX_ROUND_DARTS) throw Error("a round would throw more than 2^30 darts");
         clear_darts(total);
         pool_.parallel_for(n, [&](std::size_t b, std::size_t e, unsigned) {
             for (std::size_t i = b; i < e; ++i)
@@ -201,7 +186,6 @@ private:
         });
         if (crowded) throw Error("internal: a base cell got more than 65535 darts in one round");
         const std::uint64_t total = chunk_offsets(first);
-        if (total >= MAX_ROUND_DARTS) throw Error("a round would throw more than 2^30 darts");
         clear_darts(total);
         // Numbering is a pass of its own: throwing reads the neighbours' words.
         pool_.parallel_for(bases, [&](std::size_t b, std::size_t e, unsigned w) {
@@ -269,7 +253,7 @@ private:
         });
         if (too_complex) throw Error(kTooComplex);
         std::uint64_t lists_bytes = 0;
-        for (auto& a : accepted) lists_bytes += bytes(a);
+        for (auto& a : accepted) lists_bytes += capacity_bytes(a);
         note_peak(lists_bytes);
         // The merge: a heap of each chunk's next word (distinct: it holds the dart index).
         using Head = std::tuple<std::uint64_t, std::size_t, std::size_t>;  // the word, its chunk and place
@@ -338,7 +322,7 @@ private:
         if (chunk_offsets(first) >= GRID_TAG) throw Error("more than 2^31 active cells");
         fit(cells_, first.back());
         std::uint64_t lists_bytes = 0;
-        for (auto& k : kept) lists_bytes += bytes(k);
+        for (auto& k : kept) lists_bytes += capacity_bytes(k);
         note_peak(lists_bytes);
         pool_.parallel_for(bases, [&](std::size_t, std::size_t, unsigned w) {
             std::uint64_t next = first[w];

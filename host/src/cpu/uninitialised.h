@@ -54,4 +54,21 @@ struct Uninitialised : std::allocator<T> {
     }
 };
 
+// Resizes v to n elements (contents not kept), reallocating unless its capacity is within an
+// eighth above n: the arrays' high-water marks from earlier rounds would otherwise add up.
+template <class V>
+void fit(V& v, std::size_t n) {
+    if (v.capacity() < n || v.capacity() > n + n / 8) {
+        V().swap(v);
+        v.reserve(n);
+    }
+    v.resize(n);
+}
+
+// The bytes v holds.
+template <class V>
+std::uint64_t capacity_bytes(const V& v) {
+    return v.capacity() * sizeof(typename V::value_type);
+}
+
 }  // namespace vrpd::detail
