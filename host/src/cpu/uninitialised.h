@@ -15,9 +15,9 @@ namespace vrpd::detail {
 // threads, filling a fresh array, make the first touch of its pages in parallel. With kHugePages,
 // an array of 2 MiB or more takes a block of blocks.h: aligned to 2 MiB and offered to the kernel
 // as huge pages (a fresh block costs a page fault per 2 MiB, not per 4 KiB), and kept when freed
-// for the next array, so that the arrays a round frees and the next round allocates again fault
-// no page at all. The engines' large arrays and the field table's drafts take them. Under
-// AddressSanitizer every array stays on the heap, where its bounds are checked.
+// for the next array, whose pages are then in place. The engines' large arrays and the field
+// table's drafts take them. Under AddressSanitizer every array stays on the heap, where its
+// bounds are checked.
 template <class T, bool kHugePages = false>
 struct Uninitialised : std::allocator<T> {
     static constexpr std::size_t kHuge = std::size_t(2) << 20;
