@@ -55,6 +55,11 @@ template <bool kFarthest>
     static const bool has = (__builtin_cpu_init(), __builtin_cpu_supports("avx2"));
     return has;
 }
+// Whether a vector body may scan the window around base cell `base`: it neither wraps nor meets a
+// free boundary, and the processor has AVX2.
+[[gnu::always_inline]] inline bool vector_window(const Domain& dom, uvec2 base) {
+    return dom.lattice.periodic == 0u && inner_cell(dom, base) && host_has_avx2();
+}
 #endif
 
 // Is point p inhibited (INHIBITION: closer than Rf) or covered (COVERAGE: closer than Rc) by a
@@ -63,7 +68,7 @@ template <bool kFarthest>
 VRPD_FN bool near_sample(Domain dom, Grid grid, uvec2 base, uvec2 p, uint which) {
     int reach = radius_reach(dom.radii, which);
 #ifdef VRPD_HOST_AVX2
-    if (reach <= int(MAX_REACH) && dom.lattice.periodic == 0u && inner_cell(dom, base) && host_has_avx2())
+    if (reach <= int(MAX_REACH) && vector_window(dom, base))
         return window_holds_within<false>(grid.word + base_index(dom, base), int(dom.cells_x), reach, p,
                                           radius2(dom.radii, which));
 #endif
@@ -132,7 +137,7 @@ VRPD_OUTLINED_FN uint gather_near_box(Domain dom, Grid grid, uvec2 base, uvec2 c
     uint n = 0u;
     int reach = cover_reach(dom.radii);
 #ifdef VRPD_HOST_AVX2
-    if (dom.lattice.periodic == 0u && inner_cell(dom, base) && host_has_avx2())
+    if (vector_window(dom, base))
         return window_gather_within<true>(grid.word + base_index(dom, base), int(dom.cells_x), reach, cc,
                                           dom.radii.coverage2 + uint64_t(1), disk_at, MAX_DISKS, hi);
 #endif
@@ -204,7 +209,7 @@ VRPD_FN bool base_covered(Domain dom, Grid grid, uvec2 base) {
     while (uint64_t(reach + 1) * uint64_t(side) * (uint64_t(reach + 1) * uint64_t(side)) + half2 < dom.radii.coverage2)
         reach++;
 #ifdef VRPD_HOST_AVX2
-    if (reach <= int(MAX_REACH) && dom.lattice.periodic == 0u && inner_cell(dom, base) && host_has_avx2())
+    if (reach <= int(MAX_REACH) && vector_window(dom, base))
         return window_holds_within<true>(grid.word + base_index(dom, base), int(dom.cells_x), reach, origin,
                                          dom.radii.coverage2, ivec2(hx, hy));
 #endif
@@ -268,8 +273,7 @@ VRPD_FN bool base_covered(Domain dom, Grid grid, uvec2 base) {
 // count, or MAX_CELL_SAMPLES + 1 if they do not fit.
 VRPD_FN uint gather_cell_samples(Domain dom, Grid grid, uvec2 base) {
 #ifdef VRPD_HOST_AVX2
-    if (cover_reach(dom.radii) <= int(MAX_REACH) && dom.lattice.periodic == 0u && inner_cell(dom, base) &&
-        host_has_avx2())
+    if (cover_reach(dom.radii) <= int(MAX_REACH) && vector_window(dom, base))
         return window_gather(grid.word + base_index(dom, base), int(dom.cells_x), cover_reach(dom.radii),
                              uvec2(base.x << dom.cell_bits, base.y << dom.cell_bits), 1 << dom.cell_bits,
                              dom.radii.coverage2, cell_sample_at);

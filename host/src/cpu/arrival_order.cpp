@@ -46,7 +46,7 @@ uint state_given_samples(const Domain& dom, Grid grid, uvec2 p, uvec2 cell) {
     if (!near_sample(dom, grid, cell, p, COVERAGE)) return DART_ACCEPTED;
     uint n = 0u;
     const uint64_t limit2 = influence2(dom.radii);
-    if (dom.lattice.periodic == 0u && inner_cell(dom, cell) && host_has_avx2()) {
+    if (vector_window(dom, cell)) {
         n = window_gather_within<false>(grid.word + base_index(dom, cell), int(dom.cells_x),
                                         int(influence_reach(dom.radii)), p, limit2, disk_at, MAX_DISKS);
         return n > MAX_DISKS ? DART_TOO_COMPLEX : state_of_t(reaches_uncovered_at(dom, p, n));

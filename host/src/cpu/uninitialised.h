@@ -20,7 +20,6 @@ namespace vrpd::detail {
 // bounds are checked.
 template <class T, bool kHugePages = false>
 struct Uninitialised : std::allocator<T> {
-    static constexpr std::size_t kHuge = std::size_t(2) << 20;
 #ifdef __SANITIZE_ADDRESS__
     static constexpr bool kBlocks = false;  // AddressSanitizer checks the bounds of heap arrays only
 #else
@@ -34,12 +33,12 @@ struct Uninitialised : std::allocator<T> {
     template <class U>
     Uninitialised(const Uninitialised<U, kHugePages>&) noexcept {}
     T* allocate(std::size_t n) {
-        if (n > (SIZE_MAX - kHuge) / sizeof(T)) throw std::bad_array_new_length();
-        if (!kBlocks || n * sizeof(T) < kHuge) return std::allocator<T>::allocate(n);
+        if (n > (SIZE_MAX - kBlockAlign) / sizeof(T)) throw std::bad_array_new_length();
+        if (!kBlocks || n * sizeof(T) < kBlockAlign) return std::allocator<T>::allocate(n);
         return static_cast<T*>(take_block(n * sizeof(T)));
     }
     void deallocate(T* p, std::size_t n) {
-        if (!kBlocks || n * sizeof(T) < kHuge)
+        if (!kBlocks || n * sizeof(T) < kBlockAlign)
             std::allocator<T>::deallocate(p, n);
         else
             give_block(p);
