@@ -81,12 +81,14 @@ bool ends_with(const std::string& s, const char* suffix) {
     return s.size() >= n && s.compare(s.size() - n, n, suffix) == 0;
 }
 
-template <class T> void put_le(std::ostream& out, T v) {
-    unsigned char b[sizeof(T)];
+// Appends v's bytes, least significant first.
+template <class T>
+void put_le(std::string& out, T v) {
+    char b[sizeof(T)];
     std::uint64_t bits = 0;
     std::memcpy(&bits, &v, sizeof(T));
-    for (std::size_t i = 0; i < sizeof(T); ++i) b[i] = (unsigned char)(bits >> (8 * i));
-    out.write(reinterpret_cast<const char*>(b), sizeof(T));
+    for (std::size_t i = 0; i < sizeof(T); ++i) b[i] = char(bits >> (8 * i));
+    out.append(b, sizeof(T));
 }
 
 template <class T> T get_le(const unsigned char* b) {
@@ -137,17 +139,24 @@ Table table_of(const PointSet& set) {
     return t;
 }
 
+// The header, then the rows, written a megabyte at a time (as write_csv does).
 void write_bin(const Table& t, std::ostream& out) {
-    out.write(kMagic, 4);
-    put_le<std::uint32_t>(out, kVersion);
-    put_le<std::uint64_t>(out, t.rows);
-    put_le<std::uint32_t>(out, std::uint32_t(t.names.size()));
+    std::string buf(kMagic, 4);
+    put_le<std::uint32_t>(buf, kVersion);
+    put_le<std::uint64_t>(buf, t.rows);
+    put_le<std::uint32_t>(buf, std::uint32_t(t.names.size()));
     for (const std::string& name : t.names) {
-        put_le<std::uint8_t>(out, std::uint8_t(name.size()));
-        out.write(name.data(), std::streamsize(name.size()));
+        put_le<std::uint8_t>(buf, std::uint8_t(name.size()));
+        buf += name;
     }
-    for (std::size_t i = 0; i < t.rows; ++i)
-        for (std::size_t k = 0; k < t.names.size(); ++k) put_le<double>(out, t.value(i, k));
+    for (std::size_t i = 0; i < t.rows; ++i) {
+        for (std::size_t k = 0; k < t.names.size(); ++k) put_le<double>(buf, t.value(i, k));
+        if (buf.size() > (1 << 20)) {
+            out.write(buf.data(), std::streamsize(buf.size()));
+            buf.clear();
+        }
+    }
+    out.write(buf.data(), std::streamsize(buf.size()));
 }
 
 // Moves the columns after x,y of `names` and `rows` (row-major, C a row) into a PointSet.
