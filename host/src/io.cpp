@@ -15,6 +15,7 @@
 #include <sstream>
 #include <sys/stat.h>
 #include <unistd.h>
+#include <vector>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -360,15 +361,16 @@ void write_csv(const Table& t, std::ostream& out) {
         buf += t.names[k];
     }
     buf += "\n";
-    char num[32 * 8];
+    // A row: each number in at most 32 characters (write_shortest), a comma or newline after it.
+    std::vector<char> row(t.names.size() * 33);
     for (std::size_t i = 0; i < t.rows; ++i) {
-        char* e = num;
+        char* e = row.data();
         for (std::size_t k = 0; k < t.names.size(); ++k) {
             if (k) *e++ = ',';
             e = detail::write_shortest(e, t.value(i, k));
         }
         *e++ = '\n';
-        buf.append(num, e);
+        buf.append(row.data(), e);
         if (buf.size() > (1 << 20)) {
             out.write(buf.data(), std::streamsize(buf.size()));
             buf.clear();
