@@ -120,8 +120,9 @@ TEST_CASE("plot: a PNG or an SVG, coloured by a column", "[cli][analysis]") {
 }
 
 TEST_CASE("analyze, plot, figures: bad input is one line, exit 2, and leaves no report", "[cli][analysis]") {
-    const fs::path a = scratch() / "bad.csv", out = scratch() / "never";
+    const fs::path a = scratch() / "bad.csv", out = scratch() / "never", negative = scratch() / "negative_r.csv";
     REQUIRE(cli("sample --radius 0.1 --seed 1 --device cpu -o " + a.string()).code == 0);
+    std::ofstream(negative) << "x,y,r\n0.5,0.5,0.1\n0.2,0.2,-0.1\n";
     const std::string file = a.string(), to = " --out " + out.string();
     const std::string bad[] = {
         "analyze " + file + to + " --radius 0",
@@ -135,6 +136,7 @@ TEST_CASE("analyze, plot, figures: bad input is one line, exit 2, and leaves no 
         "plot " + file + " --colour t -o " + (out / "p.png").string(),
         "plot " + file + " -o " + (scratch() / "p.jpg").string(),
         "plot " + file + " --disks -o " + (out / "p.png").string(),  // no r column
+        "plot " + negative.string() + " --disks -o " + (out / "p.png").string(),
         "figures --sets 0" + to,
     };
     for (const std::string& args : bad) {

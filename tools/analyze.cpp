@@ -189,7 +189,11 @@ int run_plot(const PlotOptions& o) {
         if (o.radius > 0) throw Error("give --radius or --disks, not both");
         const std::vector<double>* r = set.column("r");
         if (!r) throw Error(fmt::format("{} has no r column for --disks (sample --sizing writes one)", o.file));
-        for (double v : *r) style.disk_radii.push_back(v / 2);
+        for (std::size_t i = 0; i < r->size(); ++i) {
+            if (!((*r)[i] > 0))
+                throw Error(fmt::format("{}: point {} has r = {}; --disks needs every r > 0", o.file, i + 1, (*r)[i]));
+            style.disk_radii.push_back((*r)[i] / 2);
+        }
     }
     if (!o.colour.empty()) {
         const std::vector<double>* values = set.column(o.colour);
