@@ -4,6 +4,8 @@
 #include <cstdint>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <system_error>
@@ -30,6 +32,14 @@ struct ScratchDir {
         std::filesystem::remove_all(path, ignored);
     }
 };
+
+// A file's bytes.
+inline std::string slurp(const std::filesystem::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
 
 inline SampleOptions options(double radius, std::uint32_t seed, Backend backend, Box box = {}) {
     SampleOptions o;

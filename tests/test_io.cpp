@@ -12,6 +12,7 @@
 #include <fstream>
 #include <limits>
 #include <random>
+#include <sstream>
 #include <stdexcept>
 #include <system_error>
 
@@ -68,6 +69,9 @@ TEST_CASE("point files: x,y alone, and t and r columns, round-trip through CSV a
     std::string header;
     std::getline(in, header);
     CHECK(header == "x,y,t,r");
+    std::ostringstream csv;
+    write_csv(s, csv);
+    CHECK(csv.str() == vrpd::test::slurp(p));
 }
 
 TEST_CASE("point files: a point set of many columns of the longest numbers round-trips", "[io]") {
@@ -88,6 +92,10 @@ TEST_CASE("point files: a point set of many columns of the longest numbers round
         CHECK(read.columns == set.columns);
         CHECK(read.values == set.values);
     }
+    // The same CSV to a stream.
+    std::ostringstream csv;
+    write_csv(set, csv);
+    CHECK(csv.str() == vrpd::test::slurp(scratch_file("wide.csv")));
 }
 
 TEST_CASE("point files: version 1 .bin and a CSV without a header or with a BOM still read", "[io]") {

@@ -440,6 +440,10 @@ void write_points(const Sampling& s, const std::string& path) { write_table(tabl
 
 void write_point_set(const PointSet& set, const std::string& path) { write_table(table_of(set), path); }
 
+void write_csv(const Sampling& s, std::ostream& out) { write_csv(table_of(s), out); }
+
+void write_csv(const PointSet& set, std::ostream& out) { write_csv(table_of(set), out); }
+
 void remove_partial_file() noexcept {
     if (partial_file[0] != 0) ::unlink(partial_file);
 }

@@ -20,8 +20,6 @@
 
 namespace vrpd {
 
-void write_csv(const Sampling& s, std::ostream& out);
-
 // Writes FILE as binary if it ends in ".bin", else CSV; "-" is CSV to standard output. A regular
 // file (a symbolic link's target, for a link) is written to a temporary in its directory and
 // renamed into place, so a failed run leaves no partial file; a device, FIFO or socket is written
@@ -46,6 +44,10 @@ struct PointSet {
 
 // Writes a point set (positions and named columns) as write_points writes a sampling.
 void write_point_set(const PointSet& set, const std::string& path);
+
+// The CSV that write_points and write_point_set write, to a stream; the caller checks it.
+void write_csv(const Sampling& s, std::ostream& out);
+void write_csv(const PointSet& set, std::ostream& out);
 
 // Reads a point file: vrpd's .bin (version 1 or 2), or a CSV as above. Throws Error naming the
 // line (or point) of the first malformed row, NaN or inf.
