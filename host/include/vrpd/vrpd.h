@@ -72,10 +72,11 @@ enum class Weighting { Uniform, Density };
 
 // A sizing field r(x) and its rule. The field is the expression (vrpd/sizing.h's language), or a
 // greyscale PNG or binary PGM image mapped onto the box with r = r_min + (r_max - r_min) grey
-// (dark = small radius = dense; a colour file whose pixels are all grey is read as grey). The sampler tabulates it once, in fixed point on a grid fine
-// enough that the interpolant stays within 0.1 % of it where the lattice allows (the measured
-// error is in Sampling::field), and r at a lattice point is that table's bilinear interpolant
-// in integers: the same number on every backend.
+// (dark = small radius = dense; a colour file whose pixels are all grey is read as grey). The
+// sampler tabulates it once, in fixed point on a grid fine enough that the interpolant stays
+// within 0.1 % of it where the lattice and the table's budget allow (a kink may take more:
+// table_budget; the measured error is in Sampling::field), and r at a lattice point is that
+// table's bilinear interpolant in integers: the same number on every backend.
 struct Sizing {
     std::string expression;      // or
     std::string image;           // a path
