@@ -11,7 +11,6 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <functional>
 #include <iostream>
 #include <sstream>
 #include <sys/stat.h>
@@ -136,39 +135,41 @@ template <class T> T get_le(const unsigned char* b) {
 struct Table {
     std::size_t rows = 0;
     std::vector<std::string> names;
-    std::function<double(std::size_t row, std::size_t column)> value;
+    // x, y from a sampling's lattice or a set's points; then the attribute columns.
+    const Sampling* sampling = nullptr;
+    const std::vector<glm::dvec2>* points = nullptr;
+    std::vector<const std::vector<double>*> attributes;
+    // Row i's values (names.size() of them) into out.
+    void row(std::size_t i, double* out) const {
+        const glm::dvec2 p = sampling ? sampling->point(i) : (*points)[i];
+        out[0] = p.x;
+        out[1] = p.y;
+        for (std::size_t k = 0; k < attributes.size(); ++k) out[k + 2] = (*attributes[k])[i];
+    }
 };
 
 Table table_of(const Sampling& s) {
-    Table t{s.size(), {"x", "y"}, {}};
-    std::vector<const std::vector<double>*> attributes;
+    Table t{s.size(), {"x", "y"}, &s, nullptr, {}};
     for (const auto& [name, values] : {std::pair{"t", &s.birth}, {"r", &s.local_radius}}) {
         if (values->empty()) continue;
         if (values->size() != s.size())
             throw Error(
                 fmt::format("internal: column {} has {} values for {} samples", name, values->size(), s.size()));
         t.names.push_back(name);
-        attributes.push_back(values);
+        t.attributes.push_back(values);
     }
-    t.value = [&s, attributes](std::size_t i, std::size_t k) {
-        if (k >= 2) return (*attributes[k - 2])[i];
-        const glm::dvec2 p = s.point(i);
-        return k == 0 ? p.x : p.y;
-    };
     return t;
 }
 
 Table table_of(const PointSet& set) {
-    Table t{set.points.size(), {"x", "y"}, {}};
+    Table t{set.points.size(), {"x", "y"}, nullptr, &set.points, {}};
     for (std::size_t c = 0; c < set.columns.size(); ++c) {
         if (set.values[c].size() != set.points.size())
             throw Error(fmt::format("column {} has {} values for {} points", set.columns[c], set.values[c].size(),
                                     set.points.size()));
         t.names.push_back(set.columns[c]);
+        t.attributes.push_back(&set.values[c]);
     }
-    t.value = [&set](std::size_t i, std::size_t k) {
-        return k == 0 ? set.points[i].x : k == 1 ? set.points[i].y : set.values[k - 2][i];
-    };
     return t;
 }
 
@@ -182,8 +183,10 @@ void write_bin(const Table& t, std::ostream& out) {
         put_le<std::uint8_t>(buf, std::uint8_t(name.size()));
         buf += name;
     }
+    std::vector<double> values(t.names.size());
     for (std::size_t i = 0; i < t.rows; ++i) {
-        for (std::size_t k = 0; k < t.names.size(); ++k) put_le<double>(buf, t.value(i, k));
+        t.row(i, values.data());
+        for (const double v : values) put_le<double>(buf, v);
         if (buf.size() > (1 << 20)) {
             out.write(buf.data(), std::streamsize(buf.size()));
             buf.clear();
@@ -395,11 +398,13 @@ void write_csv(const Table& t, std::ostream& out) {
     buf += "\n";
     // A row: each number in at most 32 characters (write_shortest), a comma or newline after it.
     std::vector<char> row(t.names.size() * 33);
+    std::vector<double> values(t.names.size());
     for (std::size_t i = 0; i < t.rows; ++i) {
+        t.row(i, values.data());
         char* e = row.data();
-        for (std::size_t k = 0; k < t.names.size(); ++k) {
+        for (std::size_t k = 0; k < values.size(); ++k) {
             if (k) *e++ = ',';
-            e = detail::write_shortest(e, t.value(i, k));
+            e = detail::write_shortest(e, values[k]);
         }
         *e++ = '\n';
         buf.append(row.data(), e);
