@@ -17,9 +17,24 @@ std::uint8_t load_state(std::uint8_t* state, std::uint32_t j) {
 
 }  // namespace
 
+bool FieldSampler::crowded() const {
+    // The mean count of darts in a dart's leaf (its own included): the sum of m^2 over the leaves
+    // with m darts, over the darts. A leaf's darts are consecutive (resolve_in_parallel).
+    std::uint64_t squares = 0, run = 0;
+    for (std::size_t j = 0; j < darts_.size(); ++j) {
+        run = j > 0 && darts_[j].leaf == darts_[j - 1].leaf ? run + 1 : 1;
+        if (j + 1 == darts_.size() || darts_[j + 1].leaf != darts_[j].leaf) squares += run * run;
+    }
+    return squares > kCrowdedLeaves * darts_.size();
+}
+
 void FieldSampler::resolve() {
-    // On one thread the parallel resolution's extra searches buy nothing.
-    if (serial_ || pool_.size() == 1)
+    // On one thread the parallel resolution's extra searches buy nothing. Where darts crowd the
+    // leaves (a round's darts have one intensity over the active area, so a leaf where r is
+    // large takes many) they cost it their square: each of m darts in a leaf tests the others
+    // that arrive before it, again after each wait, where in arrival order a dart tests the
+    // round's samples only.
+    if (serial_ || pool_.size() == 1 || crowded())
         resolve_in_arrival_order();
     else
         resolve_in_parallel();
