@@ -173,7 +173,14 @@ Table table_of(const PointSet& set) {
     return t;
 }
 
-// The header, then the rows, written a megabyte at a time (as write_csv does).
+// Writes what buf holds once it passes a megabyte (the writers gather their rows in it).
+void spill(std::string& buf, std::ostream& out) {
+    if (buf.size() <= (1 << 20)) return;
+    out.write(buf.data(), std::streamsize(buf.size()));
+    buf.clear();
+}
+
+// The header, then the rows.
 void write_bin(const Table& t, std::ostream& out) {
     std::string buf(kMagic, 4);
     put_le<std::uint32_t>(buf, kVersion);
@@ -187,10 +194,7 @@ void write_bin(const Table& t, std::ostream& out) {
     for (std::size_t i = 0; i < t.rows; ++i) {
         t.row(i, values.data());
         for (const double v : values) put_le<double>(buf, v);
-        if (buf.size() > (1 << 20)) {
-            out.write(buf.data(), std::streamsize(buf.size()));
-            buf.clear();
-        }
+        spill(buf, out);
     }
     out.write(buf.data(), std::streamsize(buf.size()));
 }
@@ -408,10 +412,7 @@ void write_csv(const Table& t, std::ostream& out) {
         }
         *e++ = '\n';
         buf.append(row.data(), e);
-        if (buf.size() > (1 << 20)) {
-            out.write(buf.data(), std::streamsize(buf.size()));
-            buf.clear();
-        }
+        spill(buf, out);
     }
     out.write(buf.data(), std::streamsize(buf.size()));
 }
