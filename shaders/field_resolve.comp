@@ -3,51 +3,114 @@
 #include "common.glsl"
 #include "field.glsl"
 // One resolution pass over the round's darts (cells: point, key, leaf; words1: their states,
-// DART_*; words0: each fresh leaf's first dart). An undecided dart is rejected if an earlier one
-// (by key, then index) in conflict is accepted, accepted if every earlier one in conflict is
-// rejected, else left undecided and counted. Two darts of one leaf conflict under every rule.
-// States only go from undecided to final, so a pass may read states this pass has set.
+// DART_*; words0: each fresh leaf's first dart, the leaf's slot). An undecided dart is rejected if
+// an earlier one (by key, then index) in conflict is accepted, accepted if every earlier one in
+// conflict is rejected, else left undecided and counted. States only go from undecided to final,
+// so a pass may read states this pass has set.
+//
+// Two darts of one leaf conflict under every rule, so a leaf accepts one dart at most, and of its
+// undecided darts only the first to arrive may be accepted: its head. Summaries per slot let a
+// dart read a leaf in a step or two rather than every dart in it (a leaf where r is large takes
+// hundreds): words2, the leaf's accepted dart + 1 (0: none yet; reset by field_first_darts), and
+// in target two pairs of regions of p2 words each, (the least key of the leaf's undecided darts,
+// that key again if two of them share it), as the pass begins. The pass reads pair p1 ^ 1 and
+// writes pair p1 (filled with ~0 before it) for the next. p0 = 1: the pass before the first, which
+// only writes pair p1.
+//
+// A dart that is not its leaf's head only looks for an accepted dart of a nearby leaf (reject) and
+// then waits. A head reads each other leaf's accepted dart, skips a leaf whose undecided darts all
+// arrive after it, and otherwise tests the leaf's darts, waiting without a full answer if the leaf
+// holds more than kScan of them and one surely arrives before the head. The first undecided dart
+// of the round never waits, so the passes end.
+const uint kScan = 32u;
+
+FieldWords pair_word(uint pair, uint which) {
+    return FieldWords(a.target + uint64_t(2u * pair + which) * uint64_t(a.p2) * 4u);
+}
+
+// Counts dart (key) among the undecided darts of the leaf at `slot` for the next pass.
+void record(uint slot, uint key) {
+    if (atomicMin(pair_word(a.p1, 0u).value[slot], key) == key) atomicMin(pair_word(a.p1, 1u).value[slot], key);
+}
+
 void main() {
     uint j = field_item();
     uint count = field_value(a.count);
     if (j >= count) return;
     FieldWords states = FieldWords(a.words1);
     if (states.value[j] != DART_UNDECIDED) return;
-    FieldRun run = field_run();
     FieldCells darts = FieldCells(a.cells);
     FieldWords first = FieldWords(a.words0);
     uvec4 d = darts.value[j];
-    uint r = field_radius(run.table, d.xy);
-    FieldBudget budget = FieldBudget(run.budget, 0u);
-    FieldSearch s = field_run_search(run, d.xy, d.xy, uint64_t(field_reach(run, d.xy, d.xy, r)), FIELD_FRESH, budget);
-    bool rejected = false;
-    bool wait = false;
-    for (uint leaf = field_search_next(run.tree, s); leaf < FIELD_SEARCH_OVERFLOW && !rejected;
-         leaf = field_search_next(run.tree, s)) {
-        for (uint k = first.value[leaf]; k < count; k++) {
-            uvec4 o = darts.value[k];
-            if (o.w != leaf) break;
-            if (s.steps++ >= s.budget) break;
-            if (!arrives_before(o.z, k, d.z, j)) continue;
-            uint state = states.value[k];
-            if (state == DART_REJECTED) continue;
-            if (leaf != d.w &&
-                !field_conflict(rule_f(run.rule, field_radius(run.table, o.xy), r), distance2(run.lattice, o.xy, d.xy)))
-                continue;
-            if (state == DART_ACCEPTED) {
-                rejected = true;
-                break;
-            }
-            wait = true;
-        }
+    uint own = first.value[d.w];
+    if (a.p0 != 0u) {
+        record(own, d.z);
+        return;
     }
-    field_run_spend(s, budget);
-    field_note_budget(budget);
+    FieldWords accepted = FieldWords(a.words2);
+    FieldWords least = pair_word(a.p1 ^ 1u, 0u);
+    bool head = least.value[own] == d.z;
+    // Two undecided darts of the leaf share the least key: the leaf's darts are tested in full.
+    bool tied = head && pair_word(a.p1 ^ 1u, 1u).value[own] == d.z;
+    bool rejected = accepted.value[own] != 0u;
+    bool wait = !head;
+    FieldBudget budget = FieldBudget(field_run().budget, 0u);
+    if (!rejected) {
+        FieldRun run = field_run();
+        uint r = field_radius(run.table, d.xy);
+        FieldSearch s = field_run_search(run, d.xy, d.xy, uint64_t(field_reach(run, d.xy, d.xy, r)), FIELD_FRESH, budget);
+        for (uint leaf = field_search_next(run.tree, s); leaf < FIELD_SEARCH_OVERFLOW && !rejected;
+             leaf = field_search_next(run.tree, s)) {
+            bool mine = leaf == d.w;
+            if (mine && !tied) continue;
+            uint slot = first.value[leaf];
+            uint taken = accepted.value[slot];
+            if (taken != 0u && !mine) {
+                // The leaf's other darts are rejected, or will be.
+                uvec4 o = darts.value[taken - 1u];
+                rejected = arrives_before(o.z, taken - 1u, d.z, j) &&
+                           field_conflict(rule_f(run.rule, field_radius(run.table, o.xy), r),
+                                          distance2(run.lattice, o.xy, d.xy));
+                continue;
+            }
+            uint lead = least.value[slot];
+            if (!head || (!mine && lead > d.z)) continue;
+            bool capped = !mine && lead < d.z;
+            for (uint k = slot; k < count; k++) {
+                uvec4 o = darts.value[k];
+                if (o.w != leaf) break;
+                if (s.steps++ >= s.budget) break;
+                if (capped && k - slot == kScan) {
+                    wait = true;
+                    break;
+                }
+                if (!arrives_before(o.z, k, d.z, j)) continue;
+                uint state = states.value[k];
+                if (state == DART_REJECTED) continue;
+                if (!mine &&
+                    !field_conflict(rule_f(run.rule, field_radius(run.table, o.xy), r), distance2(run.lattice, o.xy, d.xy)))
+                    continue;
+                if (state == DART_ACCEPTED) {
+                    rejected = true;
+                    break;
+                }
+                wait = true;
+                // The head waits whatever else the leaf holds; an accepted dart of it shows in
+                // words2 in a later pass.
+                if (!mine) break;
+            }
+        }
+        field_run_spend(s, budget);
+        if (budget.overflow != 0u) atomicOr(FieldWords(a.counters).value[FIELD_COUNTER_OVERFLOW], 2u << 1);
+    }
     if (budget.overflow != 0u) return;
-    if (rejected)
+    if (rejected) {
         states.value[j] = DART_REJECTED;
-    else if (!wait)
+    } else if (!wait) {
         states.value[j] = DART_ACCEPTED;
-    else
+        accepted.value[own] = j + 1u;
+    } else {
         atomicAdd(FieldWords(a.counters).value[FIELD_COUNTER_UNDECIDED], 1u);
+        record(own, d.z);
+    }
 }

@@ -60,6 +60,23 @@ TEST_CASE("a sizing field samples the same points on gpu, cpu and serial under e
     CHECK(test::judge(gpu, *o.sizing).uncovered == 0);
 }
 
+TEST_CASE("darts crowding the leaves where r is large resolve on gpu as on cpu, within lavapipe's budget",
+          "[field][gpu]") {
+    // Radii 1 000 times apart: the first round's darts, of one intensity over the box, put
+    // hundreds in one leaf near x = 1. A resolution that read every dart of a nearby leaf passed
+    // lavapipe's budget here under both rules; the leaves' summaries read such a leaf in a step.
+    for (const SizingRule rule : {SizingRule::Bigger, SizingRule::Smaller}) {
+        SampleOptions o = field_options("0.0003 + 0.3*x", rule, Boundary::Free, 2);
+        INFO("rule " << sizing_rule_name(rule));
+        const Sampling cpu = sample(o);
+        o.backend = Backend::Gpu;
+        const Sampling gpu = sample(o);
+        REQUIRE(cpu.size() > 5000);
+        CHECK(gpu.stats.darts == cpu.stats.darts);
+        REQUIRE(gpu.lattice == cpu.lattice);
+    }
+}
+
 TEST_CASE("a sizing field's discrete hierarchy gives the same levels on gpu as on cpu under each rule",
           "[field][gpu]") {
     // Each level starts from the earlier levels' samples on its own table and leaves: the device

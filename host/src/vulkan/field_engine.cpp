@@ -244,22 +244,35 @@ bool FieldVulkan::throw_and_resolve(std::uint32_t round, std::uint32_t stamp) {
     // Past the kept darts too: their flags below are then 0.
     ctx_.vk().vkCmdFillBuffer(ctx_.recording(), states_.handle(), 0, VK_WHOLE_SIZE, DART_UNDECIDED);
     ctx_.barrier();
-    // Each leaf with darts: its first dart, and its path marked fresh.
+    // Each leaf with darts: its first dart, its path marked fresh, and its accepted dart (none).
+    // The compaction's flags and the thrown darts are spent: the resolution keeps its leaves'
+    // summaries in them (field_resolve.comp).
     FieldArgs d = args();
     d.cells = darts_.address();
     d.words0 = leaf_first_.address();
     d.words1 = states_.address();
+    d.words2 = flags_.address();
+    d.target = raw_.address();
+    d.p2 = std::uint32_t(thrown);
     dispatch_counted(field_first_darts_, d, thrown, kKeptTotal);
-    ctx_.barrier();
+    // Each pass reads one pair of summary regions and writes the other, emptied before it.
+    auto pass = [&](std::uint32_t writes, bool first) {
+        ctx_.vk().vkCmdFillBuffer(ctx_.recording(), raw_.handle(), writes * thrown * 8, thrown * 8, UINT32_MAX);
+        ctx_.barrier();
+        FieldArgs r = d;
+        r.p0 = first ? 1 : 0;
+        r.p1 = writes;
+        dispatch_counted(field_resolve_, r, thrown, kKeptTotal);
+        ctx_.barrier();
+    };
+    pass(0, true);
     // Resolution passes until no dart is undecided. Each submit also carries the next step behind
     // a gate that holds while darts are undecided: the leaves' fresh marks off, and the accepted
     // darts flagged and ranked.
-    for (;;) {
-        for (std::uint32_t pass = 0; pass < kPassesPerSubmit; ++pass) {
+    for (std::uint32_t passes = 0;;) {
+        for (std::uint32_t k = 0; k < kPassesPerSubmit; ++k) {
             ctx_.vk().vkCmdFillBuffer(ctx_.recording(), counters_.handle(), FIELD_COUNTER_UNDECIDED * 4, 4, 0);
-            ctx_.barrier();
-            dispatch_counted(field_resolve_, d, thrown, kKeptTotal);
-            ctx_.barrier();
+            pass(++passes & 1, false);
         }
         ctx_.open_gate(gate_, counters_.address(), FIELD_COUNTER_UNDECIDED);
         FieldArgs u = d;
