@@ -100,8 +100,12 @@ void main() {
                 if (!mine) break;
             }
         }
-        field_run_spend(s, budget);
-        if (budget.overflow != 0u) atomicOr(FieldWords(a.counters).value[FIELD_COUNTER_OVERFLOW], 2u << 1);
+        // A head's search must be whole; another dart's only looks for an accepted dart in
+        // conflict, and without one by the budget's end waits.
+        if (head) {
+            field_run_spend(s, budget);
+            field_note_budget(budget);
+        }
     }
     if (budget.overflow != 0u) return;
     if (rejected) {
