@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "field/table.h"
@@ -12,6 +13,16 @@
 
 using namespace vrpd;
 using test::field_options;
+
+namespace {
+// The samplings of o on the cpu backend and on the device.
+std::pair<Sampling, Sampling> on_cpu_and_gpu(SampleOptions o) {
+    o.backend = Backend::Cpu;
+    Sampling cpu = sample(o);
+    o.backend = Backend::Gpu;
+    return {std::move(cpu), sample(o)};
+}
+}  // namespace
 
 TEST_CASE("a sizing field samples the same points on gpu, cpu and serial under each rule and weighting",
           "[field][gpu]") {
@@ -53,9 +64,7 @@ TEST_CASE("a sizing field samples the same points on gpu, cpu and serial under e
             }
     // Radii near half the torus: a cell may hold a sample's antipode, farther than its corners.
     SampleOptions o = field_options("0.4 + 0.05*sin(2*pi*x)", SizingRule::Bigger, Boundary::Periodic, 10);
-    const Sampling cpu = sample(o);
-    o.backend = Backend::Gpu;
-    const Sampling gpu = sample(o);
+    const auto [cpu, gpu] = on_cpu_and_gpu(o);
     REQUIRE(gpu.lattice == cpu.lattice);
     CHECK(test::judge(gpu, *o.sizing).uncovered == 0);
 }
@@ -68,9 +77,7 @@ TEST_CASE("darts crowding the leaves where r is large resolve on gpu as on cpu, 
     for (const SizingRule rule : {SizingRule::Bigger, SizingRule::Smaller}) {
         SampleOptions o = field_options("0.0003 + 0.3*x", rule, Boundary::Free, 2);
         INFO("rule " << sizing_rule_name(rule));
-        const Sampling cpu = sample(o);
-        o.backend = Backend::Gpu;
-        const Sampling gpu = sample(o);
+        const auto [cpu, gpu] = on_cpu_and_gpu(o);
         REQUIRE(cpu.size() > 5000);
         CHECK(gpu.stats.darts == cpu.stats.darts);
         REQUIRE(gpu.lattice == cpu.lattice);
@@ -86,9 +93,7 @@ TEST_CASE("a sizing field's discrete hierarchy gives the same levels on gpu as o
         o.hierarchy = {3, 2.5};
         o.sizing->weighting = rule == SizingRule::Bigger ? Weighting::Density : Weighting::Uniform;
         INFO("rule " << sizing_rule_name(rule));
-        const Sampling cpu = sample(o);
-        o.backend = Backend::Gpu;
-        const Sampling gpu = sample(o);
+        const auto [cpu, gpu] = on_cpu_and_gpu(o);
         REQUIRE(cpu.size() > 1000);
         CHECK(gpu.stats.rounds == cpu.stats.rounds);
         CHECK(gpu.stats.darts == cpu.stats.darts);
@@ -105,9 +110,7 @@ TEST_CASE("a sizing field's continuous hierarchy gives the same samples and birt
         o.hierarchy.continuous = true;
         o.hierarchy.start = 2;
         INFO("rule " << sizing_rule_name(rule));
-        const Sampling cpu = sample(o);
-        o.backend = Backend::Gpu;
-        const Sampling gpu = sample(o);
+        const auto [cpu, gpu] = on_cpu_and_gpu(o);
         REQUIRE(cpu.size() > 1000);
         CHECK(gpu.backend == Backend::Gpu);
         REQUIRE(gpu.lattice == cpu.lattice);
@@ -124,9 +127,7 @@ TEST_CASE("a sizing field completes given samples on gpu as on cpu, and refuses 
     REQUIRE(base.size() > 600);
     for (std::size_t i = 0; i < 300; ++i) o.initial.push_back(base.point(i));
     o.seed = 5;
-    const Sampling cpu = sample(o);
-    o.backend = Backend::Gpu;
-    const Sampling gpu = sample(o);
+    const auto [cpu, gpu] = on_cpu_and_gpu(o);
     REQUIRE(gpu.lattice == cpu.lattice);
     CHECK(gpu.stats.rounds == cpu.stats.rounds);
     auto refusal = [](SampleOptions options) {
@@ -138,6 +139,7 @@ TEST_CASE("a sizing field completes given samples on gpu as on cpu, and refuses 
         return std::string("accepted");
     };
     o.sizing->rule = SizingRule::Bigger;
+    o.backend = Backend::Gpu;
     const std::string on_gpu = refusal(o);
     o.backend = Backend::Cpu;
     CHECK_THAT(on_gpu, Catch::Contains("conflict under the bigger rule"));
