@@ -54,9 +54,9 @@ void main() {
     bool tied = head && pair_word(a.p1 ^ 1u, 1u).value[own] == d.z;
     bool rejected = accepted.value[own] != 0u;
     bool wait = !head;
-    FieldBudget budget = FieldBudget(field_run().budget, 0u);
+    FieldRun run = field_run();
+    FieldBudget budget = FieldBudget(run.budget, 0u);
     if (!rejected) {
-        FieldRun run = field_run();
         uint r = field_radius(run.table, d.xy);
         FieldSearch s = field_run_search(run, d.xy, d.xy, uint64_t(field_reach(run, d.xy, d.xy, r)), FIELD_FRESH, budget);
         for (uint leaf = field_search_next(run.tree, s); leaf < FIELD_SEARCH_OVERFLOW && !rejected;
