@@ -65,6 +65,20 @@ void field_mark(FieldRun run, uvec2 p, uint flag, bool on) {
     }
 }
 
+// Lowers the least key (FieldRun::keys) of the inner nodes on the path to the leaf holding p to
+// `key`.
+void field_note_key(FieldRun run, uvec2 p, uint key) {
+    FieldTreeView t = run.tree;
+    uint w = t.roots.value[(p.y >> t.tile_bits) * t.tiles_x + (p.x >> t.tile_bits)];
+    uint bits = t.tile_bits;
+    while ((w & FIELD_LEAF) == 0u) {
+        uint children = w & FIELD_INDEX;
+        if (run.keys.value[children >> 2u] > key) atomicMin(run.keys.value[children >> 2u], key);
+        w = t.nodes.value[children + field_child_of(p, bits)];
+        bits--;
+    }
+}
+
 // Records a search past its budget for the host.
 void field_note_budget(FieldBudget budget) {
     if (budget.overflow != 0u) atomicOr(FieldWords(a.counters).value[FIELD_COUNTER_OVERFLOW], 1u);

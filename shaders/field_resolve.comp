@@ -1,5 +1,6 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
+#define FIELD_SEARCH_GATED
 #include "common.glsl"
 #include "field.glsl"
 // One resolution pass over the round's darts (cells: point, key, leaf; words1: their states,
@@ -21,7 +22,9 @@
 // then waits. A head reads each other leaf's accepted dart, skips a leaf whose undecided darts all
 // arrive after it, and otherwise tests the leaf's darts, waiting without a full answer if the leaf
 // holds more than kScan of them and one surely arrives before the head. The first undecided dart
-// of the round never waits, so the passes end.
+// of the round never waits, so the passes end. Every dart's search enters only the subtrees that
+// hold a dart arriving before it and lie within the rule's reach (FieldGate): the pass before
+// the first writes each inner node's least key.
 const uint kScan = 32u;
 
 FieldWords pair_word(uint pair, uint which) {
@@ -45,6 +48,7 @@ void main() {
     uint own = first.value[d.w];
     if (a.p0 != 0u) {
         record(own, d.z);
+        field_note_key(field_run(), d.xy, d.z);
         return;
     }
     FieldWords accepted = FieldWords(a.words2);
@@ -59,6 +63,9 @@ void main() {
     if (!rejected) {
         uint r = field_radius(run.table, d.xy);
         FieldSearch s = field_run_search(run, d.xy, d.xy, uint64_t(field_reach(run, d.xy, d.xy, r)), FIELD_FRESH, budget);
+        // Only the subtrees with a dart that arrives before this one, within the rule's reach.
+        field_run_gate(run, s, d.xy, r, 0u);
+        field_search_gate_key(s, run.keys, d.z);
         for (uint leaf = field_search_next(run.tree, s); leaf < FIELD_SEARCH_OVERFLOW && !rejected;
              leaf = field_search_next(run.tree, s)) {
             bool mine = leaf == d.w;

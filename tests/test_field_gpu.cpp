@@ -84,6 +84,19 @@ TEST_CASE("darts crowding the leaves where r is large resolve on gpu as on cpu, 
     }
 }
 
+TEST_CASE("a sample among leaves 50 times smaller stamps only those it may reach, within lavapipe's budget",
+          "[field][gpu]") {
+    // Under current a sample's cover reach grows to the largest r near it (up to 0.46 here), a
+    // square that holds thousands of the leaves where r is 0.008. Stamping every one passed
+    // lavapipe's budget; the search's gate enters only the blocks whose greatest r reaches the
+    // sample.
+    SampleOptions o = field_options("0.008 + 0.9*max(0, x - 0.5)", SizingRule::Current, Boundary::Free, 1);
+    const auto [cpu, gpu] = on_cpu_and_gpu(o);
+    REQUIRE(cpu.size() > 5000);
+    CHECK(gpu.stats.darts == cpu.stats.darts);
+    REQUIRE(gpu.lattice == cpu.lattice);
+}
+
 TEST_CASE("a sizing field's discrete hierarchy gives the same levels on gpu as on cpu under each rule",
           "[field][gpu]") {
     // Each level starts from the earlier levels' samples on its own table and leaves: the device

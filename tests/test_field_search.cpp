@@ -13,6 +13,7 @@
 #include "field_search_probe.h"
 #include "probe_support.h"
 #include "shared/darts.h"
+#include "shared/field_run.h"
 #include "shared/field_search.h"
 #include "vrpd/sizing.h"
 
@@ -116,6 +117,70 @@ TEST_CASE("the shared leaf search meets the leaves the host's search meets", "[f
             met += got.size();
         }
         CHECK(met > 10000);
+    }
+}
+
+TEST_CASE("a search's gate of reach skips only leaves none of whose points is within f of the point", "[field]") {
+    // From random points, a search of the whole box with the gate against one without: the gated
+    // leaves are among the others, and a leaf it skips lies farther from the point than the rule's
+    // f with the greatest r over the leaf (the table's), by the leaf's nearest lattice point.
+    for (const Box& box : kBoxes) {
+        const Forest f(box);
+        INFO((box.boundary == Boundary::Periodic ? "periodic" : "free"));
+        const shared::FieldTreeView v = f.tree.view();
+        const shared::FieldTableView& tv = f.table.view();
+        const shared::Lattice& l = f.table.lattice;
+        std::vector<std::pair<glm::uvec2, glm::uvec2>> blocks(f.tree.leaves());
+        f.tree.each_leaf([&](std::uint32_t leaf, glm::uvec2 corner, std::uint32_t bits) {
+            blocks[leaf] = {corner, shared::field_far_corner(l, corner, bits)};
+        });
+        // The least gap along an axis from v to [lo, hi], over v's images on a torus.
+        auto gap = [&](std::int64_t v, std::int64_t lo, std::int64_t hi, std::int64_t extent) {
+            std::int64_t best = INT64_MAX;
+            for (std::int64_t shift : {std::int64_t(0), extent, -extent}) {
+                if (shift != 0 && l.periodic == 0) continue;
+                best = std::min(best, std::abs(std::clamp(v + shift, lo, hi) - (v + shift)));
+            }
+            return std::uint64_t(best);
+        };
+        std::mt19937_64 rng(7);
+        std::size_t skipped = 0, kept = 0, wrong = 0;
+        for (int i = 0; i < 12; ++i) {
+            const glm::uvec2 p(std::uint32_t(rng() % l.extent_x), std::uint32_t(rng() % l.extent_y));
+            const std::uint32_t r = shared::field_radius(tv, p);
+            for (std::uint32_t rule = shared::RULE_PRIOR; rule <= shared::RULE_SMALLER; ++rule)
+                for (std::uint32_t later : {0u, 1u}) {
+                    INFO("point (" << p.x << ", " << p.y << "), rule " << rule << ", later " << later);
+                    std::vector<bool> all(f.tree.leaves(), false);
+                    shared::FieldSearch s = shared::field_search_begin(v, l, p, p, l.extent_x, 0, UINT32_MAX);
+                    for (std::uint32_t leaf; (leaf = shared::field_search_next(v, s)) != shared::FIELD_SEARCH_DONE;)
+                        all[leaf] = true;
+                    std::vector<bool> gated(f.tree.leaves(), false);
+                    s = shared::field_search_begin(v, l, p, p, l.extent_x, 0, UINT32_MAX);
+                    shared::field_search_gate_reach(s, tv, l, rule, f.table.r_hi, p, r, later);
+                    for (std::uint32_t leaf; (leaf = shared::field_search_next(v, s)) != shared::FIELD_SEARCH_DONE;)
+                        gated[leaf] = true;
+                    for (std::uint32_t leaf = 0; leaf < f.tree.leaves(); ++leaf) {
+                        if (gated[leaf]) {
+                            wrong += !all[leaf];
+                            ++kept;
+                            continue;
+                        }
+                        if (!all[leaf]) continue;
+                        ++skipped;
+                        const auto [a, b] = blocks[leaf];
+                        const std::uint32_t hi = shared::field_max_over(tv, a, b);
+                        const std::uint32_t fmax =
+                            later != 0 ? shared::rule_f(rule, r, hi) : shared::rule_f(rule, hi, r);
+                        const std::uint64_t gx = gap(p.x, a.x, b.x, l.extent_x), gy = gap(p.y, a.y, b.y, l.extent_y);
+                        wrong += gx * gx + gy * gy < std::uint64_t(fmax) * fmax;
+                    }
+                    REQUIRE(wrong == 0);
+                }
+        }
+        // Most leaves of the box lie beyond every f from a point.
+        CHECK(skipped > 20 * kept);
+        CHECK(kept > 1000);
     }
 }
 

@@ -28,6 +28,7 @@ inline int bitCount(std::uint32_t v) {
     return int((((v + (v >> 4)) & 0x0F0F0F0Fu) * 0x01010101u) >> 24);
 }
 inline int findLSB(std::uint32_t v) { return v == 0u ? -1 : std::countr_zero(v); }
+inline int findMSB(std::uint32_t v) { return int(std::bit_width(v)) - 1; }
 using std::int64_t;
 using std::uint64_t;
 }  // namespace vrpd::shared

@@ -49,6 +49,9 @@ struct FieldRun {
     // Per leaf, the last round (from 1) one of whose samples may cover part of it, or conflict
     // with a point of it (field_touch.comp); 0 if none has yet.
     FieldWords touched;
+    // Per inner node of the tree (at its children's index / 4), the least arrival key of the
+    // round's darts below it (field_resolve.comp), for FieldGate.
+    FieldWords keys;
 };
 
 // The push constants of the field sampler's kernels (shaders/field_*.comp): the run, the buffers
@@ -97,6 +100,13 @@ VRPD_FN FieldSearch field_run_search(VRPD_IN(FieldRun) run, uvec2 a, uvec2 b, ui
                                      VRPD_IN(FieldBudget) budget) {
     return field_search_begin(run.tree, run.lattice, a, b, reach, need, budget.left);
 }
+#ifdef FIELD_SEARCH_GATED
+// Gates search s around point p of radius r (shared/field_search.h): of reach, the searched
+// leaves' points earlier (later == 0) or later than p.
+VRPD_FN void field_run_gate(VRPD_IN(FieldRun) run, VRPD_INOUT(FieldSearch) s, uvec2 p, uint r, uint later) {
+    field_search_gate_reach(s, run.table, run.lattice, run.rule, run.r_hi, p, r, later);
+}
+#endif
 // Takes a search's steps from the budget.
 VRPD_FN void field_run_spend(VRPD_IN(FieldSearch) s, VRPD_INOUT(FieldBudget) budget) {
     if (s.steps > s.budget) {

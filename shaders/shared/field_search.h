@@ -4,6 +4,7 @@
 // (FieldQuadtree::near, near_samples, near_fresh) meets, tile by tile in the same ranges; inside a
 // tile it holds only the current node and finds a parent's word again by descent from the root,
 // where the host keeps a stack of siblings to visit (field/quadtree.h) that a device cannot hold.
+// A gate (FieldGate) makes it skip the subtrees that cannot matter to the caller.
 //
 // A search counts its steps (each pass of its loops, and its caller's pass over each leaf) and
 // stops at a budget, giving FIELD_SEARCH_OVERFLOW: lavapipe ends every loop of an invocation
@@ -16,6 +17,13 @@
 #include "field_tree.h"
 #include "lattice.h"
 
+// A kernel whose searches pass through a gate (FieldGate) defines FIELD_SEARCH_GATED before its
+// includes; the others compile without the gate's code, which a device's compiler would otherwise
+// take again in every kernel at every run. The host has it always.
+#if defined(__cplusplus) && !defined(FIELD_SEARCH_GATED)
+#define FIELD_SEARCH_GATED
+#endif
+
 VRPD_BEGIN
 
 // What field_search_next gives when no leaf is left, and when the budget ran out first.
@@ -23,6 +31,36 @@ const uint FIELD_SEARCH_DONE = 0xFFFFFFFFu;
 const uint FIELD_SEARCH_OVERFLOW = 0xFFFFFFFEu;
 // The search's state of `depth`: no node (between tiles), or a node not yet visited.
 const uint FIELD_SEARCH_BETWEEN = 0xFFFFFFFFu;
+
+#ifdef FIELD_SEARCH_GATED
+// What a search may skip besides the subtrees without its flag, so that one whose square holds
+// thousands of leaves (a reach set by a large r, among leaves set by small ones) enters only the
+// subtrees that can matter:
+// - `keyed`: the subtrees none of whose darts arrives before `key` (keys: per inner node, at its
+//   children's index / 4, the least key of the round's darts below it; a key equal to `key` is
+//   entered, its order settled by index).
+// - `reached`: the blocks no point of which is within f of `point`, whose r is `r`: f is at most
+//   the rule's f of r and the block's greatest r (from the table's max pyramid), the block's
+//   points the earlier (later == 0) or the later ones (later == 1).
+// Each test is a step.
+struct FieldGate {
+    uint keyed;
+    uint key;
+    FieldWords keys;
+    uint reached;
+    uint rule;
+    uint r;
+    uint later;
+    uvec2 point;
+    uint r_hi;       // the field's greatest r
+    uint levels;     // the table's pyramid levels
+    uint cell_bits;  // its cells' side
+    uint cells_x;
+    FieldWords pyramid_hi;
+    FieldWords pyramid_start;
+    Lattice lattice;
+};
+#endif
 
 struct FieldSearch {
     // The query's square per axis in unwrapped lattice coordinates, and whether it spans the
@@ -53,13 +91,83 @@ struct FieldSearch {
     uint depth;
     uint x;
     uint y;
+    // The current tile's corner in lattice coordinates (the image inside the lattice).
+    uint origin_x;
+    uint origin_y;
     uint visited;
     uint word;
     uint root;
     // The steps taken, and the most allowed.
     uint steps;
     uint budget;
+#ifdef FIELD_SEARCH_GATED
+    FieldGate gate;
+#endif
 };
+#ifdef FIELD_SEARCH_GATED
+
+// The gate's tests (FieldGate), both off.
+VRPD_FN void field_search_ungated(VRPD_INOUT(FieldSearch) s) {
+    s.gate.keyed = 0u;
+    s.gate.reached = 0u;
+}
+
+// Lets search s enter only the blocks with a point within f of point p of radius r, the blocks'
+// points the earlier (later == 0) or the later (later == 1).
+VRPD_FN void field_search_gate_reach(VRPD_INOUT(FieldSearch) s, VRPD_IN(FieldTableView) table, Lattice l, uint rule,
+                                     uint r_hi, uvec2 p, uint r, uint later) {
+    s.gate.reached = 1u;
+    s.gate.rule = rule;
+    s.gate.r = r;
+    s.gate.later = later;
+    s.gate.point = p;
+    s.gate.r_hi = r_hi;
+    uint cells = max(table.cells_x, table.cells_y);
+    s.gate.levels = cells > 1u ? uint(findMSB(cells - 1u)) + 1u : 0u;
+    s.gate.cell_bits = table.cell_bits;
+    s.gate.cells_x = table.cells_x;
+    s.gate.pyramid_hi = table.pyramid_hi;
+    s.gate.pyramid_start = table.pyramid_start;
+    s.gate.lattice = l;
+}
+
+// Lets search s enter only the subtrees with a dart whose key is at most `key`.
+VRPD_FN void field_search_gate_key(VRPD_INOUT(FieldSearch) s, FieldWords keys, uint key) {
+    s.gate.keyed = 1u;
+    s.gate.keys = keys;
+    s.gate.key = key;
+}
+
+// The greatest r over the block of side 2^bits at `corner` (aligned to its side, inside the
+// tiles): the pyramid's block of cells that holds it, at level 1 at least.
+VRPD_FN uint field_gate_max(VRPD_IN(FieldGate) g, uvec2 corner, uint bits) {
+    uint k = max(bits, g.cell_bits + 1u) - g.cell_bits;
+    if (k > g.levels) return g.r_hi;
+    uint w = (g.cells_x + (1u << k) - 1u) >> k;
+    return g.pyramid_hi
+        .value[g.pyramid_start.value[k] + (corner.y >> (g.cell_bits + k)) * w + (corner.x >> (g.cell_bits + k))];
+}
+
+// Does the gate let search s enter node `word`, of side 2^bits at offsets (x, y) in the tile?
+VRPD_FN bool field_gate_admits(VRPD_INOUT(FieldSearch) s, uint word, uint x, uint y, uint bits) {
+    if (s.gate.keyed != 0u && (word & FIELD_LEAF) == 0u) {
+        s.steps++;
+        if (s.gate.keys.value[(word & FIELD_INDEX) >> 2u] > s.gate.key) return false;
+    }
+    if (s.gate.reached == 0u) return true;
+    s.steps++;
+    uvec2 a = uvec2(s.origin_x + x, s.origin_y + y);
+    uint last = (1u << bits) - 1u;
+    uvec2 b = uvec2(min(a.x + last, s.gate.lattice.extent_x - 1u), min(a.y + last, s.gate.lattice.extent_y - 1u));
+    uint64_t d2 = near_distance2(s.gate.lattice, s.gate.point, a, b);
+    // f is at least the rule's f of r and 0: within that, no bound is needed.
+    uint least = s.gate.later != 0u ? rule_f(s.gate.rule, s.gate.r, 0u) : rule_f(s.gate.rule, 0u, s.gate.r);
+    if (field_conflict(least, d2)) return true;
+    uint hi = field_gate_max(s.gate, a, bits);
+    return field_conflict(s.gate.later != 0u ? rule_f(s.gate.rule, s.gate.r, hi) : rule_f(s.gate.rule, hi, s.gate.r),
+                          d2);
+}
+#endif
 
 // A search around [a, b] (inside the lattice) of reach `reach`, entering only subtrees with
 // `need` (0: every one inside the lattice), of at most `budget` steps.
@@ -69,9 +177,14 @@ VRPD_FN FieldSearch field_search_begin(VRPD_IN(FieldTreeView) t, Lattice l, uvec
     s.need = need;
     s.steps = 0u;
     s.budget = budget;
+#ifdef FIELD_SEARCH_GATED
+    field_search_ungated(s);
+#endif
     s.depth = FIELD_SEARCH_BETWEEN;
     s.x = 0u;
     s.y = 0u;
+    s.origin_x = 0u;
+    s.origin_y = 0u;
     s.visited = 0u;
     s.word = 0u;
     s.root = 0u;
@@ -133,7 +246,11 @@ VRPD_FN bool field_search_child(VRPD_IN(FieldTreeView) t, VRPD_INOUT(FieldSearch
         uint word = t.nodes.value[(node & FIELD_INDEX) + c];
         uint cx = s.x + (c & 1u) * side;
         uint cy = s.y + (c >> 1u) * side;
-        if (!field_search_enters(s, word) || !field_search_meets(s, cx, cy, t.tile_bits - s.depth - 1u)) continue;
+        uint bits = t.tile_bits - s.depth - 1u;
+        if (!field_search_enters(s, word) || !field_search_meets(s, cx, cy, bits)) continue;
+#ifdef FIELD_SEARCH_GATED
+        if (!field_gate_admits(s, word, cx, cy, bits)) continue;
+#endif
         s.depth++;
         s.word = word;
         s.x = cx;
@@ -176,6 +293,11 @@ VRPD_FN bool field_search_next_tile(VRPD_IN(FieldTreeView) t, VRPD_INOUT(FieldSe
         int wy = s.tile_y < 0 ? s.tile_y + tiles_y : (s.tile_y >= tiles_y ? s.tile_y - tiles_y : s.tile_y);
         uint root = t.roots.value[uint(wy) * t.tiles_x + uint(wx)];
         if (!field_search_enters(s, root)) continue;
+        s.origin_x = uint(wx) << t.tile_bits;
+        s.origin_y = uint(wy) << t.tile_bits;
+#ifdef FIELD_SEARCH_GATED
+        if (!field_gate_admits(s, root, 0u, 0u, t.tile_bits)) continue;
+#endif
         int64_t ox = int64_t(s.tile_x) << t.tile_bits;
         int64_t oy = int64_t(s.tile_y) << t.tile_bits;
         s.clip_lo_x = s.all_x != 0u ? 0u : uint(clamp(s.lo_x - ox, int64_t(0), last));

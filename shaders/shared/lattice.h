@@ -37,6 +37,20 @@ VRPD_FN uint axis_far_gap(uint v, uint from, uint to, uint extent, uint periodic
     return max(axis_gap(v, from, extent, periodic), axis_gap(v, to, extent, periodic));
 }
 
+// The least gap along one axis from v to a coordinate of [from, to] (from <= to): 0 inside it,
+// else the nearer end, on a torus the shorter way round.
+VRPD_FN uint axis_near_gap(uint v, uint from, uint to, uint extent, uint periodic) {
+    if (v >= from && v <= to) return 0u;
+    return min(axis_gap(v, from, extent, periodic), axis_gap(v, to, extent, periodic));
+}
+
+// The squared distance from x to the nearest point of [a, b].
+VRPD_FN uint64_t near_distance2(Lattice l, uvec2 x, uvec2 a, uvec2 b) {
+    uint64_t gx = uint64_t(axis_near_gap(x.x, a.x, b.x, l.extent_x, l.periodic));
+    uint64_t gy = uint64_t(axis_near_gap(x.y, a.y, b.y, l.extent_y, l.periodic));
+    return gx * gx + gy * gy;
+}
+
 // The squared distance from x to the farthest point of [a, b]: the greatest gap along each axis.
 VRPD_FN uint64_t far_distance2(Lattice l, uvec2 x, uvec2 a, uvec2 b) {
     uint64_t gx = uint64_t(axis_far_gap(x.x, a.x, b.x, l.extent_x, l.periodic));

@@ -91,6 +91,8 @@ Sampling FieldVulkan::run(const FieldTable& table, const FieldQuadtree& tree, co
     leaf_first_ = Buffer(ctx_, std::max<std::uint64_t>(tree.leaves(), 4) * 4, false);
     touched_ = Buffer(ctx_, std::max<std::uint64_t>(tree.leaves(), 4) * 4, false);
     run_args_.touched = device_ref<FieldWords>(touched_.address());
+    node_keys_ = Buffer(ctx_, std::max<std::uint64_t>(tree.node_words().size() / 4, 4) * 4, false);
+    run_args_.keys = device_ref<FieldWords>(node_keys_.address());
     points_ = Buffer(ctx_, capacity_ * 8, false);
     radii_ = Buffer(ctx_, capacity_ * 4, false);
     run_args_.leaf_sample = device_ref<FieldWords>(leaf_sample_.address());

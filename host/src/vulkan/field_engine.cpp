@@ -26,8 +26,8 @@ using namespace shared;
 using field::ExponentCounts;
 
 static_assert(sizeof(FieldArgs) == 80 && offsetof(FieldArgs, count) == 56 && offsetof(FieldArgs, p2) == 72);
-static_assert(sizeof(FieldRun) == 168 && offsetof(FieldRun, tree) == 72 && offsetof(FieldRun, lattice) == 104 &&
-              offsetof(FieldRun, leaf_sample) == 136);
+static_assert(sizeof(FieldRun) == 176 && offsetof(FieldRun, tree) == 72 && offsetof(FieldRun, lattice) == 104 &&
+              offsetof(FieldRun, leaf_sample) == 136 && offsetof(FieldRun, keys) == 168);
 
 namespace {
 constexpr std::uint32_t kPassesPerSubmit = 4;
@@ -265,6 +265,7 @@ bool FieldVulkan::throw_and_resolve(std::uint32_t round, std::uint32_t stamp) {
         dispatch_counted(field_resolve_, r, thrown, kKeptTotal);
         ctx_.barrier();
     };
+    ctx_.vk().vkCmdFillBuffer(ctx_.recording(), node_keys_.handle(), 0, VK_WHOLE_SIZE, UINT32_MAX);
     pass(0, true);
     // Resolution passes until no dart is undecided. Each submit also carries the next step behind
     // a gate that holds while darts are undecided: the leaves' fresh marks off, and the accepted

@@ -118,7 +118,7 @@ private:
     bool density_;
     std::uint32_t budget_;        // the search steps an invocation may take
     std::vector<Buffer> tables_;  // the table's arrays
-    Buffer run_, roots_, nodes_, leaf_sample_, leaf_first_, touched_, points_, radii_;
+    Buffer run_, roots_, nodes_, node_keys_, leaf_sample_, leaf_first_, touched_, points_, radii_;
     Buffer gate_;       // the commands of gated dispatches (VulkanContext::open_gate)
     Buffer exp_table_;  // the round's exp(-rate 2^k) table (field::exp_neg_table), host-visible
     Buffer cells_, next_, fates_, counts_, offsets_, raw_, flags_, darts_, states_, pairs_, keys_;
