@@ -145,7 +145,7 @@ TEST_CASE("a search's gate of reach skips only leaves none of whose points is wi
         };
         std::mt19937_64 rng(7);
         std::size_t skipped = 0, kept = 0, wrong = 0;
-        for (int i = 0; i < 12; ++i) {
+        for (int i = 0; i < 6; ++i) {
             const glm::uvec2 p(std::uint32_t(rng() % l.extent_x), std::uint32_t(rng() % l.extent_y));
             const std::uint32_t r = shared::field_radius(tv, p);
             for (std::uint32_t rule = shared::RULE_PRIOR; rule <= shared::RULE_SMALLER; ++rule)
@@ -179,8 +179,9 @@ TEST_CASE("a search's gate of reach skips only leaves none of whose points is wi
                 }
         }
         // Most leaves of the box lie beyond every f from a point.
+        INFO("skipped " << skipped << ", kept " << kept);
         CHECK(skipped > 20 * kept);
-        CHECK(kept > 1000);
+        CHECK(kept > 500);
     }
 }
 
