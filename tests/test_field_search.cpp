@@ -121,7 +121,7 @@ TEST_CASE("the shared leaf search meets the leaves the host's search meets", "[f
 }
 
 TEST_CASE("a search's gate of reach skips only leaves none of whose points is within f of the point", "[field]") {
-    // From random points, a search of the whole box with the gate against one without: the gated
+    // From random points, a search of reach 4 r_hi with the gate against one without: the gated
     // leaves are among the others, and a leaf it skips lies farther from the point than the rule's
     // f with the greatest r over the leaf (the table's), by the leaf's nearest lattice point.
     for (const Box& box : kBoxes) {
@@ -143,31 +143,31 @@ TEST_CASE("a search's gate of reach skips only leaves none of whose points is wi
             }
             return std::uint64_t(best);
         };
+        auto leaves = [&](shared::FieldSearch s) {
+            std::vector<std::uint32_t> got;
+            for (std::uint32_t leaf; (leaf = shared::field_search_next(v, s)) != shared::FIELD_SEARCH_DONE;)
+                got.push_back(leaf);
+            std::sort(got.begin(), got.end());
+            return got;
+        };
+        const std::uint32_t reach = 4 * f.table.r_hi;
         std::mt19937_64 rng(7);
-        std::size_t skipped = 0, kept = 0, wrong = 0;
-        for (int i = 0; i < 6; ++i) {
+        std::size_t skipped = 0, kept = 0;
+        for (int i = 0; i < 100; ++i) {
             const glm::uvec2 p(std::uint32_t(rng() % l.extent_x), std::uint32_t(rng() % l.extent_y));
             const std::uint32_t r = shared::field_radius(tv, p);
             for (std::uint32_t rule = shared::RULE_PRIOR; rule <= shared::RULE_SMALLER; ++rule)
                 for (std::uint32_t later : {0u, 1u}) {
                     INFO("point (" << p.x << ", " << p.y << "), rule " << rule << ", later " << later);
-                    std::vector<bool> all(f.tree.leaves(), false);
-                    shared::FieldSearch s = shared::field_search_begin(v, l, p, p, l.extent_x, 0, UINT32_MAX);
-                    for (std::uint32_t leaf; (leaf = shared::field_search_next(v, s)) != shared::FIELD_SEARCH_DONE;)
-                        all[leaf] = true;
-                    std::vector<bool> gated(f.tree.leaves(), false);
-                    s = shared::field_search_begin(v, l, p, p, l.extent_x, 0, UINT32_MAX);
+                    const std::vector<std::uint32_t> all =
+                        leaves(shared::field_search_begin(v, l, p, p, reach, 0, UINT32_MAX));
+                    shared::FieldSearch s = shared::field_search_begin(v, l, p, p, reach, 0, UINT32_MAX);
                     shared::field_search_gate_reach(s, tv, l, rule, f.table.r_hi, p, r, later);
-                    for (std::uint32_t leaf; (leaf = shared::field_search_next(v, s)) != shared::FIELD_SEARCH_DONE;)
-                        gated[leaf] = true;
-                    for (std::uint32_t leaf = 0; leaf < f.tree.leaves(); ++leaf) {
-                        if (gated[leaf]) {
-                            wrong += !all[leaf];
-                            ++kept;
-                            continue;
-                        }
-                        if (!all[leaf]) continue;
-                        ++skipped;
+                    const std::vector<std::uint32_t> gated = leaves(s);
+                    REQUIRE(std::includes(all.begin(), all.end(), gated.begin(), gated.end()));
+                    std::size_t wrong = 0;
+                    for (const std::uint32_t leaf : all) {
+                        if (std::binary_search(gated.begin(), gated.end(), leaf)) continue;
                         const auto [a, b] = blocks[leaf];
                         const std::uint32_t hi = shared::field_max_over(tv, a, b);
                         const std::uint32_t fmax =
@@ -176,12 +176,14 @@ TEST_CASE("a search's gate of reach skips only leaves none of whose points is wi
                         wrong += gx * gx + gy * gy < std::uint64_t(fmax) * fmax;
                     }
                     REQUIRE(wrong == 0);
+                    kept += gated.size();
+                    skipped += all.size() - gated.size();
                 }
         }
-        // Most leaves of the box lie beyond every f from a point.
+        // Most leaves of the square lie beyond every f from its centre.
         INFO("skipped " << skipped << ", kept " << kept);
         CHECK(skipped > 20 * kept);
-        CHECK(kept > 500);
+        CHECK(kept > 5000);
     }
 }
 
