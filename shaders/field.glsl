@@ -55,7 +55,7 @@ uint field_scan_end(FieldWords scan, uint i, uint total) {
 // Sets (on) or clears `flag` on the node words from the tile's root down to the leaf holding p.
 void field_mark(FieldRun run, uvec2 p, uint flag, bool on) {
     FieldTreeView t = run.tree;
-    uint at = (p.y >> t.tile_bits) * t.tiles_x + (p.x >> t.tile_bits);
+    uint at = field_tile_of(t, p);
     uint w = on ? atomicOr(t.roots.value[at], flag) : atomicAnd(t.roots.value[at], ~flag);
     uint bits = t.tile_bits;
     while ((w & FIELD_LEAF) == 0u) {
@@ -69,7 +69,7 @@ void field_mark(FieldRun run, uvec2 p, uint flag, bool on) {
 // `key`.
 void field_note_key(FieldRun run, uvec2 p, uint key) {
     FieldTreeView t = run.tree;
-    uint w = t.roots.value[(p.y >> t.tile_bits) * t.tiles_x + (p.x >> t.tile_bits)];
+    uint w = t.roots.value[field_tile_of(t, p)];
     uint bits = t.tile_bits;
     while ((w & FIELD_LEAF) == 0u) {
         uint children = w & FIELD_INDEX;

@@ -148,6 +148,11 @@ VRPD_FN uint field_gate_max(VRPD_IN(FieldGate) g, uvec2 corner, uint bits) {
         .value[g.pyramid_start.value[k] + (corner.y >> (g.cell_bits + k)) * w + (corner.x >> (g.cell_bits + k))];
 }
 
+// The bound of f between the gate's point and a point of radius `other` of a block.
+VRPD_FN uint field_gate_f(VRPD_IN(FieldGate) g, uint other) {
+    return g.later != 0u ? rule_f(g.rule, g.r, other) : rule_f(g.rule, other, g.r);
+}
+
 // Does the gate let search s enter node `word`, of side 2^bits at offsets (x, y) in the tile?
 VRPD_FN bool field_gate_admits(VRPD_INOUT(FieldSearch) s, uint word, uint x, uint y, uint bits) {
     if (s.gate.keyed != 0u && (word & FIELD_LEAF) == 0u) {
@@ -161,11 +166,8 @@ VRPD_FN bool field_gate_admits(VRPD_INOUT(FieldSearch) s, uint word, uint x, uin
     uvec2 b = uvec2(min(a.x + last, s.gate.lattice.extent_x - 1u), min(a.y + last, s.gate.lattice.extent_y - 1u));
     uint64_t d2 = near_distance2(s.gate.lattice, s.gate.point, a, b);
     // f is at least the rule's f of r and 0: within that, no bound is needed.
-    uint least = s.gate.later != 0u ? rule_f(s.gate.rule, s.gate.r, 0u) : rule_f(s.gate.rule, 0u, s.gate.r);
-    if (field_conflict(least, d2)) return true;
-    uint hi = field_gate_max(s.gate, a, bits);
-    return field_conflict(s.gate.later != 0u ? rule_f(s.gate.rule, s.gate.r, hi) : rule_f(s.gate.rule, hi, s.gate.r),
-                          d2);
+    if (field_conflict(field_gate_f(s.gate, 0u), d2)) return true;
+    return field_conflict(field_gate_f(s.gate, field_gate_max(s.gate, a, bits)), d2);
 }
 #endif
 

@@ -31,10 +31,15 @@ VRPD_FN uint field_child_of(uvec2 p, uint bits) {
     return ((p.x >> (bits - 1u)) & 1u) | (((p.y >> (bits - 1u)) & 1u) << 1u);
 }
 
+// The tile holding lattice point p (inside the lattice): its index in `roots`.
+VRPD_FN uint field_tile_of(VRPD_IN(FieldTreeView) t, uvec2 p) {
+    return (p.y >> t.tile_bits) * t.tiles_x + (p.x >> t.tile_bits);
+}
+
 // The leaf holding lattice point p (inside the lattice), by descent from its tile's root: its
 // index (x) and its side's bits (y); its corner is p with those low bits cleared.
 VRPD_FN uvec2 field_leaf_at(VRPD_IN(FieldTreeView) t, uvec2 p) {
-    uint node = t.roots.value[(p.y >> t.tile_bits) * t.tiles_x + (p.x >> t.tile_bits)];
+    uint node = t.roots.value[field_tile_of(t, p)];
     uint bits = t.tile_bits;
     while ((node & FIELD_LEAF) == 0u) {
         node = t.nodes.value[(node & FIELD_INDEX) + field_child_of(p, bits)];
