@@ -19,7 +19,16 @@ uint field_value(uint v) {
     return (v & FIELD_COUNTED) == 0u ? v : FieldWords(a.counters).value[v & ~FIELD_COUNTED];
 }
 
-FieldRun field_run() { return FieldRunRef(a.run).value; }
+// The run's rule and boundary as constants of the pipeline (FieldVulkan makes one per variant),
+// equal to the run's own: the branches on them fold away where the driver builds the kernel, and
+// llvmpipe would run both sides of each (shared/radii.h).
+layout(constant_id = 1) const uint FIELD_VARIANT = 0u;
+FieldRun field_run() {
+    FieldRun run = FieldRunRef(a.run).value;
+    run.rule = FIELD_VARIANT & 3u;
+    run.lattice.periodic = (FIELD_VARIANT & FIELD_VARIANT_TORUS) != 0u ? 1u : 0u;
+    return run;
+}
 
 // The exponent of a cell's weighted area, biased: 2 bits, less 2 weight under Eq. 12 (density: 1).
 uint field_exponent(uvec4 cell, uint density) {

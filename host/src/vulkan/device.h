@@ -80,13 +80,15 @@ public:
     void start_profile();
     std::vector<PhaseTime> profile() const;
 
-    // The pipeline of a kernel's SPIR-V (by its address), push-constant size and workgroup size:
-    // made on first use (tens of milliseconds for a run's kernels), kept until the context goes.
+    // The pipeline of a kernel's SPIR-V (by its address), push-constant size, workgroup size and
+    // variant (kernel.h): made on first use (tens of milliseconds for a run's kernels), kept until
+    // the context goes.
     struct Pipeline {
         OwnedPipelineLayout layout;
         OwnedPipeline pipeline;
     };
-    const Pipeline& pipeline(std::span<const std::uint32_t> spirv, std::uint32_t push_size, std::uint32_t workgroup);
+    const Pipeline& pipeline(std::span<const std::uint32_t> spirv, std::uint32_t push_size, std::uint32_t workgroup,
+                             std::uint32_t variant);
     std::size_t pipelines() const { return pipelines_.size(); }
 
     // A run starts on a context a run before may have used (ContextLease): its memory peak,
@@ -129,7 +131,7 @@ private:
     const Buffer* gate_ = nullptr;  // the open gate's table, if any
     std::uint32_t gated_ = 0;       // dispatches recorded through it
     // After the device: destroyed before it.
-    std::map<std::tuple<const std::uint32_t*, std::uint32_t, std::uint32_t>, Pipeline> pipelines_;
+    std::map<std::tuple<const std::uint32_t*, std::uint32_t, std::uint32_t, std::uint32_t>, Pipeline> pipelines_;
     std::unique_ptr<Kernel> gate_kernel_;  // gate.comp, made by the first open_gate
 };
 

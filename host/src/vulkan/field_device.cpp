@@ -81,6 +81,8 @@ Sampling FieldVulkan::run(const FieldTable& table, const FieldQuadtree& tree, co
                       device_ref<FieldWords>(nodes_.address())};
     run_args_.lattice = t_->lattice;
     run_args_.rule = t_->rule;
+    if (field_variant(t_->rule, t_->lattice.periodic != 0) != variant_of(o_))
+        throw std::logic_error("a field table's rule or box differs from the kernels'");
     run_args_.r_hi = t_->r_hi;
     run_args_.r_lo = t_->r_lo;
     // 1 / (1 - L) rounded up in 2^-16 units (a larger factor only widens the searches).

@@ -38,25 +38,31 @@ constexpr std::uint32_t kPassesPerSubmit = 4;
 constexpr std::uint32_t kLavapipeBudget = 6000;
 }  // namespace
 
+std::uint32_t FieldVulkan::variant_of(const SampleOptions& o) {
+    return field_variant(std::uint32_t(o.sizing->rule), o.box.boundary == Boundary::Periodic);
+}
+
 FieldVulkan::FieldVulkan(const SampleOptions& o, std::uint32_t budget)
     : o_(o),
       lease_(o.device, o.vulkan),
       ctx_(lease_.get()),
       counters_(ctx_, FIELD_COUNTER_WORDS * 4, true),
       primitives_(ctx_, counters_),
-      VRPD_KERNEL(field_histogram, FieldArgs, WORKGROUP_SIZE),
-      VRPD_KERNEL(field_fates, FieldArgs, WORKGROUP_SIZE),
-      VRPD_KERNEL(field_scatter, FieldArgs, WORKGROUP_SIZE),
-      VRPD_KERNEL(field_count_darts, FieldArgs, WORKGROUP_SIZE),
-      VRPD_KERNEL(field_throw, FieldArgs, WORKGROUP_SIZE),
-      VRPD_KERNEL(field_compact, FieldArgs, WORKGROUP_SIZE),
-      VRPD_KERNEL(field_first_darts, FieldArgs, WORKGROUP_SIZE),
-      VRPD_KERNEL(field_resolve, FieldArgs, WORKGROUP_SIZE),
-      VRPD_KERNEL(field_unmark, FieldArgs, WORKGROUP_SIZE),
-      VRPD_KERNEL(field_accepted, FieldArgs, WORKGROUP_SIZE),
-      VRPD_KERNEL(field_emit, FieldArgs, WORKGROUP_SIZE),
-      VRPD_KERNEL(field_touch, FieldArgs, WORKGROUP_SIZE),
-      VRPD_KERNEL(field_place, FieldArgs, WORKGROUP_SIZE),
+      VRPD_KERNEL(field_histogram, FieldArgs, WORKGROUP_SIZE, variant_of(o)),
+      VRPD_KERNEL(field_fates, FieldArgs, WORKGROUP_SIZE, variant_of(o)),
+      field_balance_(ctx_, "field_balance", spirv_words(spirv_field_fates), sizeof(FieldArgs), WORKGROUP_SIZE,
+                     variant_of(o) | FIELD_VARIANT_BALANCE),
+      VRPD_KERNEL(field_scatter, FieldArgs, WORKGROUP_SIZE, variant_of(o)),
+      VRPD_KERNEL(field_count_darts, FieldArgs, WORKGROUP_SIZE, variant_of(o)),
+      VRPD_KERNEL(field_throw, FieldArgs, WORKGROUP_SIZE, variant_of(o)),
+      VRPD_KERNEL(field_compact, FieldArgs, WORKGROUP_SIZE, variant_of(o)),
+      VRPD_KERNEL(field_first_darts, FieldArgs, WORKGROUP_SIZE, variant_of(o)),
+      VRPD_KERNEL(field_resolve, FieldArgs, WORKGROUP_SIZE, variant_of(o)),
+      VRPD_KERNEL(field_unmark, FieldArgs, WORKGROUP_SIZE, variant_of(o)),
+      VRPD_KERNEL(field_accepted, FieldArgs, WORKGROUP_SIZE, variant_of(o)),
+      VRPD_KERNEL(field_emit, FieldArgs, WORKGROUP_SIZE, variant_of(o)),
+      VRPD_KERNEL(field_touch, FieldArgs, WORKGROUP_SIZE, variant_of(o)),
+      VRPD_KERNEL(field_place, FieldArgs, WORKGROUP_SIZE, variant_of(o)),
       density_(o.sizing->weighting == Weighting::Density) {
     if (o.profile) ctx_.start_profile();
     gate_ = Buffer(ctx_, VulkanContext::kGateDispatches * 12, true);
@@ -138,10 +144,9 @@ bool FieldVulkan::refine_list(std::uint32_t mode, std::uint32_t param, std::uint
     a.words1 = fates_.address();
     a.words2 = darts_offsets;
     a.p0 = density_ ? 1 : 0;
-    a.p1 = mode;
     a.p2 = param;
     a.p3 = stamp;
-    dispatch(field_fates_, a, 0, active_);
+    dispatch(mode == 0 ? field_balance_ : field_fates_, a, 0, active_);
     ctx_.barrier();
     primitives_.scan(counts_.address(), active_, kCellsTotal);
     // Scatter into the next list; it counts the cells per exponent and their least side afresh.

@@ -37,6 +37,8 @@ public:
 
 private:
     static constexpr std::uint32_t kMaxGroups = 65535;  // the least maxComputeWorkGroupCount[0] Vulkan allows
+    // The kernels' variant (kernel.h) for the run's rule and box (shared/field_run.h).
+    static std::uint32_t variant_of(const SampleOptions& o);
     // Counter slots of the scans' totals.
     static constexpr std::uint32_t kCellsTotal = shared::FIELD_COUNTER_TOTAL, kDartsTotal = kCellsTotal + 1,
                                    kKeptTotal = kCellsTotal + 2, kAcceptedTotal = kCellsTotal + 3,
@@ -90,8 +92,9 @@ private:
     std::uint32_t weight(glm::uvec2 corner, std::uint32_t bits) const;
     // Balances the active list as the host's balance does; returns the round's rate.
     double balance();
-    // Writes each cell's fate (p1: 0 balance, 1 refine; p2 and p3 its parameters) into the next
-    // list, which becomes the active one; returns false, keeping the list, if balance split none.
+    // Writes each cell's fate (mode 0: field_balance, 1: field_fates; p2 and p3 their parameters)
+    // into the next list, which becomes the active one; returns false, keeping the list, if
+    // balance split none.
     // With the list written, the samples from `settle_from` on settle (UINT64_MAX: none).
     // `open`: its first commands go into the submit already begun, not one of their own, its
     // arrays sized (reserve_refinement).
@@ -113,8 +116,9 @@ private:
     VulkanContext& ctx_;
     Buffer counters_;
     Primitives primitives_;
-    Kernel field_histogram_, field_fates_, field_scatter_, field_count_darts_, field_throw_, field_compact_,
-        field_first_darts_, field_resolve_, field_unmark_, field_accepted_, field_emit_, field_touch_, field_place_;
+    Kernel field_histogram_, field_fates_, field_balance_, field_scatter_, field_count_darts_, field_throw_,
+        field_compact_, field_first_darts_, field_resolve_, field_unmark_, field_accepted_, field_emit_, field_touch_,
+        field_place_;
     bool density_;
     std::uint32_t budget_;        // the search steps an invocation may take
     std::vector<Buffer> tables_;  // the table's arrays

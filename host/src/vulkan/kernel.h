@@ -1,5 +1,7 @@
 // A compute kernel: a pipeline with a push-constant block and no descriptor sets (buffers are
-// passed by device address), its workgroup size given as specialization constant 0.
+// passed by device address), its workgroup size given as specialization constant 0 and a variant
+// word as specialization constant 1 (kernels that declare it fold the branches it decides away:
+// llvmpipe runs both sides of every branch its lanes reach, shared/radii.h).
 #pragma once
 
 #include <cstdint>
@@ -17,7 +19,7 @@ class VulkanContext;
 class Kernel {
 public:
     Kernel(VulkanContext& ctx, std::string name, std::span<const std::uint32_t> spirv, std::uint32_t push_size,
-           std::uint32_t workgroup);
+           std::uint32_t workgroup, std::uint32_t variant = 0);
     VkPipeline pipeline() const { return pipeline_; }
     VkPipelineLayout layout() const { return layout_; }
     std::uint32_t push_size() const { return push_size_; }
@@ -46,5 +48,5 @@ std::span<const std::uint32_t> spirv_words(const std::uint32_t (&code)[N]) {
 
 // The initializer of kernel member name_ (in a constructor's list, where the generated header
 // spirv_<name> is included), on the member `ctx_` declared before it; its name, in profiles, is
-// its shader's.
-#define VRPD_KERNEL(name, push, workgroup) name##_(ctx_, #name, spirv_words(spirv_##name), sizeof(push), workgroup)
+// its shader's. The arguments after `push`: the workgroup size, and optionally the variant.
+#define VRPD_KERNEL(name, push, ...) name##_(ctx_, #name, spirv_words(spirv_##name), sizeof(push), __VA_ARGS__)
