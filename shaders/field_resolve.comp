@@ -18,6 +18,14 @@
 // writes pair p1 (filled with ~0 before it) for the next. p0 = 1: the pass before the first, which
 // only writes pair p1.
 //
+// p3: the darts a pass reads. 0: every dart (the item); k = 1 or 2: work list k - 1, the darts the
+// pass before left undecided, in target after the pairs (its length in counter slot
+// FIELD_COUNTER_WORK + 4 (k - 1) + 3, dispatched indirectly from that slot by at most the
+// device's workgroups, the invocations striding over the rest). Each dart a pass leaves
+// undecided goes into the other list (list 0 after p3 = 0), so that a pass costs what is left
+// of the round, not the round (llvmpipe runs a kernel's whole code for each SIMD batch, decided
+// darts or not).
+//
 // A dart that is not its leaf's head only looks for an accepted dart of a nearby leaf (reject) and
 // then waits. A head reads each other leaf's accepted dart, skips a leaf whose undecided darts all
 // arrive after it, and otherwise tests the leaf's darts, waiting without a full answer if the leaf
@@ -31,15 +39,15 @@ FieldWords pair_word(uint pair, uint which) {
     return FieldWords(a.target + uint64_t(2u * pair + which) * uint64_t(a.p2) * 4u);
 }
 
+FieldWords work_list(uint k) { return FieldWords(a.target + uint64_t(4u + k) * uint64_t(a.p2) * 4u); }
+
 // Counts dart (key) among the undecided darts of the leaf at `slot` for the next pass.
 void record(uint slot, uint key) {
     if (atomicMin(pair_word(a.p1, 0u).value[slot], key) == key) atomicMin(pair_word(a.p1, 1u).value[slot], key);
 }
 
-void main() {
-    uint j = field_item();
-    uint count = field_value(a.count);
-    if (j >= count) return;
+// Resolves dart j of the round's `count` (if still undecided).
+void resolve(uint j, uint count) {
     FieldWords states = FieldWords(a.words1);
     if (states.value[j] != DART_UNDECIDED) return;
     FieldCells darts = FieldCells(a.cells);
@@ -121,7 +129,23 @@ void main() {
         states.value[j] = DART_ACCEPTED;
         accepted.value[own] = j + 1u;
     } else {
-        atomicAdd(FieldWords(a.counters).value[FIELD_COUNTER_UNDECIDED], 1u);
+        FieldWords counters = FieldWords(a.counters);
+        atomicAdd(counters.value[FIELD_COUNTER_UNDECIDED], 1u);
+        uint next = a.p3 == 1u ? 1u : 0u;
+        work_list(next).value[atomicAdd(counters.value[FIELD_COUNTER_WORK + 4u * next + 3u], 1u)] = j;
         record(own, d.z);
     }
+}
+
+void main() {
+    uint count = field_value(a.count);
+    if (a.p3 == 0u) {
+        uint j = field_item();
+        if (j < count) resolve(j, count);
+        return;
+    }
+    uint listed = FieldWords(a.counters).value[FIELD_COUNTER_WORK + 4u * (a.p3 - 1u) + 3u];
+    FieldWords list = work_list(a.p3 - 1u);
+    for (uint k = gl_GlobalInvocationID.x; k < listed; k += gl_NumWorkGroups.x * gl_WorkGroupSize.x)
+        resolve(list.value[k], count);
 }

@@ -2,19 +2,21 @@
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"
 #include "field.glsl"
-// Each active cell's darts (words0: the counts' offsets, scanned; their total in p2), written at
-// their slots in `target` as (point, key, leaf), each with a flag in words1: 1 if it stays, 0 if it
-// falls outside the lattice, is thinned by Eq. 12 (p1), lands in a leaf with a sample or
-// conflicts with one. p0: the round's key.
+// The darts of each active cell with any (words2 lists those cells, a.count of them, from
+// field_count_darts.comp; words0: the p3 cells' dart counts' offsets, scanned, their total in p2),
+// written at their slots in `target` as (point, key, leaf), each with a flag in words1: 1 if it
+// stays, 0 if it falls outside the lattice, is thinned by Eq. 12 (p1), lands in a leaf with a
+// sample or conflicts with one. p0: the round's key. The cells without darts, most of them at 0.3
+// darts a cell, take no invocation (llvmpipe runs the whole kernel for each SIMD batch).
 void main() {
-    uint i = field_item();
-    if (i >= a.count) return;
+    uint item = field_item();
+    if (item >= a.count) return;
+    uint i = FieldWords(a.words2).value[item];
     FieldRun run = field_run();
     uvec4 cell = field_cell(run, a.cells, i, a.p1);
     FieldWords offsets = FieldWords(a.words0);
     uint first = offsets.value[i];
-    uint end = field_scan_end(offsets, i, a.p2);
-    if (end == first) return;
+    uint end = i + 1u < a.p3 ? offsets.value[i + 1u] : a.p2;
     uint stream = cell_stream(a.p0, cell.xy);
     uint leaf = field_leaf_at(run.tree, cell.xy).x;
     bool taken = run.leaf_sample.value[leaf] != FIELD_NO_SAMPLE;

@@ -83,14 +83,19 @@ struct FieldArgs {
 };
 
 // The counters' words: a search past its budget, darts left undecided by a resolution pass, the
-// least side's bits in a list written, cells split by balance, the scans' totals, and the
-// written list's cells per exponent of their weighted area (+ FIELD_EXPONENT_BIAS).
+// least side's bits in a list written, cells split by balance, the scans' totals, the cells
+// with darts this round, the
+// resolution's two work lists (FIELD_COUNTER_WORK + 4 k: an indirect dispatch's workgroups x,
+// y, z, then list k's length), and the written list's cells per exponent of their weighted area
+// (+ FIELD_EXPONENT_BIAS).
 const uint FIELD_COUNTER_OVERFLOW = 0u;
 const uint FIELD_COUNTER_UNDECIDED = 1u;
 const uint FIELD_COUNTER_LEAST_BITS = 2u;
 const uint FIELD_COUNTER_SPLITS = 3u;
 const uint FIELD_COUNTER_TOTAL = 4u;
-const uint FIELD_COUNTER_EXPONENTS = 16u;
+const uint FIELD_COUNTER_DART_CELLS = 12u;
+const uint FIELD_COUNTER_WORK = 16u;
+const uint FIELD_COUNTER_EXPONENTS = 24u;
 const uint FIELD_EXPONENT_BIAS = 64u;
 const uint FIELD_COUNTER_WORDS = FIELD_COUNTER_EXPONENTS + 128u;
 const uint FIELD_COUNTED = 0x80000000u;

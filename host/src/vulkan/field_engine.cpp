@@ -18,6 +18,7 @@
 #include "field_throw.h"
 #include "field_touch.h"
 #include "field_unmark.h"
+#include "field_work_args.h"
 #include "vulkan/field_vulkan.h"
 
 namespace vrpd::detail {
@@ -42,7 +43,7 @@ std::uint32_t FieldVulkan::variant_of(const SampleOptions& o) {
     return field_variant(std::uint32_t(o.sizing->rule), o.box.boundary == Boundary::Periodic);
 }
 
-FieldVulkan::FieldVulkan(const SampleOptions& o, std::uint32_t budget)
+FieldVulkan::FieldVulkan(const SampleOptions& o, std::uint32_t budget, std::uint32_t resolve_groups)
     : o_(o),
       lease_(o.device, o.vulkan),
       ctx_(lease_.get()),
@@ -63,10 +64,12 @@ FieldVulkan::FieldVulkan(const SampleOptions& o, std::uint32_t budget)
       VRPD_KERNEL(field_emit, FieldArgs, WORKGROUP_SIZE, variant_of(o)),
       VRPD_KERNEL(field_touch, FieldArgs, WORKGROUP_SIZE, variant_of(o)),
       VRPD_KERNEL(field_place, FieldArgs, WORKGROUP_SIZE, variant_of(o)),
+      VRPD_KERNEL(field_work_args, FieldArgs, 1),
       density_(o.sizing->weighting == Weighting::Density) {
     if (o.profile) ctx_.start_profile();
     gate_ = Buffer(ctx_, VulkanContext::kGateDispatches * 12, true);
     exp_table_ = Buffer(ctx_, 128 * 4, true);
+    resolve_groups_ = resolve_groups != 0 ? resolve_groups : kMaxGroups;
     budget_ = budget != 0                                                ? budget
               : ctx_.device_name().find("llvmpipe") != std::string::npos ? kLavapipeBudget
                                                                          : UINT32_MAX - 1;
@@ -205,29 +208,35 @@ bool FieldVulkan::throw_and_resolve(std::uint32_t round, std::uint32_t stamp) {
     std::uint32_t exp_neg[128];
     field::exp_neg_table(rate, exp_neg);
     const std::uint32_t key = round_key(o_.seed, round);
-    // Each cell's darts, their offsets by a scan.
+    // Each cell's darts, their offsets by a scan, and the cells with darts listed (in counts_,
+    // free until the refinement).
     std::memcpy(exp_table_.mapped(), exp_neg, sizeof(exp_neg));
     grow(ctx_, offsets_, active_ * 4);
+    grow(ctx_, counts_, active_ * 4);
     primitives_.reserve_scan(active_);
     ctx_.begin();
+    ctx_.vk().vkCmdFillBuffer(ctx_.recording(), counters_.handle(), FIELD_COUNTER_DART_CELLS * 4, 4, 0);
+    ctx_.barrier();
     FieldArgs a = args();
     a.cells = cells_.address();
     a.words0 = offsets_.address();
     a.words1 = exp_table_.address();
+    a.words2 = counts_.address();
     a.p0 = key;
     a.p1 = density_ ? 1 : 0;
     dispatch(field_count_darts_, a, 0, active_);
     ctx_.barrier();
     primitives_.scan(offsets_.address(), active_, kDartsTotal);
     ctx_.submit_and_wait();
-    const std::uint64_t thrown = counters()[kDartsTotal];
+    const std::uint64_t thrown = counters()[kDartsTotal], dart_cells = counters()[FIELD_COUNTER_DART_CELLS];
     thrown_ = thrown;
     darts_thrown_ += thrown;
     if (thrown == 0) return false;
     // The throw: every dart at its slot, flagged if it stays; the kept ones compacted in order and
     // resolved in the same submit, their count on the device (FIELD_COUNTED), their arrays sized
-    // for every dart thrown.
-    grow(ctx_, raw_, thrown * 16);
+    // for every dart thrown (raw_: the thrown darts, then the resolution's summaries and work
+    // lists, field_resolve.comp).
+    grow(ctx_, raw_, thrown * 24);
     grow(ctx_, flags_, thrown * 4);
     grow(ctx_, darts_, thrown * 16);
     grow(ctx_, states_, thrown * 4);
@@ -237,7 +246,8 @@ bool FieldVulkan::throw_and_resolve(std::uint32_t round, std::uint32_t stamp) {
     a.target = raw_.address();
     a.words1 = flags_.address();
     a.p2 = std::uint32_t(thrown);
-    dispatch(field_throw_, a, 0, active_);
+    a.p3 = std::uint32_t(active_);
+    dispatch(field_throw_, a, 0, dart_cells);
     ctx_.barrier();
     primitives_.scan(flags_.address(), thrown, kKeptTotal);
     FieldArgs c = args();
@@ -260,25 +270,42 @@ bool FieldVulkan::throw_and_resolve(std::uint32_t round, std::uint32_t stamp) {
     d.target = raw_.address();
     d.p2 = std::uint32_t(thrown);
     dispatch_counted(field_first_darts_, d, thrown, kKeptTotal);
-    // Each pass reads one pair of summary regions and writes the other, emptied before it.
-    auto pass = [&](std::uint32_t writes, bool first) {
+    // Each pass reads one pair of summary regions and writes the other, emptied before it. The
+    // first and the one before it read every dart; the others, the work list the pass before
+    // left (`reads` - 1), dispatched from its counter slots (field_work_args.comp).
+    auto pass = [&](std::uint32_t writes, bool first, std::uint32_t reads) {
         ctx_.vk().vkCmdFillBuffer(ctx_.recording(), raw_.handle(), writes * thrown * 8, thrown * 8, UINT32_MAX);
-        ctx_.barrier();
         FieldArgs r = d;
         r.p0 = first ? 1 : 0;
         r.p1 = writes;
-        dispatch_counted(field_resolve_, r, thrown, kKeptTotal);
+        r.p3 = reads;
+        if (reads == 0) {
+            ctx_.vk().vkCmdFillBuffer(ctx_.recording(), counters_.handle(), (FIELD_COUNTER_WORK + 3) * 4, 4, 0);
+            ctx_.barrier();
+            dispatch_counted(field_resolve_, r, thrown, kKeptTotal);
+        } else {
+            FieldArgs w = args();
+            w.p0 = reads - 1;
+            w.p1 = resolve_groups_;
+            w.p2 = WORKGROUP_SIZE;
+            dispatch(field_work_args_, w, 0, 1);
+            ctx_.barrier();
+            r.count = FIELD_COUNTED | kKeptTotal;
+            r.first = 0;
+            ctx_.dispatch_indirect(field_resolve_, &r, counters_, (FIELD_COUNTER_WORK + 4 * (reads - 1)) * 4);
+        }
         ctx_.barrier();
     };
     ctx_.vk().vkCmdFillBuffer(ctx_.recording(), node_keys_.handle(), 0, VK_WHOLE_SIZE, UINT32_MAX);
-    pass(0, true);
+    pass(0, true, 0);
     // Resolution passes until no dart is undecided. Each submit also carries the next step behind
     // a gate that holds while darts are undecided: the leaves' fresh marks off, and the accepted
     // darts flagged and ranked.
     for (std::uint32_t passes = 0;;) {
         for (std::uint32_t k = 0; k < kPassesPerSubmit; ++k) {
             ctx_.vk().vkCmdFillBuffer(ctx_.recording(), counters_.handle(), FIELD_COUNTER_UNDECIDED * 4, 4, 0);
-            pass(++passes & 1, false);
+            ++passes;
+            pass(passes & 1, false, passes == 1 ? 0 : 1 + (passes & 1));
         }
         ctx_.open_gate(gate_, counters_.address(), FIELD_COUNTER_UNDECIDED);
         FieldArgs u = d;

@@ -28,7 +28,7 @@ namespace vrpd::detail {
 class FieldVulkan {
 public:
     // On the options' device (or the application's); `budget`: FieldDevice's.
-    FieldVulkan(const SampleOptions& o, std::uint32_t budget);
+    FieldVulkan(const SampleOptions& o, std::uint32_t budget, std::uint32_t resolve_groups);
 
     // One run (a hierarchy's level) on the field t and its leaves, from `given` (FieldDevice::run).
     Sampling run(const FieldTable& t, const FieldQuadtree& tree, const std::vector<glm::uvec2>& given,
@@ -118,9 +118,10 @@ private:
     Primitives primitives_;
     Kernel field_histogram_, field_fates_, field_balance_, field_scatter_, field_count_darts_, field_throw_,
         field_compact_, field_first_darts_, field_resolve_, field_unmark_, field_accepted_, field_emit_, field_touch_,
-        field_place_;
+        field_place_, field_work_args_;
     bool density_;
     std::uint32_t budget_;        // the search steps an invocation may take
+    std::uint32_t resolve_groups_;  // the most workgroups of a resolution pass over a work list
     std::vector<Buffer> tables_;  // the table's arrays
     Buffer run_, roots_, nodes_, node_keys_, leaf_sample_, leaf_first_, touched_, points_, radii_;
     Buffer gate_;       // the commands of gated dispatches (VulkanContext::open_gate)
