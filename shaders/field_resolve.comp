@@ -137,15 +137,13 @@ void resolve(uint j, uint count) {
     }
 }
 
+// One call of resolve(), which the compiler inlines: a second would double the kernel's code.
 void main() {
     uint count = field_value(a.count);
-    if (a.p3 == 0u) {
-        uint j = field_item();
-        if (j < count) resolve(j, count);
-        return;
-    }
-    uint listed = FieldWords(a.counters).value[FIELD_COUNTER_WORK + 4u * (a.p3 - 1u) + 3u];
-    FieldWords list = work_list(a.p3 - 1u);
-    for (uint k = gl_GlobalInvocationID.x; k < listed; k += gl_NumWorkGroups.x * gl_WorkGroupSize.x)
-        resolve(list.value[k], count);
+    bool all = a.p3 == 0u;
+    FieldWords list = work_list(all ? 0u : a.p3 - 1u);
+    uint listed = all ? count : FieldWords(a.counters).value[FIELD_COUNTER_WORK + 4u * (a.p3 - 1u) + 3u];
+    uint stride = all ? count : gl_NumWorkGroups.x * gl_WorkGroupSize.x;
+    for (uint k = all ? field_item() : gl_GlobalInvocationID.x; k < listed; k += stride)
+        resolve(all ? k : list.value[k], count);
 }
