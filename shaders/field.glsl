@@ -19,10 +19,11 @@ uint field_value(uint v) {
     return (v & FIELD_COUNTED) == 0u ? v : FieldWords(a.counters).value[v & ~FIELD_COUNTED];
 }
 
-// The run's rule and boundary as constants of the pipeline (FieldVulkan makes one per variant),
-// equal to the run's own: the branches on them fold away where the driver builds the kernel, and
-// llvmpipe would run both sides of each (shared/radii.h).
+// The run's rule, boundary and weighting as constants of the pipeline (FieldVulkan makes one per
+// variant), equal to the run's own: the branches on them fold away where the driver builds the
+// kernel, and llvmpipe would run both sides of each (shared/radii.h).
 layout(constant_id = 1) const uint FIELD_VARIANT = 0u;
+const bool FIELD_DENSITY = (FIELD_VARIANT & FIELD_VARIANT_DENSITY) != 0u;  // Eq. 12's weighting
 FieldRun field_run() {
     FieldRun run = FieldRunRef(a.run).value;
     run.rule = FIELD_VARIANT & 3u;
@@ -30,14 +31,12 @@ FieldRun field_run() {
     return run;
 }
 
-// The exponent of a cell's weighted area, biased: 2 bits, less 2 weight under Eq. 12 (density: 1).
-uint field_exponent(uvec4 cell, uint density) {
-    return FIELD_EXPONENT_BIAS + 2u * cell.z - (density != 0u ? 2u * cell.w : 0u);
-}
+// The exponent of a cell's weighted area, biased: 2 bits, less 2 weight under Eq. 12.
+uint field_exponent(uvec4 cell) { return FIELD_EXPONENT_BIAS + 2u * cell.z - (FIELD_DENSITY ? 2u * cell.w : 0u); }
 
 // Eq. 12's weight of the cell of side 2^bits at `corner` (shared/field.h; 0 without the weighting).
-uint field_weight(FieldRun run, uvec2 corner, uint bits, uint density) {
-    if (density == 0u) return 0u;
+uint field_weight(FieldRun run, uvec2 corner, uint bits) {
+    if (!FIELD_DENSITY) return 0u;
     uvec2 far = field_far_corner(run.lattice, corner, bits);
     return field_cell_weight(run.r_lo, field_min_over(run.table, corner, far));
 }
@@ -45,11 +44,11 @@ uint field_weight(FieldRun run, uvec2 corner, uint bits, uint density) {
 // An active list holds a cell in 8 bytes, as the host's does: its corner's y, and its x with the
 // side as 2 x + 2^bits, whose lowest set bit is bit `bits`. Its weight is found again from the
 // table. Cell i of `list` as (corner, side's bits, weight):
-uvec4 field_cell(FieldRun run, uint64_t list, uint i, uint density) {
+uvec4 field_cell(FieldRun run, uint64_t list, uint i) {
     uvec2 word = FieldCellWords(list).value[i];
     uint bits = uint(findLSB(word.x));
     uvec2 corner = uvec2((word.x & (word.x - 1u)) >> 1u, word.y);
-    return uvec4(corner, bits, field_weight(run, corner, bits, density));
+    return uvec4(corner, bits, field_weight(run, corner, bits));
 }
 void field_put_cell(uint64_t list, uint i, uvec4 cell) {
     FieldCellWords(list).value[i] = uvec2(2u * cell.x + (1u << cell.z), cell.y);

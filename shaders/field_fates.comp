@@ -4,7 +4,7 @@
 #include "field.glsl"
 // Each active cell's fate (words1) and the cells it leaves in the next list (words0, scanned
 // next): dropped (0), kept whole (FIELD_KEEP), or split (FIELD_SPLIT | the mask of its open
-// children). p0: Eq. 12's weighting. The variant FIELD_VARIANT_BALANCE balances the list, the
+// children). The variant FIELD_VARIANT_BALANCE balances the list, the
 // other refines it after a round (each is half the code, which llvmpipe runs whole).
 // Balancing splits the cells whose biased exponent is p2 or more (and whose side is above one
 // lattice unit); the children a sample covers drop. Refining drops a cell that a sample of this
@@ -16,11 +16,11 @@ void main() {
     uint i = field_item();
     if (i >= a.count) return;
     FieldRun run = field_run();
-    uvec4 cell = field_cell(run, a.cells, i, a.p0);
+    uvec4 cell = field_cell(run, a.cells, i);
     FieldBudget budget = FieldBudget(run.budget, 0u);
     uint fate = FIELD_KEEP;
     if ((FIELD_VARIANT & FIELD_VARIANT_BALANCE) != 0u) {
-        if (cell.z > 0u && field_exponent(cell, a.p0) >= a.p2)
+        if (cell.z > 0u && field_exponent(cell) >= a.p2)
             fate = FIELD_SPLIT | field_open_children(run, cell.xy, cell.z, budget);
     } else {
         FieldWords offsets = FieldWords(a.words2);

@@ -5,7 +5,7 @@
 // The darts of each active cell with any (words2 lists those cells, a.count of them, from
 // field_count_darts.comp; words0: the p3 cells' dart counts' offsets, scanned, their total in p2),
 // written at their slots in `target` as (point, key, leaf), each with a flag in words1: 1 if it
-// stays, 0 if it falls outside the lattice, is thinned by Eq. 12 (p1), lands in a leaf with a
+// stays, 0 if it falls outside the lattice, is thinned by Eq. 12, lands in a leaf with a
 // sample or conflicts with one. p0: the round's key. The cells without darts, most of them at 0.3
 // darts a cell, take no invocation (llvmpipe runs the whole kernel for each SIMD batch).
 void main() {
@@ -13,7 +13,7 @@ void main() {
     if (item >= a.count) return;
     uint i = FieldWords(a.words2).value[item];
     FieldRun run = field_run();
-    uvec4 cell = field_cell(run, a.cells, i, a.p1);
+    uvec4 cell = field_cell(run, a.cells, i);
     FieldWords offsets = FieldWords(a.words0);
     uint first = offsets.value[i];
     uint end = i + 1u < a.p3 ? offsets.value[i + 1u] : a.p2;
@@ -30,7 +30,7 @@ void main() {
         uint stays = 0u;
         if (!taken && in_lattice(run.lattice, p)) {
             uint r = field_radius(run.table, p);
-            if (a.p1 == 0u || keep_weighted(hash_mix(hash_mix(stream, 0xD1B54A35u), j), bound, r))
+            if (!FIELD_DENSITY || keep_weighted(hash_mix(hash_mix(stream, 0xD1B54A35u), j), bound, r))
                 stays = untouched || !field_conflicts(run, p, r, budget) ? 1u : 0u;
         }
         FieldCells(a.target).value[first + j] = uvec4(p, d.z, leaf);

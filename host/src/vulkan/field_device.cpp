@@ -81,7 +81,7 @@ Sampling FieldVulkan::run(const FieldTable& table, const FieldQuadtree& tree, co
                       device_ref<FieldWords>(nodes_.address())};
     run_args_.lattice = t_->lattice;
     run_args_.rule = t_->rule;
-    if (field_variant(t_->rule, t_->lattice.periodic != 0) != variant_of(o_))
+    if (field_variant(t_->rule, t_->lattice.periodic != 0, density_) != variant_of(o_))
         throw std::logic_error("a field table's rule or box differs from the kernels'");
     run_args_.r_hi = t_->r_hi;
     run_args_.r_lo = t_->r_lo;
@@ -105,7 +105,6 @@ Sampling FieldVulkan::run(const FieldTable& table, const FieldQuadtree& tree, co
     ctx_.barrier();
     FieldArgs h = args();
     h.cells = cells_.address();
-    h.p0 = density_ ? 1 : 0;
     dispatch(field_histogram_, h, 0, active_);
     ctx_.barrier();
     ctx_.submit_and_wait();

@@ -40,7 +40,8 @@ constexpr std::uint32_t kLavapipeBudget = 6000;
 }  // namespace
 
 std::uint32_t FieldVulkan::variant_of(const SampleOptions& o) {
-    return field_variant(std::uint32_t(o.sizing->rule), o.box.boundary == Boundary::Periodic);
+    return field_variant(std::uint32_t(o.sizing->rule), o.box.boundary == Boundary::Periodic,
+                         o.sizing->weighting == Weighting::Density);
 }
 
 FieldVulkan::FieldVulkan(const SampleOptions& o, std::uint32_t budget, std::uint32_t resolve_groups)
@@ -146,7 +147,6 @@ bool FieldVulkan::refine_list(std::uint32_t mode, std::uint32_t param, std::uint
     a.words0 = counts_.address();
     a.words1 = fates_.address();
     a.words2 = darts_offsets;
-    a.p0 = density_ ? 1 : 0;
     a.p2 = param;
     a.p3 = stamp;
     dispatch(mode == 0 ? field_balance_ : field_fates_, a, 0, active_);
@@ -223,7 +223,6 @@ bool FieldVulkan::throw_and_resolve(std::uint32_t round, std::uint32_t stamp) {
     a.words1 = exp_table_.address();
     a.words2 = counts_.address();
     a.p0 = key;
-    a.p1 = density_ ? 1 : 0;
     dispatch(field_count_darts_, a, 0, active_);
     ctx_.barrier();
     primitives_.scan(offsets_.address(), active_, kDartsTotal);

@@ -37,7 +37,7 @@ public:
 
 private:
     static constexpr std::uint32_t kMaxGroups = 65535;  // the least maxComputeWorkGroupCount[0] Vulkan allows
-    // The kernels' variant (kernel.h) for the run's rule and box (shared/field_run.h).
+    // The kernels' variant (kernel.h) for the run's rule, box and weighting (shared/field_run.h).
     static std::uint32_t variant_of(const SampleOptions& o);
     // Counter slots of the scans' totals.
     static constexpr std::uint32_t kCellsTotal = shared::FIELD_COUNTER_TOTAL, kDartsTotal = kCellsTotal + 1,
