@@ -7,7 +7,7 @@ layout(local_size_x_id = 0) in;
 layout(push_constant) uniform Push { DartArgs a; };
 
 void main() {
-    uint i = gl_GlobalInvocationID.x;
+    uint i = work_item();
     if (i >= a.counters.value[a.work_in_slot + 3u]) return;
     uint v = a.work_in.value[i];
     uint state = v >> DECISION_SHIFT;

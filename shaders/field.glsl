@@ -3,6 +3,7 @@
 // kernel shares.
 #include "shared/darts.h"
 #include "shared/field_run.h"
+#include "shared/kernels.h"
 layout(local_size_x_id = 0) in;
 layout(push_constant) uniform Push { FieldArgs a; };
 layout(buffer_reference, std430, buffer_reference_align = 8) buffer FieldRunRef { FieldRun value; };

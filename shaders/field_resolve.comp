@@ -20,8 +20,8 @@
 //
 // p3: the darts a pass reads. 0: every dart (the item); k = 1 or 2: work list k - 1, the darts the
 // pass before left undecided, in target after the pairs (its length in counter slot
-// FIELD_COUNTER_WORK + 4 (k - 1) + 3, dispatched indirectly from that slot by at most the
-// device's workgroups, the invocations striding over the rest). Each dart a pass leaves
+// FIELD_COUNTER_WORK + 4 (k - 1) + 3, dispatched indirectly from that slot by work_args.comp,
+// its item work_item()). Each dart a pass leaves
 // undecided goes into the other list (list 0 after p3 = 0), so that a pass costs what is left
 // of the round, not the round (llvmpipe runs a kernel's whole code for each SIMD batch, decided
 // darts or not).
@@ -141,9 +141,7 @@ void resolve(uint j, uint count) {
 void main() {
     uint count = field_value(a.count);
     bool all = a.p3 == 0u;
-    FieldWords list = work_list(all ? 0u : a.p3 - 1u);
+    uint k = all ? field_item() : work_item();
     uint listed = all ? count : FieldWords(a.counters).value[FIELD_COUNTER_WORK + 4u * (a.p3 - 1u) + 3u];
-    uint stride = all ? count : gl_NumWorkGroups.x * gl_WorkGroupSize.x;
-    for (uint k = all ? field_item() : gl_GlobalInvocationID.x; k < listed; k += stride)
-        resolve(all ? k : list.value[k], count);
+    if (k < listed) resolve(all ? k : work_list(a.p3 - 1u).value[k], count);
 }

@@ -10,7 +10,7 @@ layout(local_size_x_id = 0) in;
 layout(push_constant) uniform Push { DartArgs a; };
 
 void main() {
-    uint i = gl_GlobalInvocationID.x;
+    uint i = work_item();
     if (i >= a.counters.value[a.work_in_slot + 3u]) return;
     uint d = a.work_in.value[i];
     uint state = resolve_dart(a.domain, a.grid, a.darts, d, a.param != 0u);

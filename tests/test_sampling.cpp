@@ -267,6 +267,17 @@ TEST_CASE("a gated round end waits for its resolution's last submit", "[sampling
     CHECK(gpu.lattice == sample(options(0.004, 5, Backend::Cpu)).lattice);
 }
 
+// A resolution pass over a work list is dispatched in rows of at most the device's workgroups
+// (65 535); with rows of one workgroup every list of more than 64 darts takes several rows.
+TEST_CASE("resolution passes over work lists longer than a row of workgroups take several rows", "[sampling][gpu]") {
+    const SampleOptions o = options(0.01, 3, Backend::Gpu);
+    const detail::Plan plan = detail::make_plan(o);
+    detail::VulkanEngine engine(plan, o.device, nullptr, detail::VulkanEngine::kResolvePassesPerSubmit, 1);
+    const Sampling gpu = detail::run_plan(o, plan, engine);
+    REQUIRE(gpu.size() > 5000);
+    CHECK(gpu.lattice == sample(options(0.01, 3, Backend::Cpu)).lattice);
+}
+
 TEST_CASE("parity holds on a large first round (many darts per resolution pass)", "[sampling][gpu]") {
     const Sampling cpu = sample(options(0.004, 5, Backend::Cpu));
     const Sampling gpu = sample(options(0.004, 5, Backend::Gpu));

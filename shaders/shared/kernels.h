@@ -203,14 +203,23 @@ struct SortArgs {
 static_assert(sizeof(SortArgs) == 56 && offsetof(SortArgs, count) == 40);
 #endif
 
-// work_args: turns a work list's count into its indirect dispatch and empties the other list.
+// work_args: turns a work list's count into its indirect dispatch, rows of at most max_groups
+// workgroups (the device's limit; work_item() numbers the invocations), and empties the other
+// list.
 struct WorkArgs {
     VRPD_BUFFER(Uints) counters;
     uint slot;
     uint other_slot;
+    uint max_groups;
 };
 #ifdef __cplusplus
-static_assert(sizeof(WorkArgs) == 16 && offsetof(WorkArgs, slot) == 8);
+static_assert(sizeof(WorkArgs) == 24 && offsetof(WorkArgs, slot) == 8 && offsetof(WorkArgs, max_groups) == 16);
+#else
+// This invocation's item in a pass that work_args dispatched (rows of workgroups of
+// WORKGROUP_SIZE: a list longer than a row takes several).
+uint work_item() {
+    return (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * WORKGROUP_SIZE + gl_LocalInvocationID.x;
+}
 #endif
 
 // gate: zeroes the group counts of the `count` indirect dispatch commands at `table` (3 words

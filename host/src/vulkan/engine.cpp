@@ -46,9 +46,10 @@ constexpr std::uint64_t kWorstCaseShare = 8;
 }  // namespace
 
 VulkanEngine::VulkanEngine(const Plan& plan, const std::string& selector, const VulkanTarget* target,
-                           std::uint32_t passes_per_submit)
+                           std::uint32_t passes_per_submit, std::uint32_t work_groups)
     : plan_(plan),
       passes_per_submit_(std::max<std::uint32_t>(passes_per_submit, 1)),
+      work_groups_(std::max<std::uint32_t>(work_groups, 1)),
       lease_(selector, target),
       ctx_(lease_.get()),
       VRPD_KERNEL(init_cells, CellArgs, WORKGROUP_SIZE),
@@ -267,7 +268,7 @@ RoundResult VulkanEngine::round(const RoundSpec& spec, const RoundSpec* next) {
         for (std::uint32_t p = 0; p < passes_per_submit_; ++p, in ^= 1) {
             const std::uint32_t in_slot = in ? COUNTER_WORK1 : COUNTER_WORK0;
             const std::uint32_t out_slot = in ? COUNTER_WORK0 : COUNTER_WORK1;
-            WorkArgs w{counters_.address(), in_slot, out_slot};
+            WorkArgs w{counters_.address(), in_slot, out_slot, work_groups_};
             ctx_.dispatch(work_args_, &w, 1);
             ctx_.barrier();  // indirect command and emptied output list before the pass
             DartArgs r = dart_args(dart_list, darts, passes == 0 && p == 0 ? 1u : 0u);

@@ -18,8 +18,8 @@
 #include "field_throw.h"
 #include "field_touch.h"
 #include "field_unmark.h"
-#include "field_work_args.h"
 #include "vulkan/field_vulkan.h"
+#include "work_args.h"
 
 namespace vrpd::detail {
 
@@ -65,7 +65,7 @@ FieldVulkan::FieldVulkan(const SampleOptions& o, std::uint32_t budget, std::uint
       VRPD_KERNEL(field_emit, FieldArgs, WORKGROUP_SIZE, variant_of(o)),
       VRPD_KERNEL(field_touch, FieldArgs, WORKGROUP_SIZE, variant_of(o)),
       VRPD_KERNEL(field_place, FieldArgs, WORKGROUP_SIZE, variant_of(o)),
-      VRPD_KERNEL(field_work_args, FieldArgs, 1),
+      VRPD_KERNEL(work_args, WorkArgs, 1),
       density_(o.sizing->weighting == Weighting::Density) {
     if (o.profile) ctx_.start_profile();
     gate_ = Buffer(ctx_, VulkanContext::kGateDispatches * 12, true);
@@ -271,7 +271,7 @@ bool FieldVulkan::throw_and_resolve(std::uint32_t round, std::uint32_t stamp) {
     dispatch_counted(field_first_darts_, d, thrown, kKeptTotal);
     // Each pass reads one pair of summary regions and writes the other, emptied before it. The
     // first and the one before it read every dart; the others, the work list the pass before
-    // left (`reads` - 1), dispatched from its counter slots (field_work_args.comp).
+    // left (`reads` - 1), dispatched from its counter slots (work_args.comp).
     auto pass = [&](std::uint32_t writes, bool first, std::uint32_t reads) {
         ctx_.vk().vkCmdFillBuffer(ctx_.recording(), raw_.handle(), writes * thrown * 8, thrown * 8, UINT32_MAX);
         FieldArgs r = d;
@@ -283,15 +283,13 @@ bool FieldVulkan::throw_and_resolve(std::uint32_t round, std::uint32_t stamp) {
             ctx_.barrier();
             dispatch_counted(field_resolve_, r, thrown, kKeptTotal);
         } else {
-            FieldArgs w = args();
-            w.p0 = reads - 1;
-            w.p1 = resolve_groups_;
-            w.p2 = WORKGROUP_SIZE;
-            dispatch(field_work_args_, w, 0, 1);
+            const std::uint32_t slot = FIELD_COUNTER_WORK + 4 * (reads - 1);
+            WorkArgs w{counters_.address(), slot, FIELD_COUNTER_WORK + 4 * (2 - reads), resolve_groups_};
+            ctx_.dispatch(work_args_, &w, 1);
             ctx_.barrier();
             r.count = FIELD_COUNTED | kKeptTotal;
             r.first = 0;
-            ctx_.dispatch_indirect(field_resolve_, &r, counters_, (FIELD_COUNTER_WORK + 4 * (reads - 1)) * 4);
+            ctx_.dispatch_indirect(field_resolve_, &r, counters_, slot * 4);
         }
         ctx_.barrier();
     };

@@ -118,10 +118,10 @@ private:
     Primitives primitives_;
     Kernel field_histogram_, field_fates_, field_balance_, field_scatter_, field_count_darts_, field_throw_,
         field_compact_, field_first_darts_, field_resolve_, field_unmark_, field_accepted_, field_emit_, field_touch_,
-        field_place_, field_work_args_;
+        field_place_, work_args_;
     bool density_;
     std::uint32_t budget_;        // the search steps an invocation may take
-    std::uint32_t resolve_groups_;  // the most workgroups of a resolution pass over a work list
+    std::uint32_t resolve_groups_;  // the most workgroups in a row of a resolution pass over a work list
     std::vector<Buffer> tables_;  // the table's arrays
     Buffer run_, roots_, nodes_, node_keys_, leaf_sample_, leaf_first_, touched_, points_, radii_;
     Buffer gate_;       // the commands of gated dispatches (VulkanContext::open_gate)
