@@ -140,8 +140,8 @@ Sampling FieldVulkan::run(const FieldTable& table, const FieldQuadtree& tree, co
     return s;
 }
 
-FieldDevice::FieldDevice(const SampleOptions& o, std::uint32_t budget, std::uint32_t resolve_groups)
-    : impl_(std::make_unique<FieldVulkan>(o, budget, resolve_groups)), threads_(o.threads) {}
+FieldDevice::FieldDevice(const SampleOptions& o, std::uint32_t budget, std::uint32_t work_groups)
+    : impl_(std::make_unique<FieldVulkan>(o, budget, work_groups)), threads_(o.threads) {}
 FieldDevice::~FieldDevice() = default;
 
 Sampling FieldDevice::run(const FieldTable& t, std::uint64_t max_leaves, const std::vector<glm::uvec2>& given,

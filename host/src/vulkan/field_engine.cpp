@@ -44,7 +44,7 @@ std::uint32_t FieldVulkan::variant_of(const SampleOptions& o) {
                          o.sizing->weighting == Weighting::Density);
 }
 
-FieldVulkan::FieldVulkan(const SampleOptions& o, std::uint32_t budget, std::uint32_t resolve_groups)
+FieldVulkan::FieldVulkan(const SampleOptions& o, std::uint32_t budget, std::uint32_t work_groups)
     : o_(o),
       lease_(o.device, o.vulkan),
       ctx_(lease_.get()),
@@ -70,7 +70,7 @@ FieldVulkan::FieldVulkan(const SampleOptions& o, std::uint32_t budget, std::uint
     if (o.profile) ctx_.start_profile();
     gate_ = Buffer(ctx_, VulkanContext::kGateDispatches * 12, true);
     exp_table_ = Buffer(ctx_, 128 * 4, true);
-    resolve_groups_ = resolve_groups != 0 ? resolve_groups : kMaxGroups;
+    work_groups_ = work_groups != 0 ? work_groups : kMaxWorkgroups;
     budget_ = budget != 0                                                ? budget
               : ctx_.device_name().find("llvmpipe") != std::string::npos ? kLavapipeBudget
                                                                          : UINT32_MAX - 1;
@@ -284,7 +284,7 @@ bool FieldVulkan::throw_and_resolve(std::uint32_t round, std::uint32_t stamp) {
             dispatch_counted(field_resolve_, r, thrown, kKeptTotal);
         } else {
             const std::uint32_t slot = FIELD_COUNTER_WORK + 4 * (reads - 1);
-            WorkArgs w{counters_.address(), slot, FIELD_COUNTER_WORK + 4 * (2 - reads), resolve_groups_};
+            WorkArgs w{counters_.address(), slot, FIELD_COUNTER_WORK + 4 * (2 - reads), work_groups_};
             ctx_.dispatch(work_args_, &w, 1);
             ctx_.barrier();
             r.count = FIELD_COUNTED | kKeptTotal;

@@ -28,7 +28,7 @@ namespace vrpd::detail {
 class FieldVulkan {
 public:
     // On the options' device (or the application's); `budget`: FieldDevice's.
-    FieldVulkan(const SampleOptions& o, std::uint32_t budget, std::uint32_t resolve_groups);
+    FieldVulkan(const SampleOptions& o, std::uint32_t budget, std::uint32_t work_groups);
 
     // One run (a hierarchy's level) on the field t and its leaves, from `given` (FieldDevice::run).
     Sampling run(const FieldTable& t, const FieldQuadtree& tree, const std::vector<glm::uvec2>& given,
@@ -36,7 +36,6 @@ public:
     VulkanContext& context() { return ctx_; }
 
 private:
-    static constexpr std::uint32_t kMaxGroups = 65535;  // the least maxComputeWorkGroupCount[0] Vulkan allows
     // The kernels' variant (kernel.h) for the run's rule, box and weighting (shared/field_run.h).
     static std::uint32_t variant_of(const SampleOptions& o);
     // Counter slots of the scans' totals.
@@ -48,7 +47,7 @@ private:
     static T device_ref(std::uint64_t address) {
         return T{reinterpret_cast<decltype(T::value)>(address)};
     }
-    // Records kernel k over items [begin, end) (chunks of at most kMaxGroups workgroups).
+    // Records kernel k over items [begin, end) (chunks of at most kMaxWorkgroups workgroups).
     void dispatch(const Kernel& k, shared::FieldArgs args, std::uint64_t begin, std::uint64_t end) {
         args.count = std::uint32_t(end);
         record(k, args, begin, end);
@@ -60,12 +59,12 @@ private:
         record(k, args, 0, bound);
     }
     void record(const Kernel& k, shared::FieldArgs args, std::uint64_t begin, std::uint64_t end) {
-        for (std::uint64_t from = begin; from < end; from += std::uint64_t(kMaxGroups) * shared::WORKGROUP_SIZE) {
+        for (std::uint64_t from = begin; from < end; from += std::uint64_t(kMaxWorkgroups) * shared::WORKGROUP_SIZE) {
             args.first = std::uint32_t(from);
-            ctx_.dispatch(
-                k, &args,
-                dispatch_groups(std::min<std::uint64_t>(end - from, std::uint64_t(kMaxGroups) * shared::WORKGROUP_SIZE),
-                                shared::WORKGROUP_SIZE));
+            ctx_.dispatch(k, &args,
+                          dispatch_groups(std::min<std::uint64_t>(
+                                              end - from, std::uint64_t(kMaxWorkgroups) * shared::WORKGROUP_SIZE),
+                                          shared::WORKGROUP_SIZE));
         }
     }
     shared::FieldArgs args() const {
@@ -121,7 +120,7 @@ private:
         field_place_, work_args_;
     bool density_;
     std::uint32_t budget_;        // the search steps an invocation may take
-    std::uint32_t resolve_groups_;  // the most workgroups in a row of a resolution pass over a work list
+    std::uint32_t work_groups_;   // the most workgroups in a row of a resolution pass over a work list
     std::vector<Buffer> tables_;  // the table's arrays
     Buffer run_, roots_, nodes_, node_keys_, leaf_sample_, leaf_first_, touched_, points_, radii_;
     Buffer gate_;       // the commands of gated dispatches (VulkanContext::open_gate)

@@ -35,6 +35,9 @@ private:
 }  // namespace vrpd::detail
 
 namespace vrpd::detail {
+// The least maxComputeWorkGroupCount Vulkan allows in each dimension: a dispatch's row of
+// workgroups holds at most this many.
+inline constexpr std::uint32_t kMaxWorkgroups = 65535;
 // Workgroups of `per_group` invocations that cover n items.
 inline std::uint32_t dispatch_groups(std::uint64_t n, std::uint32_t per_group) {
     return std::uint32_t((n + per_group - 1) / per_group);

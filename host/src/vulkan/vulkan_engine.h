@@ -22,14 +22,11 @@ public:
     // Resolution passes recorded in one submit: most rounds end within 8, and a pass with no dart
     // left is three dispatches of no work (indirect, zero groups), far cheaper than a round trip.
     static constexpr std::uint32_t kResolvePassesPerSubmit = 8;
-    // The most workgroups in a row of a pass over a work list: the least maxComputeWorkGroupCount
-    // Vulkan allows (a longer list takes several rows, work_args.comp).
-    static constexpr std::uint32_t kWorkGroups = 65535;
     // On the device `selector` picks, or on the application's (target, if not null). Tests set
     // fewer passes a submit to make gated round ends wait for later submits, and fewer workgroups
     // a row to make a pass take several rows.
     VulkanEngine(const Plan& plan, const std::string& selector, const VulkanTarget* target = nullptr,
-                 std::uint32_t passes_per_submit = kResolvePassesPerSubmit, std::uint32_t work_groups = kWorkGroups);
+                 std::uint32_t passes_per_submit = kResolvePassesPerSubmit, std::uint32_t work_groups = kMaxWorkgroups);
     std::string device_name() const override { return ctx_.device_name(); }
     void start_profile() override { ctx_.start_profile(); }
     std::vector<PhaseTime> profile() const override { return ctx_.profile(); }
