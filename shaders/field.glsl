@@ -44,21 +44,23 @@ uint field_weight(FieldRun run, uvec2 corner, uint bits) {
 
 // An active list holds a cell in 8 bytes, as the host's does: its corner's y, and its x with the
 // side as 2 x + 2^bits, whose lowest set bit is bit `bits`. Its weight is found again from the
-// table. Cell i of `list` as (corner, side's bits, weight):
-uvec4 field_cell(FieldRun run, uint64_t list, uint i) {
+// table. Cell i of `list` as (corner, side's bits), and as (corner, side's bits, weight):
+uvec3 field_cell_block(uint64_t list, uint i) {
     uvec2 word = FieldCellWords(list).value[i];
-    uint bits = uint(findLSB(word.x));
-    uvec2 corner = uvec2((word.x & (word.x - 1u)) >> 1u, word.y);
-    return uvec4(corner, bits, field_weight(run, corner, bits));
+    return uvec3((word.x & (word.x - 1u)) >> 1u, word.y, uint(findLSB(word.x)));
+}
+uvec4 field_cell(FieldRun run, uint64_t list, uint i) {
+    uvec3 block = field_cell_block(list, i);
+    return uvec4(block, field_weight(run, block.xy, block.z));
 }
 void field_put_cell(uint64_t list, uint i, uvec4 cell) {
     FieldCellWords(list).value[i] = uvec2(2u * cell.x + (1u << cell.z), cell.y);
 }
 
-// The end of item i's range in an exclusive prefix sum `scan` of a.count items whose total is
+// The end of item i's range in an exclusive prefix sum `scan` of `count` items whose total is
 // `total`: the next item's start, or the total after the last.
-uint field_scan_end(FieldWords scan, uint i, uint total) {
-    return i + 1u < a.count ? scan.value[i + 1u] : total;
+uint field_scan_end(FieldWords scan, uint i, uint count, uint total) {
+    return i + 1u < count ? scan.value[i + 1u] : total;
 }
 
 // Sets (on) or clears `flag` on the node words from the tile's root down to the leaf holding p.

@@ -14,7 +14,7 @@ void main() {
     }
     FieldWords ranks = FieldWords(a.words0);
     uint at = ranks.value[j];
-    uint next = field_scan_end(ranks, j, a.p1);
+    uint next = field_scan_end(ranks, j, a.count, a.p1);
     if (next == at) return;
     FieldWords(a.words2).value[at] = FieldCells(a.cells).value[j].z;
     FieldPairs(a.target).value[at] = uvec2(j, 0u);

@@ -9,6 +9,6 @@ void main() {
     if (i >= a.count) return;
     FieldWords ranks = FieldWords(a.words0);
     uint at = ranks.value[i];
-    uint next = field_scan_end(ranks, i, field_value(a.p0));
+    uint next = field_scan_end(ranks, i, a.count, field_value(a.p0));
     if (next > at) FieldCells(a.target).value[at] = FieldCells(a.cells).value[i];
 }

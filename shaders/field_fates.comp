@@ -7,37 +7,38 @@
 // children). The variant FIELD_VARIANT_BALANCE balances the list, the
 // other refines it after a round (each is half the code, which llvmpipe runs whole).
 // Balancing splits the cells whose biased exponent is p2 or more (and whose side is above one
-// lattice unit); the children a sample covers drop. Refining drops a cell that a sample of this
-// round covers or whose leaf holds a sample, keeps one that took no dart (or of one lattice
-// unit), and splits the others (words2: the round's dart counts, scanned; their total in p2;
-// p3: the round's stamp in FieldRun::touched).
+// lattice unit); the children a sample covers drop. Refining takes the cells field_triage.comp
+// listed (in target, their number in counter slot FIELD_COUNTER_WORK + 3, dispatched by
+// work_args.comp; p1 cells in all): it drops a cell that a sample of this round covers, keeps one
+// that took no dart (or of one lattice unit), and splits the others
+// (words2: the round's dart counts, scanned; their total in p2; p3: the round's stamp in
+// FieldRun::touched).
 
 void main() {
-    uint i = field_item();
-    if (i >= a.count) return;
+    bool balance = (FIELD_VARIANT & FIELD_VARIANT_BALANCE) != 0u;
+    uint k = balance ? field_item() : work_item();
+    if (k >= (balance ? a.count : FieldWords(a.counters).value[FIELD_COUNTER_WORK + 3u])) return;
+    uint i = balance ? k : FieldWords(a.target).value[k];
     FieldRun run = field_run();
     uvec4 cell = field_cell(run, a.cells, i);
     FieldBudget budget = FieldBudget(run.budget, 0u);
     uint fate = FIELD_KEEP;
-    if ((FIELD_VARIANT & FIELD_VARIANT_BALANCE) != 0u) {
+    if (balance) {
         if (cell.z > 0u && field_exponent(cell) >= a.p2)
             fate = FIELD_SPLIT | field_open_children(run, cell.xy, cell.z, budget);
     } else {
         FieldWords offsets = FieldWords(a.words2);
-        uint end = field_scan_end(offsets, i, a.p2);
-        bool got = end > offsets.value[i];
-        uint leaf = field_leaf_at(run.tree, cell.xy).x;
-        // Only a cell that took darts, or that one of this round's samples is near (touched this
-        // round, p3), can change.
-        bool near = run.touched.value[leaf] == a.p3;
-        if (near || got) {
-            uvec2 far = field_far_corner(run.lattice, cell.xy, cell.z);
-            if (run.leaf_sample.value[leaf] != FIELD_NO_SAMPLE ||
-                (near && field_covered(run, cell.xy, far, FIELD_FRESH, budget)))
-                fate = 0u;
-            else if (got && cell.z > 0u)
-                fate = FIELD_SPLIT | field_open_children(run, cell.xy, cell.z, budget);
-        }
+        bool got = field_scan_end(offsets, i, a.p1, a.p2) > offsets.value[i];
+        uvec2 leaf = field_leaf_at(run.tree, cell.xy);
+        // Only a cell smaller than its leaf searches for a cover by this round's samples (touched
+        // this round, p3); field_triage.comp settled the others, and the cells whose leaf holds a
+        // sample.
+        bool near = run.touched.value[leaf.x] >> 1u == a.p3 && cell.z < leaf.y;
+        uvec2 far = field_far_corner(run.lattice, cell.xy, cell.z);
+        if (near && field_covered(run, cell.xy, far, FIELD_FRESH, budget))
+            fate = 0u;
+        else if (got && cell.z > 0u)
+            fate = FIELD_SPLIT | field_open_children(run, cell.xy, cell.z, budget);
     }
     field_note_budget(budget);
     if ((fate & FIELD_SPLIT) != 0u) atomicAdd(FieldWords(a.counters).value[FIELD_COUNTER_SPLITS], 1u);

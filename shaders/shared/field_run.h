@@ -57,8 +57,9 @@ struct FieldRun {
     FieldWords leaf_sample;  // per leaf: its sample, or FIELD_NO_SAMPLE
     FieldPoints points;      // per sample: its lattice point
     FieldWords radii;        // and its r
-    // Per leaf, the last round (from 1) one of whose samples may cover part of it, or conflict
-    // with a point of it (field_touch.comp); 0 if none has yet.
+    // Per leaf, the last round's stamp k (from 1) one of whose samples may cover part of it, or
+    // conflict with a point of it (field_touch.comp): 2 k + 1 where one of them covers all of it,
+    // else 2 k; 0 if none has yet.
     FieldWords touched;
     // Per inner node of the tree (at its children's index / 4), the least arrival key of the
     // round's darts below it (field_resolve.comp), for FieldGate.

@@ -17,6 +17,7 @@
 #include "field_scatter.h"
 #include "field_throw.h"
 #include "field_touch.h"
+#include "field_triage.h"
 #include "field_unmark.h"
 #include "vulkan/field_vulkan.h"
 #include "work_args.h"
@@ -65,6 +66,7 @@ FieldVulkan::FieldVulkan(const SampleOptions& o, std::uint32_t budget, std::uint
       VRPD_KERNEL(field_emit, FieldArgs, WORKGROUP_SIZE, variant_of(o)),
       VRPD_KERNEL(field_touch, FieldArgs, WORKGROUP_SIZE, variant_of(o)),
       VRPD_KERNEL(field_place, FieldArgs, WORKGROUP_SIZE, variant_of(o)),
+      VRPD_KERNEL(field_triage, FieldArgs, WORKGROUP_SIZE, variant_of(o)),
       VRPD_KERNEL(work_args, WorkArgs, 1),
       density_(o.sizing->weighting == Weighting::Density) {
     if (o.profile) ctx_.start_profile();
@@ -132,6 +134,7 @@ double FieldVulkan::weighted_area(const ExponentCounts& e) {
 void FieldVulkan::reserve_refinement() {
     grow(ctx_, fates_, active_ * 4);
     grow(ctx_, counts_, active_ * 4);
+    grow(ctx_, searches_, active_ * 4);
     primitives_.reserve_scan(active_);
 }
 
@@ -149,7 +152,20 @@ bool FieldVulkan::refine_list(std::uint32_t mode, std::uint32_t param, std::uint
     a.words2 = darts_offsets;
     a.p2 = param;
     a.p3 = stamp;
-    dispatch(mode == 0 ? field_balance_ : field_fates_, a, 0, active_);
+    if (mode == 0) {
+        dispatch(field_balance_, a, 0, active_);
+    } else {
+        // The cells whose fate needs a search listed, and those alone dispatched to field_fates.
+        a.target = searches_.address();
+        dispatch(field_triage_, a, 0, active_);
+        ctx_.barrier();
+        const WorkArgs w{counters_.address(), FIELD_COUNTER_WORK, FIELD_COUNTER_WORK + 4, work_groups_};
+        ctx_.dispatch(work_args_, &w, 1);
+        ctx_.barrier();
+        a.first = 0;
+        a.p1 = std::uint32_t(active_);
+        ctx_.dispatch_indirect(field_fates_, &a, counters_, FIELD_COUNTER_WORK * 4);
+    }
     ctx_.barrier();
     primitives_.scan(counts_.address(), active_, kCellsTotal);
     // Scatter into the next list; it counts the cells per exponent and their least side afresh.

@@ -117,7 +117,7 @@ private:
     Primitives primitives_;
     Kernel field_histogram_, field_fates_, field_balance_, field_scatter_, field_count_darts_, field_throw_,
         field_compact_, field_first_darts_, field_resolve_, field_unmark_, field_accepted_, field_emit_, field_touch_,
-        field_place_, work_args_;
+        field_place_, field_triage_, work_args_;
     bool density_;
     std::uint32_t budget_;        // the search steps an invocation may take
     std::uint32_t work_groups_;   // the most workgroups in a row of a resolution pass over a work list
@@ -126,6 +126,7 @@ private:
     Buffer gate_;       // the commands of gated dispatches (VulkanContext::open_gate)
     Buffer exp_table_;  // the round's exp(-rate 2^k) table (field::exp_neg_table), host-visible
     Buffer cells_, next_, fates_, counts_, offsets_, raw_, flags_, darts_, states_, pairs_, keys_;
+    Buffer searches_;  // the refinement's work list: the cells whose fate needs a search
     std::uint64_t active_ = 0, samples_ = 0, capacity_ = 0, darts_thrown_ = 0, thrown_ = 0;  // thrown_: this round's
     std::uint32_t least_bits_ = UINT32_MAX;
     shared::FieldRun run_args_{};

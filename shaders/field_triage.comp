@@ -1,0 +1,35 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+#include "common.glsl"
+#include "field.glsl"
+// The fates field_fates.comp would give the active cells that need no search, from their leaf's
+// sample and stamp (FieldRun::touched) and their darts, written as field_fates writes them (words1,
+// and words0 for the scan); the others listed in `target` (their number in counter slot
+// FIELD_COUNTER_WORK + 3) for field_fates. A cell whose leaf one of this round's samples covers
+// whole is covered; a cell that is its whole leaf, stamped but not so, is covered by none of
+// them. So only a smaller cell near this round's samples searches for a cover, and only a cell
+// that took darts and stays open searches for its children's covers (splits). Kept apart from
+// field_fates, whose searches llvmpipe would run for every SIMD batch of 8 cells that one of them
+// reaches. words2: the round's dart counts, scanned (their total in p2); p3: the round's stamp.
+void main() {
+    uint i = field_item();
+    if (i >= a.count) return;
+    FieldRun run = field_run();
+    uvec3 cell = field_cell_block(a.cells, i);
+    FieldWords offsets = FieldWords(a.words2);
+    bool got = field_scan_end(offsets, i, a.count, a.p2) > offsets.value[i];
+    uvec2 leaf = field_leaf_at(run.tree, cell.xy);
+    uint stamp = run.touched.value[leaf.x];
+    bool near = stamp >> 1u == a.p3;
+    uint fate = FIELD_KEEP;
+    if (near || got) {
+        if (run.leaf_sample.value[leaf.x] != FIELD_NO_SAMPLE || stamp == 2u * a.p3 + 1u) {
+            fate = 0u;
+        } else if ((near && cell.z < leaf.y) || (got && cell.z > 0u)) {
+            FieldWords(a.target).value[atomicAdd(FieldWords(a.counters).value[FIELD_COUNTER_WORK + 3u], 1u)] = i;
+            return;
+        }
+    }
+    FieldWords(a.words1).value[i] = fate;
+    FieldWords(a.words0).value[i] = fate == FIELD_KEEP ? 1u : 0u;
+}
