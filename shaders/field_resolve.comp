@@ -41,6 +41,9 @@ FieldWords pair_word(uint pair, uint which) {
 
 FieldWords work_list(uint k) { return FieldWords(a.target + uint64_t(4u + k) * uint64_t(a.p2) * 4u); }
 
+// Dart j's r (field_first_darts.comp).
+uint dart_radius(uint j) { return FieldWords(a.target + uint64_t(6u * a.p2) * 4u).value[j]; }
+
 // Counts dart (key) among the undecided darts of the leaf at `slot` for the next pass.
 void record(uint slot, uint key) {
     if (atomicMin(pair_word(a.p1, 0u).value[slot], key) == key) atomicMin(pair_word(a.p1, 1u).value[slot], key);
@@ -69,7 +72,7 @@ void resolve(uint j, uint count) {
     FieldRun run = field_run();
     FieldBudget budget = FieldBudget(run.budget, 0u);
     if (!rejected) {
-        uint r = field_radius(run.table, d.xy);
+        uint r = dart_radius(j);
         FieldSearch s = field_run_search(run, d.xy, d.xy, uint64_t(field_reach(run, d.xy, d.xy, r)), FIELD_FRESH, budget);
         // Only the subtrees with a dart that arrives before this one, within the rule's reach.
         field_run_gate(run, s, d.xy, r, 0u);
@@ -84,7 +87,7 @@ void resolve(uint j, uint count) {
                 // The leaf's other darts are rejected, or will be.
                 uvec4 o = darts.value[taken - 1u];
                 rejected = arrives_before(o.z, taken - 1u, d.z, j) &&
-                           field_conflict(rule_f(run.rule, field_radius(run.table, o.xy), r),
+                           field_conflict(rule_f(run.rule, dart_radius(taken - 1u), r),
                                           distance2(run.lattice, o.xy, d.xy));
                 continue;
             }
@@ -103,7 +106,7 @@ void resolve(uint j, uint count) {
                 uint state = states.value[k];
                 if (state == DART_REJECTED) continue;
                 if (!mine &&
-                    !field_conflict(rule_f(run.rule, field_radius(run.table, o.xy), r), distance2(run.lattice, o.xy, d.xy)))
+                    !field_conflict(rule_f(run.rule, dart_radius(k), r), distance2(run.lattice, o.xy, d.xy)))
                     continue;
                 if (state == DART_ACCEPTED) {
                     rejected = true;

@@ -249,9 +249,9 @@ bool FieldVulkan::throw_and_resolve(std::uint32_t round, std::uint32_t stamp) {
     if (thrown == 0) return false;
     // The throw: every dart at its slot, flagged if it stays; the kept ones compacted in order and
     // resolved in the same submit, their count on the device (FIELD_COUNTED), their arrays sized
-    // for every dart thrown (raw_: the thrown darts, then the resolution's summaries and work
-    // lists, field_resolve.comp).
-    grow(ctx_, raw_, thrown * 24);
+    // for every dart thrown (raw_: the thrown darts, then the resolution's summaries, work lists
+    // and the darts' r, field_resolve.comp).
+    grow(ctx_, raw_, thrown * 28);
     grow(ctx_, flags_, thrown * 4);
     grow(ctx_, darts_, thrown * 16);
     grow(ctx_, states_, thrown * 4);
