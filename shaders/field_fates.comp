@@ -7,18 +7,18 @@
 // children). The variant FIELD_VARIANT_BALANCE balances the list, the
 // other refines it after a round (each is half the code, which llvmpipe runs whole).
 // Balancing splits the cells whose biased exponent is p2 or more (and whose side is above one
-// lattice unit); the children a sample covers drop. Refining takes the cells field_triage.comp
-// listed (in target, their number in counter slot FIELD_COUNTER_WORK + 3, dispatched by
-// work_args.comp; p1 cells in all): it drops a cell that a sample of this round covers, keeps one
-// that took no dart (or of one lattice unit), and splits the others
+// lattice unit); the children a sample covers drop. Refining takes one of the lists
+// field_triage.comp made (in target, dispatched by work_args.comp; p0 = 0 the cells that search
+// for a cover, p0 = 1 the others; p1 cells in all): it drops a cell that a sample of this round
+// covers, keeps one that took no dart (or of one lattice unit), and splits the others
 // (words2: the round's dart counts, scanned; their total in p2; p3: the round's stamp in
 // FieldRun::touched).
 
 void main() {
     bool balance = (FIELD_VARIANT & FIELD_VARIANT_BALANCE) != 0u;
     uint k = balance ? field_item() : work_item();
-    if (k >= (balance ? a.count : FieldWords(a.counters).value[FIELD_COUNTER_WORK + 3u])) return;
-    uint i = balance ? k : FieldWords(a.target).value[k];
+    if (k >= (balance ? a.count : FieldWords(a.counters).value[FIELD_COUNTER_WORK + 4u * a.p0 + 3u])) return;
+    uint i = balance ? k : FieldWords(a.target).value[a.p0 == 0u ? k : a.p1 - 1u - k];
     FieldRun run = field_run();
     uvec4 cell = field_cell(run, a.cells, i);
     FieldBudget budget = FieldBudget(run.budget, 0u);

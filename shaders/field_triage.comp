@@ -4,13 +4,15 @@
 #include "field.glsl"
 // The fates field_fates.comp would give the active cells that need no search, from their leaf's
 // sample and stamp (FieldRun::touched) and their darts, written as field_fates writes them (words1,
-// and words0 for the scan); the others listed in `target` (their number in counter slot
-// FIELD_COUNTER_WORK + 3) for field_fates. A cell whose leaf one of this round's samples covers
-// whole is covered; a cell that is its whole leaf, stamped but not so, is covered by none of
-// them. So only a smaller cell near this round's samples searches for a cover, and only a cell
-// that took darts and stays open searches for its children's covers (splits). Kept apart from
-// field_fates, whose searches llvmpipe would run for every SIMD batch of 8 cells that one of them
-// reaches. words2: the round's dart counts, scanned (their total in p2); p3: the round's stamp.
+// and words0 for the scan); the others listed in `target` for field_fates. A cell whose leaf one
+// of this round's samples covers whole is covered; a cell that is its whole leaf, stamped but not
+// so, is covered by none of them. So only a smaller cell near this round's samples searches for a
+// cover (listed from the front, their number in counter slot FIELD_COUNTER_WORK + 3), and only a
+// cell that took darts and stays open searches for its children's covers to split (listed from
+// the back, item a.count - 1 - k, their number in slot FIELD_COUNTER_WORK + 7). Kept apart from
+// field_fates, and the two kinds apart from each other, since llvmpipe runs a search's code for
+// every SIMD batch of 8 cells that one of them reaches. words2: the round's dart counts, scanned
+// (their total in p2); p3: the round's stamp.
 void main() {
     uint i = field_item();
     if (i >= a.count) return;
@@ -25,8 +27,12 @@ void main() {
     if (near || got) {
         if (run.leaf_sample.value[leaf.x] != FIELD_NO_SAMPLE || stamp == 2u * a.p3 + 1u) {
             fate = 0u;
-        } else if ((near && cell.z < leaf.y) || (got && cell.z > 0u)) {
+        } else if (near && cell.z < leaf.y) {
             FieldWords(a.target).value[atomicAdd(FieldWords(a.counters).value[FIELD_COUNTER_WORK + 3u], 1u)] = i;
+            return;
+        } else if (got && cell.z > 0u) {
+            uint k = atomicAdd(FieldWords(a.counters).value[FIELD_COUNTER_WORK + 7u], 1u);
+            FieldWords(a.target).value[a.count - 1u - k] = i;
             return;
         }
     }

@@ -4,7 +4,7 @@
 #include "shared/sampler.h"
 layout(local_size_x_id = 0) in;
 // One invocation: the indirect dispatch for a work list (workgroups of WORKGROUP_SIZE in rows of
-// at most a.max_groups), and an empty list to append to.
+// at most a.max_groups), and an empty list to append to (none where other_slot is slot).
 layout(push_constant) uniform Push { WorkArgs a; };
 
 void main() {
@@ -14,5 +14,5 @@ void main() {
     a.counters.value[a.slot] = row;
     a.counters.value[a.slot + 1u] = row == 0u ? 1u : groups / row + (groups % row != 0u ? 1u : 0u);
     a.counters.value[a.slot + 2u] = 1u;
-    a.counters.value[a.other_slot + 3u] = 0u;
+    if (a.other_slot != a.slot) a.counters.value[a.other_slot + 3u] = 0u;
 }

@@ -205,7 +205,7 @@ static_assert(sizeof(SortArgs) == 56 && offsetof(SortArgs, count) == 40);
 
 // work_args: turns a work list's count into its indirect dispatch, rows of at most max_groups
 // workgroups (the device's limit; work_item() numbers the invocations), and empties the other
-// list.
+// list (none where other_slot is slot).
 struct WorkArgs {
     VRPD_BUFFER(Uints) counters;
     uint slot;

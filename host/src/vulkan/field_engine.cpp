@@ -155,16 +155,23 @@ bool FieldVulkan::refine_list(std::uint32_t mode, std::uint32_t param, std::uint
     if (mode == 0) {
         dispatch(field_balance_, a, 0, active_);
     } else {
-        // The cells whose fate needs a search listed, and those alone dispatched to field_fates.
+        // The cells whose fate needs a search listed, those that search for a cover apart from
+        // those that only split, and each list dispatched to field_fates.
         a.target = searches_.address();
         dispatch(field_triage_, a, 0, active_);
         ctx_.barrier();
-        const WorkArgs w{counters_.address(), FIELD_COUNTER_WORK, FIELD_COUNTER_WORK + 4, work_groups_};
-        ctx_.dispatch(work_args_, &w, 1);
+        for (std::uint32_t list = 0; list < 2; ++list) {
+            const std::uint32_t slot = FIELD_COUNTER_WORK + 4 * list;
+            const WorkArgs w{counters_.address(), slot, slot, work_groups_};
+            ctx_.dispatch(work_args_, &w, 1);
+        }
         ctx_.barrier();
         a.first = 0;
         a.p1 = std::uint32_t(active_);
-        ctx_.dispatch_indirect(field_fates_, &a, counters_, FIELD_COUNTER_WORK * 4);
+        for (std::uint32_t list = 0; list < 2; ++list) {
+            a.p0 = list;
+            ctx_.dispatch_indirect(field_fates_, &a, counters_, (FIELD_COUNTER_WORK + 4 * list) * 4);
+        }
     }
     ctx_.barrier();
     primitives_.scan(counts_.address(), active_, kCellsTotal);
