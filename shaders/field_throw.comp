@@ -6,8 +6,10 @@
 // field_count_darts.comp; words0: the p3 cells' dart counts' offsets, scanned, their total in p2),
 // written at their slots in `target` as (point, key, leaf), each with a flag in words1: 1 if it
 // stays, 0 if it falls outside the lattice, is thinned by Eq. 12, lands in a leaf with a
-// sample or conflicts with one. p0: the round's key. The cells without darts, most of them at 0.3
-// darts a cell, take no invocation (llvmpipe runs the whole kernel for each SIMD batch).
+// sample or conflicts with one: the leaf's hint first (FieldRun::leaf_first, a sample where it
+// is below p1, the samples' count), then by a search, whose find becomes the hint. p0: the
+// round's key. The cells without darts, most of them at 0.3 darts a cell, take no invocation
+// (llvmpipe runs the whole kernel for each SIMD batch).
 void main() {
     uint item = field_item();
     if (item >= a.count) return;
@@ -30,8 +32,21 @@ void main() {
         uint stays = 0u;
         if (!taken && in_lattice(run.lattice, p)) {
             uint r = field_radius(run.table, p);
-            if (!FIELD_DENSITY || keep_weighted(hash_mix(hash_mix(stream, 0xD1B54A35u), j), bound, r))
-                stays = untouched || !field_conflicts(run, p, r, budget) ? 1u : 0u;
+            if (!FIELD_DENSITY || keep_weighted(hash_mix(hash_mix(stream, 0xD1B54A35u), j), bound, r)) {
+                stays = 1u;
+                if (!untouched) {
+                    uint hint = run.leaf_first.value[leaf];
+                    if (hint < a.p1 && field_conflicts_with(run, hint, p, r)) {
+                        stays = 0u;
+                    } else {
+                        uint x = field_conflicting(run, p, r, budget);
+                        if (x != FIELD_NO_SAMPLE) {
+                            stays = 0u;
+                            run.leaf_first.value[leaf] = x;
+                        }
+                    }
+                }
+            }
         }
         FieldCells(a.target).value[first + j] = uvec4(p, d.z, leaf);
         FieldWords(a.words1).value[first + j] = stays;

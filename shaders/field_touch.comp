@@ -25,6 +25,7 @@ void main() {
         uint lo = run.rule == RULE_PRIOR ? 0u : field_min_over(run.table, corner, far);
         uint whole = field_covers(run, i, lo, corner, far) ? 1u : 0u;
         atomicMax(run.touched.value[leaf], 2u * a.p0 + whole);
+        run.leaf_first.value[leaf] = i;  // a hint for the throw: a sample near the leaf
     }
     field_run_spend(s, budget);
     field_note_budget(budget);

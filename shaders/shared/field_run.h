@@ -64,6 +64,12 @@ struct FieldRun {
     // Per inner node of the tree (at its children's index / 4), the least arrival key of the
     // round's darts below it (field_resolve.comp), for FieldGate.
     FieldWords keys;
+    // Per leaf, while a round's darts are resolved, the first of them in it, where it holds some
+    // (field_first_darts.comp); between resolutions, a sample near it (FIELD_NO_SAMPLE: none
+    // yet), which the throw tests a dart against before it searches: one that stamped the leaf
+    // (field_touch.comp) or rejected a dart there. A first dart's index left over stands for a
+    // sample too where it is below the samples' count (any sample's test is a true one).
+    FieldWords leaf_first;
 };
 
 // The push constants of the field sampler's kernels (shaders/field_*.comp): the run, the buffers
@@ -230,15 +236,21 @@ VRPD_FN bool field_covers(VRPD_IN(FieldRun) run, uint s, uint lo, uvec2 a, uvec2
     return field_conflict(f, far_distance2(run.lattice, run.points.value[s], a, b));
 }
 
-// Does a sample conflict with point p of radius r, a later point? (p's leaf holds no sample.)
-VRPD_FN bool field_conflicts(VRPD_IN(FieldRun) run, uvec2 p, uint r, VRPD_INOUT(FieldBudget) budget) {
+// Does sample x conflict with point p of radius r, a later point?
+VRPD_FN bool field_conflicts_with(VRPD_IN(FieldRun) run, uint x, uvec2 p, uint r) {
+    return field_conflict(rule_f(run.rule, run.radii.value[x], r), distance2(run.lattice, run.points.value[x], p));
+}
+
+// A sample in conflict with point p of radius r, a later point, or FIELD_NO_SAMPLE. (p's leaf
+// holds no sample.)
+VRPD_FN uint field_conflicting(VRPD_IN(FieldRun) run, uvec2 p, uint r, VRPD_INOUT(FieldBudget) budget) {
     FieldSearch s = field_run_search(run, p, p, uint64_t(field_reach(run, p, p, r)), FIELD_OCCUPIED, budget);
-    bool found = false;
+    uint found = FIELD_NO_SAMPLE;
     for (uint leaf = field_search_next(run.tree, s); leaf < FIELD_SEARCH_OVERFLOW;
          leaf = field_search_next(run.tree, s)) {
         uint x = run.leaf_sample.value[leaf];
-        if (field_conflict(rule_f(run.rule, run.radii.value[x], r), distance2(run.lattice, run.points.value[x], p))) {
-            found = true;
+        if (field_conflicts_with(run, x, p, r)) {
+            found = x;
             break;
         }
     }

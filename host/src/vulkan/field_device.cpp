@@ -95,12 +95,14 @@ Sampling FieldVulkan::run(const FieldTable& table, const FieldQuadtree& tree, co
     run_args_.touched = device_ref<FieldWords>(touched_.address());
     node_keys_ = Buffer(ctx_, std::max<std::uint64_t>(tree.node_words().size() / 4, 4) * 4, false);
     run_args_.keys = device_ref<FieldWords>(node_keys_.address());
+    run_args_.leaf_first = device_ref<FieldWords>(leaf_first_.address());
     points_ = Buffer(ctx_, capacity_ * 8, false);
     radii_ = Buffer(ctx_, capacity_ * 4, false);
     run_args_.leaf_sample = device_ref<FieldWords>(leaf_sample_.address());
     write_run();
     ctx_.vk().vkCmdFillBuffer(ctx_.recording(), leaf_sample_.handle(), 0, VK_WHOLE_SIZE, FIELD_NO_SAMPLE);
     ctx_.vk().vkCmdFillBuffer(ctx_.recording(), touched_.handle(), 0, VK_WHOLE_SIZE, 0);
+    ctx_.vk().vkCmdFillBuffer(ctx_.recording(), leaf_first_.handle(), 0, VK_WHOLE_SIZE, FIELD_NO_SAMPLE);
     ctx_.vk().vkCmdFillBuffer(ctx_.recording(), counters_.handle(), 0, FIELD_COUNTER_WORDS * 4, 0);
     ctx_.barrier();
     FieldArgs h = args();

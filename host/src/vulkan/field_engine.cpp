@@ -28,8 +28,9 @@ using namespace shared;
 using field::ExponentCounts;
 
 static_assert(sizeof(FieldArgs) == 80 && offsetof(FieldArgs, count) == 56 && offsetof(FieldArgs, p2) == 72);
-static_assert(sizeof(FieldRun) == 176 && offsetof(FieldRun, tree) == 72 && offsetof(FieldRun, lattice) == 104 &&
-              offsetof(FieldRun, leaf_sample) == 136 && offsetof(FieldRun, keys) == 168);
+static_assert(sizeof(FieldRun) == 184 && offsetof(FieldRun, tree) == 72 && offsetof(FieldRun, lattice) == 104 &&
+              offsetof(FieldRun, leaf_sample) == 136 && offsetof(FieldRun, keys) == 168 &&
+              offsetof(FieldRun, leaf_first) == 176);
 
 namespace {
 constexpr std::uint32_t kPassesPerSubmit = 4;
@@ -267,6 +268,7 @@ bool FieldVulkan::throw_and_resolve(std::uint32_t round, std::uint32_t stamp) {
     clear_counters();
     a.target = raw_.address();
     a.words1 = flags_.address();
+    a.p1 = std::uint32_t(samples_);
     a.p2 = std::uint32_t(thrown);
     a.p3 = std::uint32_t(active_);
     dispatch(field_throw_, a, 0, dart_cells);
