@@ -89,8 +89,10 @@ void FieldSampler::gather(const Cell& c, std::vector<std::uint32_t>& out) const 
     search(from, to, f - 1 - half);
 }
 
-bool FieldSampler::covered_by_fresh(uvec2 a, uvec2 b, std::uint32_t leaf) const {
+bool FieldSampler::covered_by_fresh(uvec2 a, uvec2 b, std::uint32_t leaf, bool whole) const {
     if (!stamped(leaf)) return false;
+    // Each of the round's samples that stamped the leaf tested it whole (touch).
+    if (whole) return covered_whole(leaf);
     if (const std::uint32_t one = stamp(leaf); one != FieldQuadtree::kNone) return covers(one, a, b);
     // For the search, r's least value over the block (unread under prior, whose f is the
     // sample's own radius) and, under prior and bigger, its largest.

@@ -193,10 +193,10 @@ void FieldSampler::throw_darts(std::uint32_t round) {
                 // tested before the search, and replaced by the sample a search finds.
                 std::atomic_ref<std::uint32_t> hint(touched_[leaf]);
                 const std::uint32_t near = hint.load(std::memory_order_relaxed);
-                if (near != kUnstamped) {
-                    if (!(near & kStampedMany) && conflicts_with(near, p, r)) continue;
+                if ((near | kWholeCell) != kUnstamped) {
+                    if (!(near & kStampedMany) && conflicts_with(near & kStampValue, p, r)) continue;
                     if (const std::uint32_t s = conflicting(p, r); s != FieldQuadtree::kNone) {
-                        hint.store(s, std::memory_order_relaxed);
+                        hint.store(s | (near & kWholeCell), std::memory_order_relaxed);
                         continue;
                     }
                 }
@@ -238,8 +238,9 @@ std::uint32_t FieldSampler::refine() {
                 continue;
             }
             const Cell c = cells_[i];
+            const bool whole = c.bits == at.bits;
             std::uint8_t fate = 0;
-            if (tree_.sample(leaf) != FieldQuadtree::kNone || covered_by_fresh(c.corner, far_corner(c), leaf)) {
+            if (tree_.sample(leaf) != FieldQuadtree::kNone || covered_by_fresh(c.corner, far_corner(c), leaf, whole)) {
                 fate = 0;
             } else if (!got || c.bits == 0) {
                 fate = kKeep;
@@ -249,6 +250,8 @@ std::uint32_t FieldSampler::refine() {
                 gather(c, near);
                 fate = std::uint8_t(kSplit | open_children(near, c));
             }
+            // The leaf's one cell, dropped or split: none of the leaf's cells is ever whole again.
+            if (whole && fate != kKeep) touched_[leaf] &= ~kWholeCell;
             got_[i] = fate;
             count += cells_of(fate);
             if (cells_of(fate) > 0)

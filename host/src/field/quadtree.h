@@ -115,7 +115,9 @@ public:
     };
     // Calls visit(leaf) for each leaf that meets the square `reach` around [a, b] (inclusive), so
     // every leaf holding a point within `reach` of a point of [a, b]; on a torus, of any of its
-    // images. Stops at a call that returns true and returns true. `enter`, where given, is asked before a subtree is
+    // images; visit(leaf, corner, bits, image) where it takes the leaf's lattice corner, side and
+    // the corner's image too (its place in the query's unwrapped coordinates, as `enter` has it).
+    // Stops at a call that returns true and returns true. `enter`, where given, is asked before a subtree is
     // entered: enter(image, corner, bits) for the block of side 2^bits at lattice corner `corner`, met at `image` (the
     // corner's place in the query's unwrapped coordinates, on a torus one period off where the query crosses).
     template <typename Visit, typename Enter = EnterAll>
@@ -184,6 +186,15 @@ private:
     // kNeed: the flag a subtree must carry to be entered (0: every subtree).
     template <std::uint32_t kNeed, typename Visit, typename Enter>
     bool search(glm::uvec2 a, glm::uvec2 b, std::uint64_t reach, Visit& visit, Enter& enter) const;
+    // visit(leaf), or visit(leaf, corner, bits, image) where it takes them (near).
+    template <typename Visit>
+    static bool visit_leaf(Visit& visit, std::uint32_t leaf, glm::uvec2 corner, std::uint32_t bits,
+                           glm::i64vec2 image) {
+        if constexpr (std::is_invocable_v<Visit&, std::uint32_t, glm::uvec2, std::uint32_t, glm::i64vec2>)
+            return visit(leaf, corner, bits, image);
+        else
+            return visit(leaf);
+    }
     // `tile`: the root's lattice corner (ox, oy: its image).
     template <std::uint32_t kNeed, typename Visit, typename Enter>
     bool descend(std::uint32_t node, std::int64_t ox, std::int64_t oy, std::uint32_t bits, const Query& q, Visit& visit,
@@ -250,7 +261,9 @@ bool FieldQuadtree::descend(std::uint32_t root, std::int64_t root_x, std::int64_
                 for (std::uint32_t i = i0; i <= i1; ++i) {
                     const std::uint32_t leaf = row + spread(i);
                     if (kNeed == kOccupied && sample_[leaf] == kNone) continue;
-                    if (visit(leaf)) return true;
+                    if (visit_leaf(visit, leaf, tile + glm::uvec2(i << b, j << b), b,
+                                   glm::i64vec2(root_x + (i << b), root_y + (j << b))))
+                        return true;
                 }
             }
             return false;
@@ -266,7 +279,9 @@ bool FieldQuadtree::descend(std::uint32_t root, std::int64_t root_x, std::int64_
     while (top > 0) {
         const Item it = stack[--top];
         if (it.node & kLeaf) {
-            if (visit(it.node & kIndex)) return true;
+            if (visit_leaf(visit, it.node & kIndex, tile + glm::uvec2(it.x, it.y), it.bits,
+                           glm::i64vec2(root_x + it.x, root_y + it.y)))
+                return true;
             continue;
         }
         // The children that meet the query, as bit c for child c: in x, the left ones (bits 0

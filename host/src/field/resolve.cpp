@@ -42,14 +42,51 @@ void FieldSampler::resolve() {
 
 void FieldSampler::touch(std::uint32_t s) {
     const uvec2 p = lattice_[s];
-    const std::uint32_t many = kStampedMany | round_;
-    const std::uint64_t f = cover_reach(p, radii_[s]);
-    auto stamp = [&](std::uint32_t leaf) {
+    const std::uint32_t r = radii_[s], many = kStampedMany | round_;
+    const std::uint64_t f = cover_reach(p, r);
+    const shared::Lattice& l = t_.lattice;
+    // Within a quarter of the torus around p (the square and the leaves meeting it), a leaf's
+    // image in the search's coordinates is the nearest one at every point: its gaps are the
+    // lattice's (shared::far_distance2).
+    const std::uint64_t span = f + (std::uint64_t(1) << t_.tile_bits);
+    const bool framed = !l.periodic || (2 * span <= l.extent_x && 2 * span <= l.extent_y);
+    // Whether s covers the whole leaf: covers(s, corner, its far corner), the test a cell that is
+    // the leaf would take. In the frame, from the image's gaps, reading the leaf's least r only
+    // where the rule needs it and r's slope lets it reach the farthest point: r there is at
+    // least r at the leaf's nearest point, at most r + L |nearest - p| + 1 (floored).
+    auto covers_leaf = [&](uvec2 corner, std::uint32_t bits, glm::i64vec2 image) {
+        const uvec2 b = far_corner(corner, bits);
+        if (!framed) return covers(s, corner, b);
+        const glm::i64vec2 last = image + glm::i64vec2(b) - glm::i64vec2(corner);
+        const std::int64_t px = p.x, py = p.y;
+        const std::uint64_t fx = std::uint64_t(std::max(px - image.x, last.x - px)),
+                            fy = std::uint64_t(std::max(py - image.y, last.y - py));
+        const std::uint64_t d2 = fx * fx + fy * fy;
+        const bool own = shared::field_conflict(r, d2);
+        if (rule_ == shared::RULE_PRIOR || (rule_ == shared::RULE_SMALLER && !own) ||
+            (rule_ == shared::RULE_BIGGER && own))
+            return own;
+        const std::int64_t nx = std::max<std::int64_t>({image.x - px, px - last.x, 0}),
+                           ny = std::max<std::int64_t>({image.y - py, py - last.y, 0});
+        const double reach = double(r) + t_.lipschitz * (1 + 1e-9) * std::sqrt(double(nx * nx + ny * ny)) + 2;
+        if (double(d2) >= reach * reach) return false;
+        return shared::field_conflict(t_.min_over(corner, b), d2);
+    };
+    auto stamp = [&](std::uint32_t leaf, uvec2 corner, std::uint32_t bits, glm::i64vec2 image) {
         std::atomic_ref<std::uint32_t> word(touched_[leaf]);
         std::uint32_t old = word.load(std::memory_order_relaxed);
-        // A leaf may be met twice by one search (two images of it on a torus).
-        while (old != s && old != many &&
-               !word.compare_exchange_weak(old, this_round(old) ? many : s, std::memory_order_relaxed)) {
+        // Only a leaf that may still be an active cell whole is tested whole.
+        const std::uint32_t covered = (old & kWholeCell) && covers_leaf(corner, bits, image) ? kCoveredWhole : 0;
+        for (;;) {
+            // Stamped by s already (a leaf may be met twice by one search: two images of it on a
+            // torus), or by several of the round's samples: the value stays, and so does a cover.
+            const bool now = this_round(old);
+            const std::uint32_t value = old & (kStampedMany | kStampValue);
+            const std::uint32_t next = (!now                          ? s
+                                        : value == s || value == many ? value
+                                                                      : many) |
+                                       (now ? old & kCoveredWhole : 0) | (old & kWholeCell) | covered;
+            if (next == old || word.compare_exchange_weak(old, next, std::memory_order_relaxed)) break;
         }
         return false;
     };

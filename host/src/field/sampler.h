@@ -160,10 +160,10 @@ private:
     // `near` covers wholly under the rule.
     std::uint8_t open_children(const std::vector<std::uint32_t>& near, const Cell& c) const;
     // Does one of this round's samples (fresh in the tree) cover every point of [a, b], a block
-    // of leaf `leaf`? For a cell of the active list this is whether any sample does: each cell
-    // was made, or last kept, by a test against every sample of its time, so none of the earlier
-    // rounds' covers it.
-    bool covered_by_fresh(uvec2 a, uvec2 b, std::uint32_t leaf) const;
+    // of leaf `leaf` (the whole leaf where `whole`)? For a cell of the active list this is whether
+    // any sample does: each cell was made, or last kept, by a test against every sample of its
+    // time, so none of the earlier rounds' covers it.
+    bool covered_by_fresh(uvec2 a, uvec2 b, std::uint32_t leaf, bool whole) const;
     // Does sample s cover [a, b], given r's least value `lo` over it: is the farthest corner
     // within f(r(s), lo), f's least value over the block?
     bool covers(std::uint32_t s, std::uint32_t lo, uvec2 a, uvec2 b) const;
@@ -243,15 +243,18 @@ private:
     void touch(std::uint32_t s);
     // Is a stamp of touched_ one of this round's?
     bool this_round(std::uint32_t stamp) const {
-        return stamp & kStampedMany ? (stamp & ~kStampedMany) == round_ : stamp >= round_first_;
+        const std::uint32_t v = stamp & kStampValue;
+        return stamp & kStampedMany ? v == round_ : v >= round_first_;
     }
     // Is the leaf stamped this round: may one of this round's samples cover part of it?
     bool stamped(std::uint32_t leaf) const { return this_round(touched_[leaf]); }
     // The one sample of this round that may cover part of the leaf; kNone if none or several may.
     std::uint32_t stamp(std::uint32_t leaf) const {
         const std::uint32_t v = touched_[leaf];
-        return (v & kStampedMany) || v < round_first_ ? FieldQuadtree::kNone : v;
+        return (v & kStampedMany) || (v & kStampValue) < round_first_ ? FieldQuadtree::kNone : v & kStampValue;
     }
+    // Does one of this round's samples cover the whole leaf (a stamped leaf's answer)?
+    bool covered_whole(std::uint32_t leaf) const { return (touched_[leaf] & kCoveredWhole) && stamped(leaf); }
     // Drops, keeps or splits each active cell (the next list); returns the least side exponent
     // in it (UINT32_MAX when it is empty).
     std::uint32_t refine();
@@ -292,10 +295,16 @@ private:
     // may replace one by an earlier sample that rejected a dart in the leaf (a hint for the next
     // dart there; kUnstamped, no sample near, stays). Only cells of a stamped leaf (and cells
     // that took darts) can have become covered, and with one stamp only that sample can cover or
-    // conflict with a point of the leaf. Sample indices stay below 2^29 (one per leaf, kIndex),
-    // so they never carry kStampedMany.
+    // conflict with a point of the leaf. While the leaf may still be an active cell whole
+    // (kWholeCell, cleared once such a cell is split or dropped), a stamp of this round carries
+    // kCoveredWhole where one of the round's samples covers the whole leaf, so that the cell
+    // needs no search (refine). Sample indices stay below 2^29 (one per leaf, kIndex), and so do
+    // rounds, so they never carry the flags.
     static constexpr std::uint32_t kStampedMany = 0x80000000u;
-    static constexpr std::uint32_t kUnstamped = 0xFFFFFFFFu;  // many in a round that never comes
+    static constexpr std::uint32_t kCoveredWhole = 0x40000000u;
+    static constexpr std::uint32_t kWholeCell = 0x20000000u;
+    static constexpr std::uint32_t kStampValue = 0x1FFFFFFFu;  // the sample, or the round
+    static constexpr std::uint32_t kUnstamped = 0xFFFFFFFFu;   // many in a round that never comes
     std::vector<std::uint32_t, Uninitialised<std::uint32_t, true>> touched_;
     // The stamps' round (0 for the given samples, dart round k stamps as k + 1) and its first sample.
     std::uint32_t round_ = 0, round_first_ = 0;
