@@ -45,9 +45,9 @@ void FieldSampler::touch(std::uint32_t s) {
     const std::uint32_t r = radii_[s], many = kStampedMany | round_;
     const std::uint64_t f = cover_reach(p, r);
     const shared::Lattice& l = t_.lattice;
-    // Within a quarter of the torus around p (the square and the leaves meeting it), a leaf's
-    // image in the search's coordinates is the nearest one at every point: its gaps are the
-    // lattice's (shared::far_distance2).
+    // Where the square and the leaves meeting it lie within half the torus of p along each axis,
+    // a leaf's image in the search's coordinates is the nearest one at every point: its gaps are
+    // the lattice's (shared::far_distance2).
     const std::uint64_t span = f + (std::uint64_t(1) << t_.tile_bits);
     const bool framed = !l.periodic || (2 * span <= l.extent_x && 2 * span <= l.extent_y);
     // Whether s covers the whole leaf: covers(s, corner, its far corner), the test a cell that is
