@@ -134,13 +134,7 @@ bool FieldSampler::covers(std::uint32_t s, std::uint32_t lo, uvec2 a, uvec2 b) c
 }
 
 bool FieldSampler::covers(std::uint32_t s, uvec2 a, uvec2 b) const {
-    // f is min(r(s), lo) under smaller, max(r(s), lo) under bigger: the test with r(s) alone
-    // decides one way before lo is read. Under prior lo goes unread.
-    const std::uint64_t d2 = far_distance2(s, a, b);
-    const bool own = shared::field_conflict(radii_[s], d2);
-    if (rule_ == shared::RULE_PRIOR || (rule_ == shared::RULE_SMALLER && !own) || (rule_ == shared::RULE_BIGGER && own))
-        return own;
-    return shared::field_conflict(t_.min_over(a, b), d2);
+    return covers_far(radii_[s], far_distance2(s, a, b), [&] { return t_.min_over(a, b); });
 }
 
 std::uint8_t FieldSampler::open_children(const std::vector<std::uint32_t>& near, const Cell& c) const {

@@ -62,15 +62,12 @@ void FieldSampler::touch(std::uint32_t s) {
         const std::uint64_t fx = std::uint64_t(std::max(px - image.x, last.x - px)),
                             fy = std::uint64_t(std::max(py - image.y, last.y - py));
         const std::uint64_t d2 = fx * fx + fy * fy;
-        const bool own = shared::field_conflict(r, d2);
-        if (rule_ == shared::RULE_PRIOR || (rule_ == shared::RULE_SMALLER && !own) ||
-            (rule_ == shared::RULE_BIGGER && own))
-            return own;
-        const std::int64_t nx = std::max<std::int64_t>({image.x - px, px - last.x, 0}),
-                           ny = std::max<std::int64_t>({image.y - py, py - last.y, 0});
-        const double reach = double(r) + t_.lipschitz * (1 + 1e-9) * std::sqrt(double(nx * nx + ny * ny)) + 2;
-        if (double(d2) >= reach * reach) return false;
-        return shared::field_conflict(t_.min_over(corner, b), d2);
+        return covers_far(r, d2, [&] {
+            const std::int64_t nx = std::max<std::int64_t>({image.x - px, px - last.x, 0}),
+                               ny = std::max<std::int64_t>({image.y - py, py - last.y, 0});
+            const double reach = double(r) + t_.lipschitz * (1 + 1e-9) * std::sqrt(double(nx * nx + ny * ny)) + 2;
+            return double(d2) >= reach * reach ? 0u : t_.min_over(corner, b);
+        });
     };
     auto stamp = [&](std::uint32_t leaf, uvec2 corner, std::uint32_t bits, glm::i64vec2 image) {
         std::atomic_ref<std::uint32_t> word(touched_[leaf]);

@@ -169,6 +169,18 @@ private:
     bool covers(std::uint32_t s, std::uint32_t lo, uvec2 a, uvec2 b) const;
     // The same, reading lo only where the rule needs it.
     bool covers(std::uint32_t s, uvec2 a, uvec2 b) const;
+    // The same for a sample of radius r whose squared distance to the block's farthest point is
+    // d2, calling least() for lo only where the rule needs it (f is min(r, lo) under smaller,
+    // max(r, lo) under bigger: the test with r alone decides one way first; under prior lo goes
+    // unread). A least() that gives 0 says no lo covers.
+    template <typename Least>
+    bool covers_far(std::uint32_t r, std::uint64_t d2, Least&& least) const {
+        const bool own = shared::field_conflict(r, d2);
+        if (rule_ == shared::RULE_PRIOR || (rule_ == shared::RULE_SMALLER && !own) ||
+            (rule_ == shared::RULE_BIGGER && own))
+            return own;
+        return shared::field_conflict(least(), d2);
+    }
     // The squared distance from sample s to the farthest point of [a, b] (shared::far_distance2).
     std::uint64_t far_distance2(std::uint32_t s, uvec2 a, uvec2 b) const;
     Cell make_cell(uvec2 corner, std::uint32_t bits) const;
