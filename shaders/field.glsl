@@ -63,6 +63,19 @@ uint field_scan_end(FieldWords scan, uint i, uint count, uint total) {
     return i + 1u < count ? scan.value[i + 1u] : total;
 }
 
+// A leaf's word in FieldRun::touched for round stamp k: 2 k + 1 where one of the round's samples
+// covers the whole leaf, else 2 k (field_touch.comp writes the larger one, by atomicMax).
+uint field_touch_word(uint k, bool whole) { return 2u * k + (whole ? 1u : 0u); }
+bool field_touched_in(uint word, uint k) { return word >> 1u == k; }
+
+// Item k of the refinement's work list `list` (field_triage.comp), of `cells` slots: list 0 (the
+// cells that search for a cover) from the front, list 1 (those that only split) from the back.
+uint field_search_slot(uint list, uint k, uint cells) { return list == 0u ? k : cells - 1u - k; }
+
+// Each dart's r during a resolution, after its summaries and work lists in the array `raw` of
+// the round's `thrown` darts (field_first_darts.comp writes it, field_resolve.comp reads it).
+FieldWords field_dart_radii(uint64_t raw, uint thrown) { return FieldWords(raw + uint64_t(6u * thrown) * 4u); }
+
 // Sets (on) or clears `flag` on the node words from the tile's root down to the leaf holding p.
 void field_mark(FieldRun run, uvec2 p, uint flag, bool on) {
     FieldTreeView t = run.tree;

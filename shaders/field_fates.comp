@@ -18,7 +18,7 @@ void main() {
     bool balance = (FIELD_VARIANT & FIELD_VARIANT_BALANCE) != 0u;
     uint k = balance ? field_item() : work_item();
     if (k >= (balance ? a.count : FieldWords(a.counters).value[FIELD_COUNTER_WORK + 4u * a.p0 + 3u])) return;
-    uint i = balance ? k : FieldWords(a.target).value[a.p0 == 0u ? k : a.p1 - 1u - k];
+    uint i = balance ? k : FieldWords(a.target).value[field_search_slot(a.p0, k, a.p1)];
     FieldRun run = field_run();
     uvec4 cell = field_cell(run, a.cells, i);
     FieldBudget budget = FieldBudget(run.budget, 0u);
@@ -33,7 +33,7 @@ void main() {
         // Only a cell smaller than its leaf searches for a cover by this round's samples (touched
         // this round, p3); field_triage.comp settled the others, and the cells whose leaf holds a
         // sample.
-        bool near = run.touched.value[leaf.x] >> 1u == a.p3 && cell.z < leaf.y;
+        bool near = field_touched_in(run.touched.value[leaf.x], a.p3) && cell.z < leaf.y;
         uvec2 far = field_far_corner(run.lattice, cell.xy, cell.z);
         if (near && field_covered(run, cell.xy, far, FIELD_FRESH, budget))
             fate = 0u;

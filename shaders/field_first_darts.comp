@@ -11,7 +11,7 @@ void main() {
     uint j = field_item();
     if (j >= field_value(a.count)) return;
     uvec4 d = FieldCells(a.cells).value[j];
-    FieldWords(a.target + uint64_t(6u * a.p2) * 4u).value[j] = field_radius(field_run().table, d.xy);
+    field_dart_radii(a.target, a.p2).value[j] = field_radius(field_run().table, d.xy);
     if (j > 0u && FieldCells(a.cells).value[j - 1u].w == d.w) return;
     FieldWords(a.words0).value[d.w] = j;
     FieldWords(a.words2).value[j] = 0u;

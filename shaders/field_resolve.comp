@@ -42,7 +42,7 @@ FieldWords pair_word(uint pair, uint which) {
 FieldWords work_list(uint k) { return FieldWords(a.target + uint64_t(4u + k) * uint64_t(a.p2) * 4u); }
 
 // Dart j's r (field_first_darts.comp).
-uint dart_radius(uint j) { return FieldWords(a.target + uint64_t(6u * a.p2) * 4u).value[j]; }
+uint dart_radius(uint j) { return field_dart_radii(a.target, a.p2).value[j]; }
 
 // Counts dart (key) among the undecided darts of the leaf at `slot` for the next pass.
 void record(uint slot, uint key) {

@@ -23,8 +23,7 @@ void main() {
         uvec2 corner = uvec2(s.origin_x + s.x, s.origin_y + s.y);
         uvec2 far = field_far_corner(run.lattice, corner, run.tree.tile_bits - s.depth);
         uint lo = run.rule == RULE_PRIOR ? 0u : field_min_over(run.table, corner, far);
-        uint whole = field_covers(run, i, lo, corner, far) ? 1u : 0u;
-        atomicMax(run.touched.value[leaf], 2u * a.p0 + whole);
+        atomicMax(run.touched.value[leaf], field_touch_word(a.p0, field_covers(run, i, lo, corner, far)));
         run.leaf_first.value[leaf] = i;  // a hint for the throw: a sample near the leaf
     }
     field_run_spend(s, budget);

@@ -7,9 +7,9 @@
 // and words0 for the scan); the others listed in `target` for field_fates. A cell whose leaf one
 // of this round's samples covers whole is covered; a cell that is its whole leaf, stamped but not
 // so, is covered by none of them. So only a smaller cell near this round's samples searches for a
-// cover (listed from the front, their number in counter slot FIELD_COUNTER_WORK + 3), and only a
-// cell that took darts and stays open searches for its children's covers to split (listed from
-// the back, item a.count - 1 - k, their number in slot FIELD_COUNTER_WORK + 7). Kept apart from
+// cover (list 0, its length in counter slot FIELD_COUNTER_WORK + 3), and only a
+// cell that took darts and stays open searches for its children's covers to split (list 1, its
+// length in slot FIELD_COUNTER_WORK + 7; field_search_slot places both). Kept apart from
 // field_fates, and the two kinds apart from each other, since llvmpipe runs a search's code for
 // every SIMD batch of 8 cells that one of them reaches. words2: the round's dart counts, scanned
 // (their total in p2); p3: the round's stamp.
@@ -22,17 +22,15 @@ void main() {
     bool got = field_scan_end(offsets, i, a.count, a.p2) > offsets.value[i];
     uvec2 leaf = field_leaf_at(run.tree, cell.xy);
     uint stamp = run.touched.value[leaf.x];
-    bool near = stamp >> 1u == a.p3;
+    bool near = field_touched_in(stamp, a.p3);
     uint fate = FIELD_KEEP;
     if (near || got) {
-        if (run.leaf_sample.value[leaf.x] != FIELD_NO_SAMPLE || stamp == 2u * a.p3 + 1u) {
+        if (run.leaf_sample.value[leaf.x] != FIELD_NO_SAMPLE || stamp == field_touch_word(a.p3, true)) {
             fate = 0u;
-        } else if (near && cell.z < leaf.y) {
-            FieldWords(a.target).value[atomicAdd(FieldWords(a.counters).value[FIELD_COUNTER_WORK + 3u], 1u)] = i;
-            return;
-        } else if (got && cell.z > 0u) {
-            uint k = atomicAdd(FieldWords(a.counters).value[FIELD_COUNTER_WORK + 7u], 1u);
-            FieldWords(a.target).value[a.count - 1u - k] = i;
+        } else if ((near && cell.z < leaf.y) || (got && cell.z > 0u)) {
+            uint list = near && cell.z < leaf.y ? 0u : 1u;
+            uint k = atomicAdd(FieldWords(a.counters).value[FIELD_COUNTER_WORK + 4u * list + 3u], 1u);
+            FieldWords(a.target).value[field_search_slot(list, k, a.count)] = i;
             return;
         }
     }
