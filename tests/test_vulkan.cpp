@@ -4,8 +4,11 @@
 
 #include <link.h>
 
+#include <array>
 #include <cstdlib>
+#include <cstring>
 #include <set>
+#include <span>
 #include <string>
 #include <thread>
 #include <vector>
@@ -106,6 +109,30 @@ TEST_CASE("a run's context serves the next run on its device, pipelines and all,
     }
     detail::ContextLease after("", nullptr);
     CHECK(after.get().pipelines() == 0);
+}
+
+// A run's kernels ask for their pipelines as its engine is made; the driver compiles them all at
+// the first dispatch, on several threads.
+TEST_CASE("a context builds the pipelines its kernels ask for together, at the first dispatch", "[gpu][vulkan]") {
+    detail::VulkanContext ctx("");
+    const std::span<const std::uint32_t> probe{spirv_coverage_probe, std::size(spirv_coverage_probe)};
+    std::vector<detail::Kernel> kernels;
+    for (std::uint32_t variant = 0; variant < 6; ++variant) kernels.emplace_back(ctx, "probe", probe, 64, 64, variant);
+    CHECK(ctx.pipelines() == 6);
+    CHECK(ctx.pending_pipelines() == 6);
+    for (const detail::Kernel& k : kernels) CHECK(k.pipeline() == VK_NULL_HANDLE);
+    const detail::Buffer args(ctx, 12, true);  // an indirect dispatch of no workgroups: nothing runs
+    std::memset(args.mapped(), 0, 12);
+    const std::array<std::uint8_t, 64> push{};
+    ctx.begin();
+    ctx.dispatch_indirect(kernels[3], push.data(), args, 0);
+    ctx.submit_and_wait();
+    CHECK(ctx.pending_pipelines() == 0);
+    for (const detail::Kernel& k : kernels) CHECK(k.pipeline() != VK_NULL_HANDLE);
+    kernels.emplace_back(ctx, "probe", probe, 64, 64, 2);  // made already
+    CHECK(kernels.back().pipeline() == kernels[2].pipeline());
+    CHECK(ctx.pending_pipelines() == 0);
+    ctx.check_validation();
 }
 
 // Runs on several threads at once each take a context of their own from the process's.

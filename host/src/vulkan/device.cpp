@@ -51,7 +51,9 @@ bool validation_requested() {
 VKAPI_ATTR VkBool32 VKAPI_CALL VulkanContext::on_message(VkDebugUtilsMessageSeverityFlagBitsEXT,
                                                          VkDebugUtilsMessageTypeFlagsEXT,
                                                          const VkDebugUtilsMessengerCallbackDataEXT* data, void* self) {
-    static_cast<VulkanContext*>(self)->messages_.emplace_back(data->pMessage ? data->pMessage : "(no text)");
+    auto* context = static_cast<VulkanContext*>(self);
+    const std::lock_guard lock(context->messages_mutex_);
+    context->messages_.emplace_back(data->pMessage ? data->pMessage : "(no text)");
     return VK_FALSE;
 }
 
@@ -344,6 +346,7 @@ void VulkanContext::dispatch(const Kernel& k, const void* push, std::uint32_t gr
         dispatch_indirect(k, push, *gate_, VkDeviceSize(12) * gated_++);
         return;
     }
+    if (!k.pipeline()) build_pending();
     vk_.vkCmdBindPipeline(cmd_, VK_PIPELINE_BIND_POINT_COMPUTE, k.pipeline());
     vk_.vkCmdPushConstants(cmd_, k.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, k.push_size(), push);
     vk_.vkCmdDispatch(cmd_, groups, 1, 1);
@@ -351,6 +354,7 @@ void VulkanContext::dispatch(const Kernel& k, const void* push, std::uint32_t gr
 }
 
 void VulkanContext::dispatch_indirect(const Kernel& k, const void* push, const Buffer& args, VkDeviceSize offset) {
+    if (!k.pipeline()) build_pending();
     vk_.vkCmdBindPipeline(cmd_, VK_PIPELINE_BIND_POINT_COMPUTE, k.pipeline());
     vk_.vkCmdPushConstants(cmd_, k.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, k.push_size(), push);
     vk_.vkCmdDispatchIndirect(cmd_, args.handle(), offset);

@@ -6,12 +6,14 @@
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <span>
 #include <string>
 #include <tuple>
 #include <vector>
 
 #include "handles.h"
+#include "kernel.h"
 #include "loader.h"
 #include "phase_times.h"
 #include "vrpd/vrpd.h"
@@ -19,7 +21,6 @@
 
 namespace vrpd::detail {
 
-class Kernel;
 class Buffer;
 class Profiler;
 
@@ -81,15 +82,16 @@ public:
     std::vector<PhaseTime> profile() const;
 
     // The pipeline of a kernel's SPIR-V (by its address), push-constant size, workgroup size and
-    // variant (kernel.h): made on first use (tens of milliseconds for a run's kernels), kept until
-    // the context goes.
-    struct Pipeline {
-        OwnedPipelineLayout layout;
-        OwnedPipeline pipeline;
-    };
-    const Pipeline& pipeline(std::span<const std::uint32_t> spirv, std::uint32_t push_size, std::uint32_t workgroup,
-                             std::uint32_t variant);
+    // variant (kernel.h), kept until the context goes: its layout made at once, the pipeline
+    // itself (the driver's compilation: tens of milliseconds, a second for a field run's kernels
+    // on lavapipe) by build_pending, which the first dispatch of a kernel not yet built calls.
+    const KernelPipeline& pipeline(std::span<const std::uint32_t> spirv, std::uint32_t push_size,
+                                   std::uint32_t workgroup, std::uint32_t variant);
+    // Builds every pipeline asked for and not yet built, several at once on the host's threads:
+    // a run's kernels are asked for together, as its engine is made.
+    void build_pending();
     std::size_t pipelines() const { return pipelines_.size(); }
+    std::size_t pending_pipelines() const { return pending_.size(); }
 
     // A run starts on a context a run before may have used (ContextLease): its memory peak,
     // submits and profile start afresh, and no gate is open.
@@ -110,6 +112,7 @@ private:
     void make_command_objects();
 
     VulkanFunctions vk_;
+    std::mutex messages_mutex_;  // the validation layers may call on_message from build_pending's threads
     std::vector<std::string> messages_;
     OwnedInstance instance_;
     OwnedMessenger messenger_;
@@ -131,7 +134,8 @@ private:
     const Buffer* gate_ = nullptr;  // the open gate's table, if any
     std::uint32_t gated_ = 0;       // dispatches recorded through it
     // After the device: destroyed before it.
-    std::map<std::tuple<const std::uint32_t*, std::uint32_t, std::uint32_t, std::uint32_t>, Pipeline> pipelines_;
+    std::map<std::tuple<const std::uint32_t*, std::uint32_t, std::uint32_t, std::uint32_t>, KernelPipeline> pipelines_;
+    std::vector<KernelPipeline*> pending_;  // entries of pipelines_ not yet built
     std::unique_ptr<Kernel> gate_kernel_;  // gate.comp, made by the first open_gate
 };
 

@@ -14,22 +14,30 @@ namespace vrpd::detail {
 
 class VulkanContext;
 
-// A kernel's pipeline, from its context's cache (VulkanContext::pipeline): a handle that owns
-// nothing, valid while the context lives.
+// A pipeline of a context's cache (VulkanContext::pipeline): its layout, the pipeline once built
+// (null until then), and what it is built from.
+struct KernelPipeline {
+    OwnedPipelineLayout layout;
+    OwnedPipeline pipeline;
+    std::span<const std::uint32_t> spirv;
+    std::uint32_t workgroup = 0, variant = 0;
+};
+
+// A kernel's pipeline, from its context's cache: handles that own nothing, valid while the
+// context lives; the pipeline null until the context has built it.
 class Kernel {
 public:
     Kernel(VulkanContext& ctx, std::string name, std::span<const std::uint32_t> spirv, std::uint32_t push_size,
            std::uint32_t workgroup, std::uint32_t variant = 0);
-    VkPipeline pipeline() const { return pipeline_; }
-    VkPipelineLayout layout() const { return layout_; }
+    VkPipeline pipeline() const { return entry_->pipeline.get(); }
+    VkPipelineLayout layout() const { return entry_->layout.get(); }
     std::uint32_t push_size() const { return push_size_; }
     const std::string& name() const { return name_; }
 
 private:
     std::string name_;
     std::uint32_t push_size_;
-    VkPipelineLayout layout_;
-    VkPipeline pipeline_;
+    const KernelPipeline* entry_;
 };
 
 }  // namespace vrpd::detail
