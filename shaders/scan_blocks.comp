@@ -3,7 +3,8 @@
 #include "common.glsl"
 #include "shared/kernels.h"
 // Exclusive prefix sum, pass 1: each workgroup scans SCAN_BLOCK elements in place (8 per
-// invocation, contiguous for coalesced loads) and writes its block's sum.
+// invocation, contiguous for coalesced loads) and writes its block's sum. A scan of one block
+// is then done: its sum is the total, written to counters[total_slot] as pass 2 would.
 layout(local_size_x = 64) in;
 layout(push_constant) uniform Push { ScanArgs a; };
 shared uint partial[64];
@@ -30,5 +31,8 @@ void main() {
         if (base + k < a.count) a.data.value[base + k] = running;
         running += v[k];
     }
-    if (gl_LocalInvocationID.x == 63u) a.block_sums.value[gl_WorkGroupID.x] = partial[63];
+    if (gl_LocalInvocationID.x == 63u) {
+        a.block_sums.value[gl_WorkGroupID.x] = partial[63];
+        if (a.block_count == 1u) a.counters.value[a.total_slot] = partial[63];
+    }
 }

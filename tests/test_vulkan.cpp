@@ -4,6 +4,7 @@
 
 #include <link.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdlib>
 #include <cstring>
@@ -16,6 +17,7 @@
 #include "vulkan/buffer.h"
 #include "vulkan/device.h"
 #include "vulkan/kernel.h"
+#include "vulkan/primitives.h"
 #include "coverage_probe.h"
 #include "support.h"
 
@@ -132,6 +134,35 @@ TEST_CASE("a context builds the pipelines its kernels ask for together, at the f
     kernels.emplace_back(ctx, "probe", probe, 64, 64, 2);  // made already
     CHECK(kernels.back().pipeline() == kernels[2].pipeline());
     CHECK(ctx.pending_pipelines() == 0);
+    ctx.check_validation();
+}
+
+// The prefix sum every list of the engines is built with: one block (SCAN_BLOCK elements) is
+// scanned and totalled by its first pass alone, more take all three.
+TEST_CASE("the device's exclusive prefix sum and its total, in one block and in several", "[gpu][vulkan]") {
+    detail::VulkanContext ctx("");
+    const detail::Buffer counters(ctx, 64, true);
+    detail::Primitives primitives(ctx, counters);
+    auto* total = static_cast<std::uint32_t*>(counters.mapped());
+    for (const std::uint32_t count : {0u, 1u, 511u, 512u, 513u, 5000u}) {
+        INFO("count " << count);
+        const detail::Buffer data(ctx, 4 * std::max(count, 1u), true);
+        auto* v = static_cast<std::uint32_t*>(data.mapped());
+        std::vector<std::uint32_t> expected(count);
+        std::uint32_t sum = 0;
+        for (std::uint32_t i = 0; i < count; ++i) {
+            v[i] = (i * 2654435761u) >> 28;  // 0 to 15
+            expected[i] = sum;
+            sum += v[i];
+        }
+        total[3] = 12345;
+        primitives.reserve_scan(count);
+        ctx.begin();
+        primitives.scan(data.address(), count, 3);
+        ctx.submit_and_wait();
+        CHECK(std::vector<std::uint32_t>(v, v + count) == expected);
+        CHECK(total[3] == sum);
+    }
     ctx.check_validation();
 }
 

@@ -30,7 +30,8 @@ void Primitives::scan(std::uint64_t data, std::uint64_t count, std::uint32_t tot
         throw Error("internal: scan buffers not sized before recording");
     ScanArgs s{data, block_sums_.address(), counters_.address(), std::uint32_t(count), blocks, total_slot, 0};
     ctx_.dispatch(scan_blocks_, &s, blocks);
-    ctx_.barrier();  // block scans and sums before the sums are scanned
+    ctx_.barrier();           // block scans and sums before the sums are scanned (or, one block, its readers)
+    if (blocks == 1) return;  // scanned whole, its total written
     ctx_.dispatch(scan_sums_, &s, 1);
     ctx_.barrier();  // block offsets before they are added
     ctx_.dispatch(scan_add_, &s, dispatch_groups(count, WORKGROUP_SIZE));

@@ -1,5 +1,6 @@
 // Generic device primitives the sampler's rounds are built from: an exclusive prefix sum over
-// uints (three passes: block scans, a scan of the block sums, their addition) and a stable LSD
+// uints (three passes: block scans, a scan of the block sums, their addition; the first alone for
+// one block, the lists of a run's late rounds) and a stable LSD
 // radix sort of points by 32-bit key (8 bits a pass: digit histograms per tile, their scan, a
 // stable scatter). Both record into the context's command buffer; the caller submits.
 #pragma once
