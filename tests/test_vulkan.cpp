@@ -166,6 +166,40 @@ TEST_CASE("the device's exclusive prefix sum and its total, in one block and in 
     ctx.check_validation();
 }
 
+// The sort that puts a round's samples in arrival order: up to SORT_SMALL points ranked in one
+// dispatch, more by the radix passes; both stable.
+TEST_CASE("the device's sort by key, stable, of a few points and of many", "[gpu][vulkan]") {
+    detail::VulkanContext ctx("");
+    const detail::Buffer counters(ctx, 64, true);
+    detail::Primitives primitives(ctx, counters);
+    for (const std::uint32_t count : {1u, 2u, 100u, 511u, 512u, 513u, 3000u}) {
+        INFO("count " << count);
+        const detail::Buffer points(ctx, 8 * std::uint64_t(count), true), keys(ctx, 4 * std::uint64_t(count), true),
+            tmp(ctx, 12 * std::uint64_t(count), false);
+        auto* p = static_cast<std::uint32_t*>(points.mapped());
+        auto* k = static_cast<std::uint32_t*>(keys.mapped());
+        std::vector<std::pair<std::uint32_t, std::uint32_t>> expected(count);  // (key, point's index)
+        for (std::uint32_t i = 0; i < count; ++i) {
+            // Keys from few values (ties, whose order the sort keeps) and across every byte.
+            k[i] = ((i * 2654435761u) >> 29) * 0x01010101u;
+            p[2 * i] = i;
+            p[2 * i + 1] = ~i;
+            expected[i] = {k[i], i};
+        }
+        std::stable_sort(expected.begin(), expected.end(),
+                         [](const auto& a, const auto& b) { return a.first < b.first; });
+        primitives.reserve_sort(count);
+        ctx.begin();
+        primitives.sort(points.address(), keys.address(), tmp.address(), count, 3);
+        ctx.submit_and_wait();
+        std::size_t wrong = 0;
+        for (std::uint32_t i = 0; i < count; ++i)
+            wrong += k[i] != expected[i].first || p[2 * i] != expected[i].second || p[2 * i + 1] != ~expected[i].second;
+        CHECK(wrong == 0);
+    }
+    ctx.check_validation();
+}
+
 // Runs on several threads at once each take a context of their own from the process's.
 TEST_CASE("runs on four threads at once sample on the device as one run does", "[gpu][vulkan]") {
     const Sampling expected = sample(test::options(0.01, 3, Backend::Cpu));

@@ -186,8 +186,11 @@ static_assert(sizeof(ScanArgs) == 40 && offsetof(ScanArgs, count) == 24);
 
 // Stable LSD radix sort of one round's samples by arrival key, 8 bits a pass:
 // sort_histogram (digit counts per tile of SCAN_BLOCK), a scan of the digit-major histogram,
-// sort_scatter (each tile's elements to their ranks, in tile order, so the sort is stable).
+// sort_scatter (each tile's elements to their ranks, in tile order, so the sort is stable). A few
+// elements are ranked by sort_small instead, to the same order.
 const uint SORT_BUCKETS = 256u;
+// Up to SORT_SMALL elements, sort_small ranks them in one workgroup and one dispatch instead.
+const uint SORT_SMALL = 512u;
 struct SortArgs {
     VRPD_BUFFER(Points) src_points;
     VRPD_BUFFER(Uints) src_keys;

@@ -6,6 +6,7 @@
 #include "scan_sums.h"
 #include "sort_histogram.h"
 #include "sort_scatter.h"
+#include "sort_small.h"
 
 namespace vrpd::detail {
 
@@ -18,7 +19,8 @@ Primitives::Primitives(VulkanContext& ctx, const Buffer& counters)
       VRPD_KERNEL(scan_sums, ScanArgs, 64),
       VRPD_KERNEL(scan_add, ScanArgs, WORKGROUP_SIZE),
       VRPD_KERNEL(sort_histogram, SortArgs, 64),
-      VRPD_KERNEL(sort_scatter, SortArgs, 1) {}
+      VRPD_KERNEL(sort_scatter, SortArgs, 1),
+      VRPD_KERNEL(sort_small, SortArgs, 128) {}
 
 void Primitives::reserve_scan(std::uint64_t count) {
     grow(ctx_, block_sums_, std::uint64_t(dispatch_groups(count, SCAN_BLOCK)) * 4);
@@ -52,6 +54,11 @@ void Primitives::sort(std::uint64_t points, std::uint64_t keys, std::uint64_t tm
     const std::uint32_t tiles = dispatch_groups(count, SCAN_BLOCK);
     const std::uint64_t bins = std::uint64_t(SORT_BUCKETS) * tiles;
     SortArgs s{points, keys, tmp, tmp + std::uint64_t(count) * sizeof(uvec2), histogram_.address(), count, 0, tiles, 0};
+    if (count <= SORT_SMALL) {
+        ctx_.dispatch(sort_small_, &s, 1);
+        ctx_.barrier();  // the sorted points before their readers
+        return;
+    }
     for (std::uint32_t pass = 0; pass < 4; ++pass) {
         s.shift = 8 * pass;
         ctx_.dispatch(sort_histogram_, &s, tiles);

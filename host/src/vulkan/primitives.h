@@ -1,8 +1,9 @@
 // Generic device primitives the sampler's rounds are built from: an exclusive prefix sum over
 // uints (three passes: block scans, a scan of the block sums, their addition; the first alone for
-// one block, the lists of a run's late rounds) and a stable LSD
-// radix sort of points by 32-bit key (8 bits a pass: digit histograms per tile, their scan, a
-// stable scatter). Both record into the context's command buffer; the caller submits.
+// one block, as the lists of a run's late rounds are) and a stable LSD radix sort of points by
+// 32-bit key (8 bits a pass: digit histograms per tile, their scan, a stable scatter; a few points
+// ranked in one workgroup instead). Both record into the context's command buffer; the caller
+// submits.
 #pragma once
 
 #include <cstdint>
@@ -29,6 +30,7 @@ public:
     // Sorts the `count` points at `points` (uvec2) by their keys at `keys`, stably, in 4 passes,
     // ping-ponging with `tmp` (count points, then count keys): after the fourth pass the sorted
     // points and keys are back in place. `total_slot` is a counters slot the histogram scans use.
+    // Up to SORT_SMALL points, one dispatch ranks them in place.
     void sort(std::uint64_t points, std::uint64_t keys, std::uint64_t tmp, std::uint32_t count,
               std::uint32_t total_slot);
     // Gives back the sort's histogram.
@@ -37,7 +39,7 @@ public:
 private:
     VulkanContext& ctx_;
     const Buffer& counters_;
-    Kernel scan_blocks_, scan_sums_, scan_add_, sort_histogram_, sort_scatter_;
+    Kernel scan_blocks_, scan_sums_, scan_add_, sort_histogram_, sort_scatter_, sort_small_;
     Buffer block_sums_;
     Buffer histogram_;
 };
