@@ -138,13 +138,14 @@ TEST_CASE("a context builds the pipelines its kernels ask for together, at the f
 }
 
 // The prefix sum every list of the engines is built with: one block (SCAN_BLOCK elements) is
-// scanned and totalled by its first pass alone, more take all three.
+// scanned and totalled by its first pass alone, more take all three (the block sums' scan in
+// one chunk of 64 and in several).
 TEST_CASE("the device's exclusive prefix sum and its total, in one block and in several", "[gpu][vulkan]") {
     detail::VulkanContext ctx("");
     const detail::Buffer counters(ctx, 64, true);
     detail::Primitives primitives(ctx, counters);
     auto* total = static_cast<std::uint32_t*>(counters.mapped());
-    for (const std::uint32_t count : {0u, 1u, 511u, 512u, 513u, 5000u}) {
+    for (const std::uint32_t count : {0u, 1u, 511u, 512u, 513u, 5000u, 40000u}) {
         INFO("count " << count);
         const detail::Buffer data(ctx, 4 * std::max(count, 1u), true);
         auto* v = static_cast<std::uint32_t*>(data.mapped());
