@@ -32,8 +32,9 @@ void Primitives::scan(std::uint64_t data, std::uint64_t count, std::uint32_t tot
         throw Error("internal: scan buffers not sized before recording");
     ScanArgs s{data, block_sums_.address(), counters_.address(), std::uint32_t(count), blocks, total_slot, 0};
     ctx_.dispatch(scan_blocks_, &s, blocks);
-    ctx_.barrier();           // block scans and sums before the sums are scanned (or, one block, its readers)
-    if (blocks == 1) return;  // scanned whole, its total written
+    ctx_.barrier();  // block scans and sums before their readers
+    // One block is scanned whole by the first pass, which writes its total.
+    if (blocks == 1) return;
     ctx_.dispatch(scan_sums_, &s, 1);
     ctx_.barrier();  // block offsets before they are added
     ctx_.dispatch(scan_add_, &s, dispatch_groups(count, WORKGROUP_SIZE));
@@ -52,13 +53,13 @@ void Primitives::reserve_sort(std::uint32_t count) {
 void Primitives::sort(std::uint64_t points, std::uint64_t keys, std::uint64_t tmp, std::uint32_t count,
                       std::uint32_t total_slot) {
     const std::uint32_t tiles = dispatch_groups(count, SCAN_BLOCK);
-    const std::uint64_t bins = std::uint64_t(SORT_BUCKETS) * tiles;
     SortArgs s{points, keys, tmp, tmp + std::uint64_t(count) * sizeof(uvec2), histogram_.address(), count, 0, tiles, 0};
     if (count <= SORT_SMALL) {
         ctx_.dispatch(sort_small_, &s, 1);
         ctx_.barrier();  // the sorted points before their readers
         return;
     }
+    const std::uint64_t bins = std::uint64_t(SORT_BUCKETS) * tiles;
     for (std::uint32_t pass = 0; pass < 4; ++pass) {
         s.shift = 8 * pass;
         ctx_.dispatch(sort_histogram_, &s, tiles);
