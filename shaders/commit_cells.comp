@@ -8,7 +8,7 @@ layout(local_size_x_id = 0) in;
 layout(push_constant) uniform Push { CellArgs a; };
 
 void main() {
-    uint e = gl_GlobalInvocationID.x;
+    uint e = work_item();
     if (e == 0u) a.scan.value[a.param] = 0u;
     if (e < a.cell_count && first_in_base_cell(a.domain, a.cells, e))
         commit_base_cell(a.grid, a.darts, a.scan, a.counters, base_of_point(a.domain, a.cells.cell[e]));

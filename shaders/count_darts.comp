@@ -8,7 +8,7 @@ layout(local_size_x_id = 0) in;
 layout(push_constant) uniform Push { CellArgs a; };
 
 void main() {
-    uint e = gl_GlobalInvocationID.x;
+    uint e = work_item();
     // A list written at its worst-case size (VulkanEngine::refine_listed) ends in unused entries,
     // (GRID_EMPTY, GRID_EMPTY): no darts.
     if (e < a.cell_count) {

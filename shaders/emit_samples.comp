@@ -10,7 +10,7 @@ layout(local_size_x_id = 0) in;
 layout(push_constant) uniform Push { DartArgs a; };
 
 void main() {
-    uint d = gl_GlobalInvocationID.x;
+    uint d = work_item();
     if (d >= a.dart_count) return;
     uint rank = a.scan.value[d];
     if (a.scan.value[d + 1u] == rank) {

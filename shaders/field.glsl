@@ -13,7 +13,7 @@ layout(buffer_reference, std430, buffer_reference_align = 8) buffer FieldCellWor
 layout(buffer_reference, std430, buffer_reference_align = 8) buffer FieldPairs { uvec2 value[]; };
 
 // This invocation's item, or a value >= a.count past the list.
-uint field_item() { return a.first + gl_GlobalInvocationID.x; }
+uint field_item() { return a.first + work_item(); }
 
 // A count or parameter: v, or with FIELD_COUNTED set the counter it names (FieldArgs).
 uint field_value(uint v) {

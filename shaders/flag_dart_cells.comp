@@ -9,7 +9,7 @@ layout(local_size_x_id = 0) in;
 layout(push_constant) uniform Push { CellArgs a; };
 
 void main() {
-    uint e = gl_GlobalInvocationID.x;
+    uint e = work_item();
     if (e < a.cell_count) {
         if (first_in_base_cell(a.domain, a.cells, e)) flag_dart_cells(a, a.cells, a.scan, a.grid, e);
     } else if (e == a.cell_count) {

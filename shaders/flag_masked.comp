@@ -9,7 +9,7 @@ layout(local_size_x_id = 0) in;
 layout(push_constant) uniform Push { CellArgs a; };
 
 void main() {
-    uint b = gl_GlobalInvocationID.x;
+    uint b = work_item();
     if (b < a.cell_count) a.scan.value[b] = masked_active(a.grid.word[b]) ? 1u : 0u;
     else if (b == a.cell_count) a.scan.value[b] = 0u;
 }

@@ -8,6 +8,6 @@ layout(local_size_x_id = 0) in;
 layout(push_constant) uniform Push { GateArgs a; };
 
 void main() {
-    uint i = gl_GlobalInvocationID.x;
+    uint i = work_item();
     if (i < a.count && a.counters.value[a.slot] != 0u) a.table.value[3u * i] = 0u;
 }

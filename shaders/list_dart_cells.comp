@@ -7,6 +7,6 @@ layout(local_size_x_id = 0) in;
 layout(push_constant) uniform Push { CellArgs a; };
 
 void main() {
-    uint b = gl_GlobalInvocationID.x;
+    uint b = work_item();
     if (b < a.cell_count) list_dart_cell(a.domain, a.scan, a.cells_out, b);
 }

@@ -8,7 +8,7 @@ layout(local_size_x_id = 0) in;
 layout(push_constant) uniform Push { CellArgs a; };
 
 void main() {
-    uint b = gl_GlobalInvocationID.x;
+    uint b = work_item();
     if (b >= a.cell_count) return;
     uint rank = a.scan.value[b];
     if (a.scan.value[b + 1u] != rank) a.work.value[rank] = b;

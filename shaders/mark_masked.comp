@@ -8,7 +8,7 @@ layout(local_size_x_id = 0) in;
 layout(push_constant) uniform Push { CellArgs a; };
 
 void main() {
-    uint i = gl_GlobalInvocationID.x;
+    uint i = work_item();
     if (i >= a.cell_count) return;
     uint b = masked_base(a, i);
     uvec2 w = a.grid.word[b];

@@ -7,6 +7,6 @@ layout(local_size_x_id = 0) in;
 layout(push_constant) uniform Push { CellArgs a; };
 
 void main() {
-    uint e = gl_GlobalInvocationID.x;
+    uint e = work_item();
     if (e < a.cell_count && first_in_base_cell(a.domain, a.cells, e)) mark_dart_range(a, a.cells, a.scan, a.grid, e);
 }

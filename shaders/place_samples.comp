@@ -7,6 +7,6 @@ layout(local_size_x_id = 0) in;
 layout(push_constant) uniform Push { DartArgs a; };
 
 void main() {
-    uint i = gl_GlobalInvocationID.x;
+    uint i = work_item();
     if (i < a.dart_count) place_sample(a.domain, a.grid, a.samples.point[i]);
 }

@@ -10,7 +10,7 @@ layout(local_size_x_id = 0) in;
 layout(push_constant) uniform Push { CellArgs a; };
 
 void main() {
-    uint e = gl_GlobalInvocationID.x;
+    uint e = work_item();
     if (e < a.cell_count) {
         refine_cells_of_base(a, a.cells, a.scan, a.masks, a.grid, e, e + 1u);
     } else if (e == a.cell_count) {

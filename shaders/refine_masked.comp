@@ -12,7 +12,7 @@ layout(local_size_x_id = 0) in;
 layout(push_constant) uniform Push { CellArgs a; };
 
 void main() {
-    uint i = gl_GlobalInvocationID.x;
+    uint i = work_item();
     if (i < a.cell_count) {
         uvec2 kept = refine_masked_base(a, a.grid, masked_base(a, i));
         a.masks.value[i] = kept.x;

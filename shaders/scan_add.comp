@@ -7,6 +7,6 @@ layout(local_size_x_id = 0) in;
 layout(push_constant) uniform Push { ScanArgs a; };
 
 void main() {
-    uint i = gl_GlobalInvocationID.x;
+    uint i = work_item();
     if (i < a.count) a.data.value[i] += a.block_sums.value[i / SCAN_BLOCK];
 }

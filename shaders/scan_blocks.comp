@@ -10,7 +10,9 @@ layout(push_constant) uniform Push { ScanArgs a; };
 shared uint partial[64];
 
 void main() {
-    uint base = gl_WorkGroupID.x * SCAN_BLOCK + gl_LocalInvocationID.x * 8u;
+    uint block = workgroup_index();
+    if (block >= a.block_count) return;  // a row's workgroups past the blocks, all of them at once
+    uint base = block * SCAN_BLOCK + gl_LocalInvocationID.x * 8u;
     uint v[8];
     uint sum = 0u;
     for (uint k = 0u; k < 8u; k++) {
@@ -32,7 +34,7 @@ void main() {
         running += v[k];
     }
     if (gl_LocalInvocationID.x == 63u) {
-        a.block_sums.value[gl_WorkGroupID.x] = partial[63];
+        a.block_sums.value[block] = partial[63];
         if (a.block_count == 1u) a.counters.value[a.total_slot] = partial[63];
     }
 }

@@ -7,6 +7,6 @@ layout(local_size_x_id = 0) in;
 layout(push_constant) uniform Push { CellArgs a; };
 
 void main() {
-    uint i = gl_GlobalInvocationID.x;
+    uint i = work_item();
     if (i < a.cell_count) scatter_children(a, a.cells, a.scan, a.masks, a.cells_out, i);
 }

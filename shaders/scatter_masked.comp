@@ -9,7 +9,7 @@ layout(local_size_x_id = 0) in;
 layout(push_constant) uniform Push { CellArgs a; };
 
 void main() {
-    uint i = gl_GlobalInvocationID.x;
+    uint i = work_item();
     if (i >= a.cell_count) return;
     uint rank = a.scan.value[i];
     if (a.scan.value[i + 1u] == rank) return;

@@ -9,7 +9,8 @@ layout(local_size_x = 1) in;
 layout(push_constant) uniform Push { SortArgs a; };
 
 void main() {
-    uint tile = gl_WorkGroupID.x;
+    uint tile = workgroup_index();
+    if (tile >= a.tile_count) return;
     uint next[SORT_BUCKETS];
     for (uint b = 0u; b < SORT_BUCKETS; b++) next[b] = a.histogram.value[b * a.tile_count + tile];
     uint end = min(a.count, (tile + 1u) * SCAN_BLOCK);

@@ -1,6 +1,7 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"
+#include "shared/kernels.h"
 #include "shared/spectrum.h"
 // The periodogram (vrpd/analysis.h): a run of frequencies of the half plane per invocation, an
 // exact sum over all points.
@@ -31,7 +32,7 @@ void main() {
     // Each invocation sums RUN consecutive frequencies of the half plane; along a row, k + (1, 0)
     // is k's phasor turned once more by the point's x phasor: a complex product instead of a sine
     // and a cosine. Every invocation reads the same point at once (a broadcast load, no barrier).
-    uint f0 = gl_GlobalInvocationID.x * RUN;
+    uint f0 = work_item() * RUN;
     ivec2 k[RUN];
     bool along[RUN];
     for (uint q = 0u; q < RUN; q++) {

@@ -10,7 +10,7 @@ layout(local_size_x_id = 0) in;
 layout(push_constant) uniform Push { CellArgs a; };
 
 void main() {
-    uint e = gl_GlobalInvocationID.x;
+    uint e = work_item();
     if (e >= a.cell_count || !first_in_base_cell(a.domain, a.cells, e)) return;
     uint undecided = throw_base_cell(a, a.cells, a.scan, a.darts, a.grid, e);
     if (undecided == 0u) return;

@@ -179,10 +179,9 @@ TEST_CASE("a field kernel's search past its step budget stops the run with one l
     CHECK(own.run(t, 1u << 24, {}, 0).size() > 100);
 }
 
-TEST_CASE("a sizing field's resolution passes over work lists longer than a row of workgroups take several rows",
-          "[field][gpu]") {
-    // A pass over the darts the pass before left undecided is dispatched in rows of at most the
-    // device's workgroups (65 535); with rows of one workgroup every list of more than 64 darts
+TEST_CASE("a sizing field's dispatches and passes longer than a row of workgroups take several rows", "[field][gpu]") {
+    // Every dispatch, and every pass over the darts the pass before left undecided, runs in rows
+    // of at most 65 535 workgroups; with rows of one workgroup every one of more than 64 items
     // takes several, and the points must be the cpu backend's.
     const SampleOptions o = field_options("0.01 + 0.05*x", SizingRule::Bigger, Boundary::Free, 1);
     const detail::FieldTable t = detail::tabulate(*o.sizing, o.box);

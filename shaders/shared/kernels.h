@@ -218,11 +218,11 @@ struct WorkArgs {
 #ifdef __cplusplus
 static_assert(sizeof(WorkArgs) == 24 && offsetof(WorkArgs, slot) == 8 && offsetof(WorkArgs, max_groups) == 16);
 #else
-// This invocation's item in a pass that work_args dispatched (rows of workgroups of
-// WORKGROUP_SIZE: a list longer than a row takes several).
-uint work_item() {
-    return (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * WORKGROUP_SIZE + gl_LocalInvocationID.x;
-}
+// This workgroup's number and this invocation's item in a dispatch of rows of workgroups
+// (VulkanContext::dispatch, or a pass that work_args dispatched): a dispatch longer than a row
+// takes several, and its last row may hold workgroups past its items, which return.
+uint workgroup_index() { return gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x; }
+uint work_item() { return workgroup_index() * WORKGROUP_SIZE + gl_LocalInvocationID.x; }
 #endif
 
 // gate: zeroes the group counts of the `count` indirect dispatch commands at `table` (3 words

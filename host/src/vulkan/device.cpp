@@ -337,11 +337,14 @@ void VulkanContext::open_gate(const Buffer& table, std::uint64_t counters, std::
 
 void VulkanContext::dispatch(const Kernel& k, const void* push, std::uint32_t groups) {
     if (groups == 0) return;
+    // As few rows as the limit allows, of equal length: at most rows - 1 workgroups past `groups`.
+    const std::uint32_t rows = (groups - 1) / row_groups_ + 1;
+    const std::uint32_t per_row = (groups - 1) / rows + 1;
     if (gate_) {
         if (gated_ == kGateDispatches) throw Error("internal: more gated dispatches than a gate's table holds");
         auto* command = static_cast<std::uint32_t*>(gate_->mapped()) + 3 * gated_;
-        command[0] = groups;
-        command[1] = 1;
+        command[0] = per_row;
+        command[1] = rows;
         command[2] = 1;
         dispatch_indirect(k, push, *gate_, VkDeviceSize(12) * gated_++);
         return;
@@ -349,7 +352,7 @@ void VulkanContext::dispatch(const Kernel& k, const void* push, std::uint32_t gr
     if (!k.pipeline()) build_pending();
     vk_.vkCmdBindPipeline(cmd_, VK_PIPELINE_BIND_POINT_COMPUTE, k.pipeline());
     vk_.vkCmdPushConstants(cmd_, k.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, k.push_size(), push);
-    vk_.vkCmdDispatch(cmd_, groups, 1, 1);
+    vk_.vkCmdDispatch(cmd_, per_row, rows, 1);
     if (profiler_) profiler_->after(cmd_, k);
 }
 

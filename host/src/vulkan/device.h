@@ -3,6 +3,7 @@
 // fence per submit. Buffers (buffer.h) and kernels (kernel.h) are made on it.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -63,7 +64,13 @@ public:
     std::uint64_t submits() const { return submits_; }  // submit_and_wait calls so far
     // Makes every shader write before it visible to every shader read and indirect read after it.
     void barrier();
+    // Records `groups` workgroups of k in rows of at most row_groups() (a dispatch's count along x
+    // is limited, to 65 535 on many devices); the kernels number their items across the rows
+    // (work_item(), shared/kernels.h), and a row may hold a few workgroups past `groups`.
     void dispatch(const Kernel& k, const void* push, std::uint32_t groups);
+    std::uint32_t row_groups() const { return row_groups_; }
+    // Tests set fewer workgroups a row, so that every dispatch of more takes several rows.
+    void set_row_groups(std::uint32_t groups) { row_groups_ = std::max<std::uint32_t>(groups, 1); }
     void dispatch_indirect(const Kernel& k, const void* push, const Buffer& args, VkDeviceSize offset);
     // Between open_gate and close_gate, dispatch() records indirect dispatches whose commands it
     // writes to `table` (host-visible, kGateDispatches commands of 3 words). open_gate first
@@ -131,6 +138,7 @@ private:
     std::uint64_t allocated_ = 0;
     std::uint64_t peak_allocated_ = 0;
     std::uint64_t submits_ = 0;
+    std::uint32_t row_groups_ = kMaxWorkgroups;
     const Buffer* gate_ = nullptr;  // the open gate's table, if any
     std::uint32_t gated_ = 0;       // dispatches recorded through it
     // After the device: destroyed before it.

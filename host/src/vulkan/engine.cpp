@@ -85,6 +85,7 @@ VulkanEngine::VulkanEngine(const Plan& plan, const std::string& selector, const 
         throw Error(fmt::format("the run needs about {:.1f} GiB but {} has {:.1f} GiB of device memory",
                                 double(estimated_device_bytes(plan)) / (1 << 30), ctx_.device_name(),
                                 double(ctx_.device_heap_bytes()) / (1 << 30)));
+    ctx_.set_row_groups(work_groups_);
     counters_ = Buffer(ctx_, COUNTER_WORDS * 4, true);
     gate_ = Buffer(ctx_, VulkanContext::kGateDispatches * 12, true);
     grid_ = Buffer(ctx_, plan.base_cells * sizeof(uvec2), false);

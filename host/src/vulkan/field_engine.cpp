@@ -74,6 +74,7 @@ FieldVulkan::FieldVulkan(const SampleOptions& o, std::uint32_t budget, std::uint
     gate_ = Buffer(ctx_, VulkanContext::kGateDispatches * 12, true);
     exp_table_ = Buffer(ctx_, 128 * 4, true);
     work_groups_ = work_groups != 0 ? work_groups : kMaxWorkgroups;
+    ctx_.set_row_groups(work_groups_);
     budget_ = budget != 0                                                ? budget
               : ctx_.device_name().find("llvmpipe") != std::string::npos ? kLavapipeBudget
                                                                          : UINT32_MAX - 1;

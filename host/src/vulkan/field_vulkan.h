@@ -47,7 +47,7 @@ private:
     static T device_ref(std::uint64_t address) {
         return T{reinterpret_cast<decltype(T::value)>(address)};
     }
-    // Records kernel k over items [begin, end) (chunks of at most kMaxWorkgroups workgroups).
+    // Records kernel k over items [begin, end).
     void dispatch(const Kernel& k, shared::FieldArgs args, std::uint64_t begin, std::uint64_t end) {
         args.count = std::uint32_t(end);
         record(k, args, begin, end);
@@ -59,13 +59,8 @@ private:
         record(k, args, 0, bound);
     }
     void record(const Kernel& k, shared::FieldArgs args, std::uint64_t begin, std::uint64_t end) {
-        for (std::uint64_t from = begin; from < end; from += std::uint64_t(kMaxWorkgroups) * shared::WORKGROUP_SIZE) {
-            args.first = std::uint32_t(from);
-            ctx_.dispatch(k, &args,
-                          dispatch_groups(std::min<std::uint64_t>(
-                                              end - from, std::uint64_t(kMaxWorkgroups) * shared::WORKGROUP_SIZE),
-                                          shared::WORKGROUP_SIZE));
-        }
+        args.first = std::uint32_t(begin);
+        ctx_.dispatch(k, &args, dispatch_groups(end - begin, shared::WORKGROUP_SIZE));
     }
     shared::FieldArgs args() const {
         shared::FieldArgs a{};
@@ -120,7 +115,7 @@ private:
         field_place_, field_triage_, work_args_;
     bool density_;
     std::uint32_t budget_;        // the search steps an invocation may take
-    std::uint32_t work_groups_;   // the most workgroups in a row of a resolution pass over a work list
+    std::uint32_t work_groups_;   // the most workgroups in a row of a dispatch or a pass over a work list
     std::vector<Buffer> tables_;  // the table's arrays
     Buffer run_, roots_, nodes_, node_keys_, leaf_sample_, leaf_first_, touched_, points_, radii_;
     Buffer gate_;       // the commands of gated dispatches (VulkanContext::open_gate)

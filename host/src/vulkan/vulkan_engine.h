@@ -24,7 +24,7 @@ public:
     static constexpr std::uint32_t kResolvePassesPerSubmit = 8;
     // On the device `selector` picks, or on the application's (target, if not null). Tests set
     // fewer passes a submit to make gated round ends wait for later submits, and fewer workgroups
-    // a row to make a pass take several rows.
+    // a row to make every dispatch and pass take several rows.
     VulkanEngine(const Plan& plan, const std::string& selector, const VulkanTarget* target = nullptr,
                  std::uint32_t passes_per_submit = kResolvePassesPerSubmit, std::uint32_t work_groups = kMaxWorkgroups);
     std::string device_name() const override { return ctx_.device_name(); }
@@ -101,7 +101,7 @@ private:
 
     Plan plan_;
     std::uint32_t passes_per_submit_;
-    std::uint32_t work_groups_;  // the most workgroups in a row of a pass over a work list
+    std::uint32_t work_groups_;  // the most workgroups in a row of a dispatch or a pass over a work list
     std::uint64_t shut_gates_ = 0;
     ContextLease lease_;
     VulkanContext& ctx_;
