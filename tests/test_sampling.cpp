@@ -231,8 +231,8 @@ TEST_CASE("profiling names the phases that ran, within the run's time, and chang
         CHECK(sum > 0.0);
         const std::vector<std::string> expected =
             b == Backend::Gpu
-                ? std::vector<std::string>{"count_masked", "throw_masked", "resolve_darts", "refine_masked",
-                                           "throw_darts",  "refine_cells", "emit_samples"}
+                ? std::vector<std::string>{"count_masked",  "mark_masked",  "throw_sited", "resolve_darts",
+                                           "refine_masked", "refine_cells", "emit_samples"}
             : threads == 1 ? std::vector<std::string>{"throw", "resolve", "commit", "refine"}
                            : std::vector<std::string>{"throw", "resolve", "commit", "emit", "refine"};
         for (const std::string& e : expected) CHECK(std::count(names.begin(), names.end(), e) == 1);

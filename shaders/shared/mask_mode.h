@@ -76,6 +76,20 @@ VRPD_FN uint throw_masked_base(CellArgs a, Darts darts, Grid grid, uint b, uint 
     return undecided;
 }
 
+// Mask mode: the sites of base cell b's darts (word w, numbered from `first` on) for the device's
+// throw_sited (throw.h), in throw_masked_base's order and counts.
+VRPD_FN void site_masked_darts(CellArgs a, Darts darts, uvec2 w, uint b, uint first) {
+    uvec2 corner = base_corner(a.domain, b);
+    uint j = first;
+    uint end = first + (w.y >> 16u);
+    for (uint mask = w.y & GRID_MASK_BITS; mask != 0u && j < end; mask &= mask - 1u) {
+        uvec2 cc = subcell_corner(corner, uint(findLSB(mask)), a.side);
+        uint count = (mask & (mask - 1u)) == 0u ? end - j : dart_count(cell_stream(a.round_key, cc), a.param);
+        for (uint i = 0u; i < count; i++) write_site(darts, j + i, cc, i);
+        j += count;
+    }
+}
+
 // Mask mode: the surviving children of base cell b's active sub-cells (a.side: the children's
 // side; a.param: 4 children, or 1: the cell itself), sub-cell k's as bits a.param * k + c, up to
 // 16 sub-cells: bits 0-31 in .x and 32-63 in .y, so that level 2's sub-cells may split too.

@@ -59,6 +59,38 @@ VRPD_FN void throw_cell(Domain dom, Grid grid, uvec2 base, Darts darts, uint str
     }
 }
 
+// The device's throw takes two steps, so that each lane throws one dart: most cells get no dart
+// or one, and with a lane per cell (or base cell) a SIMD batch would run the conflict scan as
+// many times as its lane with the most darts. First each dart's record gets its site, its cell's
+// corner and its index in the cell (with the marking of the darts' ranges: site_cell_darts,
+// mask_mode.h's site_masked_darts); then a lane per dart makes it there (throw_sited). The host
+// throws a base cell's darts in one loop (throw_base_cell, throw_masked_base), the same darts.
+VRPD_FN void write_site(Darts darts, uint j, uvec2 corner, uint i) {
+    store_dart_record(darts, j, uvec4(corner, i, 0u));
+}
+
+// The sites of active cell e's darts.
+VRPD_FN void site_cell_darts(Cells cells, Uints scan, Darts darts, uint e) {
+    uint first = scan.value[e];
+    uint end = scan.value[e + 1u];
+    for (uint j = first; j < end; j++) write_site(darts, j, cells.cell[e], j - first);
+}
+
+// Makes dart j at the site its record holds (cells of side a.side) and writes it; returns its
+// state, rejected if it lies off the domain or in the disk of a sample of an earlier round, or
+// with `no_samples` (a grid that holds none yet) off the domain alone (throw_cell's test).
+VRPD_FN uint throw_sited(CellArgs a, Darts darts, Grid grid, uint j, bool no_samples) {
+    uint r = dart_record(j);
+    uvec2 corner = uvec2(darts.word[r], darts.word[r + 1u]);
+    uvec4 dart = make_dart(cell_stream(a.round_key, corner), darts.word[r + 2u], corner, a.side);
+    uvec2 p = uvec2(dart.x, dart.y);
+    uvec2 base = base_cell_of(a.domain, corner);
+    bool rejected =
+        no_samples ? !in_lattice(a.domain.lattice, p) : inhibited(local_domain(a.domain, base), grid, base, p);
+    store_dart_record(darts, j, dart);
+    return rejected ? DART_REJECTED : DART_UNDECIDED;
+}
+
 // For the first active cell e of a base cell: writes the darts of all active cells of that base
 // cell (cell i's at scan[i] .. scan[i+1]), each rejected if it lies off the domain or in the disk
 // of a sample of an earlier round (with two radii, membership in T is left to the resolution,

@@ -29,9 +29,8 @@
 #include "resolve_darts_one.h"
 #include "scatter_cells.h"
 #include "scatter_masked.h"
-#include "throw_darts.h"
-#include "throw_masked.h"
-#include "throw_masked_empty.h"
+#include "throw_sited.h"
+#include "throw_sited_empty.h"
 #include "work_args.h"
 
 namespace vrpd::detail {
@@ -60,7 +59,7 @@ VulkanEngine::VulkanEngine(const Plan& plan, const std::string& selector, const 
       VRPD_KERNEL(count_darts, CellArgs, WORKGROUP_SIZE),
       VRPD_KERNEL(mark_ranges, CellArgs, WORKGROUP_SIZE),
       VRPD_KERNEL(apply_decisions, DartArgs, WORKGROUP_SIZE),
-      VRPD_KERNEL(throw_darts, CellArgs, WORKGROUP_SIZE),
+      VRPD_KERNEL(throw_sited, CellArgs, WORKGROUP_SIZE),
       VRPD_KERNEL(work_args, WorkArgs, 1),
       resolve_darts_(ctx_, "resolve_darts",
                      two_ ? spirv_words(spirv_resolve_darts) : spirv_words(spirv_resolve_darts_one), sizeof(DartArgs),
@@ -72,8 +71,7 @@ VulkanEngine::VulkanEngine(const Plan& plan, const std::string& selector, const 
       VRPD_KERNEL(scatter_cells, CellArgs, WORKGROUP_SIZE),
       VRPD_KERNEL(count_masked, CellArgs, WORKGROUP_SIZE),
       VRPD_KERNEL(mark_masked, CellArgs, WORKGROUP_SIZE),
-      VRPD_KERNEL(throw_masked, CellArgs, WORKGROUP_SIZE),
-      VRPD_KERNEL(throw_masked_empty, CellArgs, WORKGROUP_SIZE),
+      VRPD_KERNEL(throw_sited_empty, CellArgs, WORKGROUP_SIZE),
       VRPD_KERNEL(commit_masked, CellArgs, WORKGROUP_SIZE),
       VRPD_KERNEL(refine_masked, CellArgs, WORKGROUP_SIZE),
       VRPD_KERNEL(apply_masks, CellArgs, WORKGROUP_SIZE),
@@ -241,12 +239,14 @@ RoundResult VulkanEngine::round(const RoundSpec& spec, const RoundSpec* next) {
     ctx_.vk().vkCmdFillBuffer(cmd, darts_.handle(), 0, VK_WHOLE_SIZE, 0);  // the darts' states start undecided
     ctx_.vk().vkCmdFillBuffer(cmd, counters_.handle(), (COUNTER_WORK0 + 3) * 4, 4, 0);
     ctx_.vk().vkCmdFillBuffer(cmd, counters_.handle(), COUNTER_ACTIVE * 4, 4, 0);  // refine_masked's sum
-    // param: exp(-lambda) for throw_masked, which counts its darts again.
+    ctx_.barrier();  // the zeroed darts before the marking writes their sites
+    // param: exp(-lambda) for mark_masked, which counts each sub-cell's darts again for their sites.
     CellArgs a = cell_args(targets, at.in(scratch_, dart_list), n, spec.round, side, spec.exp_neg_lambda);
     ctx_.dispatch(masked ? mark_masked_ : mark_ranges_, &a, dispatch_groups(n, WORKGROUP_SIZE));
-    ctx_.barrier();  // dart ranges and the empty work list before throw_darts reads and appends
-    const Kernel& thrower = !masked ? throw_darts_ : (emitted_ == 0 ? throw_masked_empty_ : throw_masked_);
-    ctx_.dispatch(thrower, &a, dispatch_groups(n, WORKGROUP_SIZE));
+    ctx_.barrier();  // dart ranges, sites and the empty work list before throw_sited reads and appends
+    CellArgs per_dart = a;
+    per_dart.cell_count = darts;
+    ctx_.dispatch(emitted_ == 0 ? throw_sited_empty_ : throw_sited_, &per_dart, dispatch_groups(darts, WORKGROUP_SIZE));
     ctx_.barrier();  // darts, grid dart ranges and work list before resolution
     const std::uint32_t fanout = spec.refine ? 4 : 1;
     const std::uint32_t child_side = spec.refine ? spec.side / 2 : spec.side;

@@ -45,7 +45,7 @@ private:
     };
     // Where a round's transient arrays lie in the scratch buffer, as byte offsets. Arrays whose
     // lives do not overlap share a region:
-    //   ranks: the targets' dart prefix sums (count_darts, throw_darts), work list 1 (resolution),
+    //   ranks: the targets' dart prefix sums (count_darts, mark_ranges), work list 1 (resolution),
     //          the accepted flags and their ranks (commit, emit), the surviving-children counts
     //          and their ranks (refine, scatter);
     //   list:  work list 0 (throw, resolution), the round's sample keys (emit, sort), the child
@@ -120,9 +120,9 @@ private:
     // One radius runs refine_cells_one and resolve_darts_one (CMakeLists.txt); profiles name
     // both variants by their source.
     Kernel init_cells_, place_samples_, flag_dart_cells_, flag_free_cells_, list_dart_cells_, count_darts_,
-        mark_ranges_, apply_decisions_, throw_darts_, work_args_, resolve_darts_, commit_cells_, emit_samples_,
-        refine_cells_, scatter_cells_, count_masked_, mark_masked_, throw_masked_, throw_masked_empty_, commit_masked_,
-        refine_masked_, apply_masks_, scatter_masked_, flag_masked_, list_masked_;
+        mark_ranges_, apply_decisions_, throw_sited_, work_args_, resolve_darts_, commit_cells_, emit_samples_,
+        refine_cells_, scatter_cells_, count_masked_, mark_masked_, throw_sited_empty_, commit_masked_, refine_masked_,
+        apply_masks_, scatter_masked_, flag_masked_, list_masked_;
     std::uint64_t emitted_ = 0;
     std::uint32_t active_ = 0;
     // Mask mode (shared/mask_mode.h) at levels 0 to MASK_LEVELS - 1, with one radius: no active list there.
