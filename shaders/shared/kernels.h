@@ -111,11 +111,12 @@ const uint COUNTER_CROWDED = 14u;     // mask mode: 1 if a base cell got 2^16 da
 const uint COUNTER_LISTED = 15u;      // mask mode: base cells listed for the last mask-mode level
 const uint COUNTER_WORDS = 16u;
 
-// Kernels over the active cells: init_cells, count_darts, mark_ranges, throw_darts, commit_cells,
+// Kernels over the active cells: init_cells, count_darts, mark_ranges, commit_cells,
 // refine_cells, scatter_cells; with two radii flag_dart_cells and list_dart_cells, which make the
 // list of base cells the darts go to (the kernels from count_darts to commit_cells run over it).
 // In mask mode (sampler.h) their counterparts run over all base cells: count_masked, mark_masked,
-// throw_masked, commit_masked, refine_masked, apply_masks, scatter_masked.
+// commit_masked, refine_masked, apply_masks, scatter_masked. throw_sited runs over the darts
+// (cell_count: their number).
 struct CellArgs {
     Domain domain;
     VRPD_BUFFER(Cells) cells;      // active cells (lattice corners), ordered by base cell; in mask
@@ -124,8 +125,9 @@ struct CellArgs {
     VRPD_BUFFER(Darts) darts;
     VRPD_BUFFER(Uints) scan;       // per-cell dart (or surviving child) counts, then their prefix sums
     VRPD_BUFFER(Grid) grid;
-    VRPD_BUFFER(Uints) work;       // throw_darts: appends the undecided darts (work list 0);
-                                   // list_masked: the list of active base cells it writes
+    VRPD_BUFFER(Uints)
+    work;  // throw_sited: appends the undecided darts (work list 0);
+           // list_masked: the list of active base cells it writes
     VRPD_BUFFER(Uints) counters;
     VRPD_BUFFER(Uints) masks;      // refine/scatter: which children of each cell stay active
     uint cell_count;

@@ -50,9 +50,9 @@ VRPD_FN uint masked_dart_count(CellArgs a, uvec2 w, uint b) {
 VRPD_FN uvec2 counted_word(uvec2 w, uint count) { return uvec2(w.x, (count << 16u) | (w.y & GRID_MASK_BITS)); }
 VRPD_FN uvec2 numbered_word(uvec2 w, uint first) { return uvec2(GRID_TAG | GRID_PACKED | first, w.y); }
 
-// Mask mode: writes the darts of base cell b, from `first` on, in the order of its sub-cells, each
-// rejected if it lies in the disk of a sample of an earlier round (as throw_base_cell; no_samples
-// as throw_cell's). Returns how many are still undecided.
+// Mask mode, the host's throw: writes the darts of base cell b, from `first` on, in the order of
+// its sub-cells, each rejected if it lies in the disk of a sample of an earlier round (as
+// throw_base_cell; no_samples as throw_cell's). Returns how many are still undecided.
 VRPD_FN uint throw_masked_base(CellArgs a, Darts darts, Grid grid, uint b, uint first, bool no_samples) {
     uvec2 w = grid.word[b];
     uvec2 base = uvec2(b % a.domain.cells_x, b / a.domain.cells_x);

@@ -94,9 +94,8 @@ VRPD_FN uint throw_sited(CellArgs a, Darts darts, Grid grid, uint j, bool no_sam
 // For the first active cell e of a base cell: writes the darts of all active cells of that base
 // cell (cell i's at scan[i] .. scan[i+1]), each rejected if it lies off the domain or in the disk
 // of a sample of an earlier round (with two radii, membership in T is left to the resolution,
-// which sees this round's earlier darts as well). Each dart is made, tested and written once (on
-// GPUs each buffer access costs; most base cells have 0-2 darts). Returns how many are still
-// undecided.
+// which sees this round's earlier darts as well): the host's throw. Each dart is made, tested and
+// written once. Returns how many are still undecided.
 VRPD_FN uint throw_base_cell(CellArgs a, Cells cells, Uints scan, Darts darts, Grid grid, uint e) {
     uint end_cell = group_end(a.domain, cells, e, a.cell_count);
     uvec2 base = base_cell_of(a.domain, cells.cell[e]);
