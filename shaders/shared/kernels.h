@@ -125,9 +125,9 @@ struct CellArgs {
     VRPD_BUFFER(Darts) darts;
     VRPD_BUFFER(Uints) scan;       // per-cell dart (or surviving child) counts, then their prefix sums
     VRPD_BUFFER(Grid) grid;
-    VRPD_BUFFER(Uints)
-    work;  // throw_sited: appends the undecided darts (work list 0);
-           // list_masked: the list of active base cells it writes
+    // throw_sited appends the undecided darts to `work` (work list 0); list_masked writes the
+    // list of active base cells to it.
+    VRPD_BUFFER(Uints) work;
     VRPD_BUFFER(Uints) counters;
     VRPD_BUFFER(Uints) masks;      // refine/scatter: which children of each cell stay active
     uint cell_count;

@@ -64,11 +64,10 @@ public:
     std::uint64_t submits() const { return submits_; }  // submit_and_wait calls so far
     // Makes every shader write before it visible to every shader read and indirect read after it.
     void barrier();
-    // Records `groups` workgroups of k in rows of at most row_groups() (a dispatch's count along x
-    // is limited, to 65 535 on many devices); the kernels number their items across the rows
-    // (work_item(), shared/kernels.h), and a row may hold a few workgroups past `groups`.
+    // Records `groups` workgroups of k in rows of at most row_groups_ (kMaxWorkgroups: a dispatch's
+    // count along x is limited, to 65 535 on many devices); the kernels number their items across
+    // the rows (work_item(), shared/kernels.h), and a row may hold a few workgroups past `groups`.
     void dispatch(const Kernel& k, const void* push, std::uint32_t groups);
-    std::uint32_t row_groups() const { return row_groups_; }
     // Tests set fewer workgroups a row, so that every dispatch of more takes several rows.
     void set_row_groups(std::uint32_t groups) { row_groups_ = std::max<std::uint32_t>(groups, 1); }
     void dispatch_indirect(const Kernel& k, const void* push, const Buffer& args, VkDeviceSize offset);
