@@ -2,11 +2,12 @@
 // shared/: the lattice distance, conflict and cover of a point (strict: a pair at exactly r neither
 // conflicts nor covers), and the quadtree's cover test of a cell, on random and tied inputs. Then
 // whole runs on a lattice where pairs at exactly r occur: they must be kept, and every lattice
-// point must end strictly covered. Last, the host's versions of two GLSL built-ins and its
-// vectorised window scan.
+// point must end strictly covered. Last, the host's versions of two GLSL built-ins, and its
+// vectorised bodies (window scans, children's cover test, dart counts) against the scalar ones.
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <random>
 
 #include "plan.h"
@@ -366,5 +367,38 @@ TEST_CASE("predicates: the host's vectorised cover test of a cell's children dro
     }
     CHECK(dropped > 2000);
     CHECK(dropped < 18000);
+#endif
+}
+
+TEST_CASE("predicates: the host's vectorised dart counts are the scalar ones, for any number of cells and any lambda",
+          "[predicates]") {
+    using namespace shared;
+#ifndef VRPD_HOST_AVX2
+    SUCCEED("not x86-64: cell_dart_counts keeps its scalar loop");
+#else
+    if (!host_has_avx2()) SUCCEED("no AVX2 here: cell_dart_counts keeps its scalar loop");
+    if (!host_has_avx2()) return;
+    std::mt19937_64 rng(19);
+    std::uint64_t darts = 0;
+    uint most = 0;
+    for (int trial = 0; trial < 2000; ++trial) {
+        // Lambda from 0.01 to 8 (a lane may need a dozen uniforms), corners anywhere below 2^31.
+        const double lambda = 0.01 + 8.0 * double(rng() % 1000) / 1000.0;
+        const uint exp_neg = uint(std::floor(std::exp(-lambda) * 4294967296.0));
+        const uint key = uint(rng());
+        std::vector<uvec2> corners(rng() % 40);  // tails of every length, and none
+        for (uvec2& c : corners) c = uvec2(uint(rng() >> 33), uint(rng() >> 33));
+        std::vector<uint> counts(corners.size() + 1, 0xDEADBEEFu);  // one past the end: left alone
+        cell_dart_counts_avx2(key, corners.data(), uint(corners.size()), exp_neg, counts.data());
+        INFO("trial " << trial << " lambda " << lambda << " cells " << corners.size());
+        for (std::size_t k = 0; k < corners.size(); ++k) {
+            REQUIRE(counts[k] == dart_count(cell_stream(key, corners[k]), exp_neg));
+            darts += counts[k];
+            most = std::max(most, counts[k]);
+        }
+        REQUIRE(counts.back() == 0xDEADBEEFu);
+    }
+    CHECK(darts > 100000);
+    CHECK(most >= 12);
 #endif
 }

@@ -32,6 +32,18 @@ inline int findMSB(std::uint32_t v) { return int(std::bit_width(v)) - 1; }
 using std::int64_t;
 using std::uint64_t;
 }  // namespace vrpd::shared
+// On x86-64 some steps have a host body built for AVX2 beside the shared one, chosen at run time.
+#ifdef __x86_64__
+#define VRPD_HOST_AVX2 1
+#include <immintrin.h>
+namespace vrpd::shared {
+// Whether the vector bodies may run: inlined, as a call would cost the hot scans more than the test.
+[[gnu::always_inline]] inline bool host_has_avx2() {
+    static const bool has = (__builtin_cpu_init(), __builtin_cpu_supports("avx2"));
+    return has;
+}
+}  // namespace vrpd::shared
+#endif
 #define VRPD_BEGIN namespace vrpd::shared {
 #define VRPD_END }
 // A device address (GL_EXT_buffer_reference) is a 64-bit integer on the host.

@@ -7,10 +7,6 @@
 #include "neighbourhood.h"
 #include "kernels.h"
 #include "t_membership.h"
-#if defined(__cplusplus) && defined(__x86_64__)
-#define VRPD_HOST_AVX2 1
-#include <immintrin.h>
-#endif
 
 VRPD_BEGIN
 
@@ -24,10 +20,11 @@ VRPD_BEGIN
 // distance2's value on a straight domain), or per axis max(o, far - o) >= 0, squared and summed in
 // 64. A sample in a cell the rows' reaches leave out lies at least sqrt(limit2) from every point
 // of the centre cell, so testing it changes no answer.
-template <bool kFarthest>
-[[gnu::target("avx2")]] inline bool window_holds_within(const uvec2* centre, int stride, int reach, uvec2 at,
-                                                        uint64_t limit2, ivec2 far = ivec2(0)) {
-    const int width = 2 * reach + 1;  // 3, 5 or 7 words a row
+// The reach is a template parameter, so that the rows' loops unroll.
+template <bool kFarthest, int kReach>
+[[gnu::target("avx2")]] inline bool window_holds_within_at(const uvec2* centre, int stride, uvec2 at, uint64_t limit2,
+                                                           ivec2 far) {
+    constexpr int width = 2 * kReach + 1;  // 3, 5 or 7 words a row
     const int low_lanes = (1 << (width < 4 ? width : 4)) - 1, high_lanes = width > 4 ? (1 << (width - 4)) - 1 : 0;
     const __m256i lane = _mm256_setr_epi64x(0, 1, 2, 3);
     const __m256i low = _mm256_cmpgt_epi64(_mm256_set1_epi64x(width), lane);
@@ -35,8 +32,8 @@ template <bool kFarthest>
     const __m256i from = _mm256_set1_epi64x(int64_t(uint64_t(at.y) << 32 | at.x));
     const __m256i far_side = _mm256_set1_epi64x(int64_t(uint64_t(uint(far.y)) << 32 | uint(far.x)));
     const __m256i limit = _mm256_set1_epi64x(int64_t(limit2));
-    for (int dy = -reach; dy <= reach; dy++) {
-        const auto* row = reinterpret_cast<const long long*>(centre + dy * stride - reach);
+    for (int dy = -kReach; dy <= kReach; dy++) {
+        const auto* row = reinterpret_cast<const long long*>(centre + dy * stride - kReach);
         for (int half = 0; half < (width > 4 ? 2 : 1); half++) {
             const __m256i w = _mm256_maskload_epi64(row + 4 * half, half == 0 ? low : high);
             __m256i d = _mm256_sub_epi32(w, from);
@@ -50,10 +47,17 @@ template <bool kFarthest>
     }
     return false;
 }
-// Whether the vector bodies may run: inlined, as a call would cost the hot scans more than the test.
-[[gnu::always_inline]] inline bool host_has_avx2() {
-    static const bool has = (__builtin_cpu_init(), __builtin_cpu_supports("avx2"));
-    return has;
+template <bool kFarthest>
+[[gnu::target("avx2")]] inline bool window_holds_within(const uvec2* centre, int stride, int reach, uvec2 at,
+                                                        uint64_t limit2, ivec2 far = ivec2(0)) {
+    switch (reach) {
+        case 1:
+            return window_holds_within_at<kFarthest, 1>(centre, stride, at, limit2, far);
+        case 2:
+            return window_holds_within_at<kFarthest, 2>(centre, stride, at, limit2, far);
+        default:
+            return window_holds_within_at<kFarthest, int(MAX_REACH)>(centre, stride, at, limit2, far);
+    }
 }
 // Whether a vector body may scan the window around base cell `base`: it neither wraps nor meets a
 // free boundary, and the processor has AVX2.
@@ -229,9 +233,10 @@ VRPD_FN bool base_covered(Domain dom, Grid grid, uvec2 base) {
 // squared gap to the closed base cell is below limit2 (Rc^2; an adjacent cell's sample always is,
 // and one in a cell the rows' reaches leave out never). Writes the kept offsets to `out`, the 3 x 3
 // adjacent cells' first, each group in row order; returns their count.
-[[gnu::target("avx2")]] inline uint window_gather(const uvec2* centre, int stride, int reach, uvec2 origin, int side,
-                                                  uint64_t limit2, ivec2* out) {
-    const int width = 2 * reach + 1;
+template <int kReach>
+[[gnu::target("avx2")]] inline uint window_gather_at(const uvec2* centre, int stride, uvec2 origin, int side,
+                                                     uint64_t limit2, ivec2* out) {
+    constexpr int width = 2 * kReach + 1;
     const uint low_lanes = (1u << (width < 4 ? width : 4)) - 1u, high_lanes = width > 4 ? (1u << (width - 4)) - 1u : 0u;
     const __m256i lane = _mm256_setr_epi64x(0, 1, 2, 3);
     const __m256i low = _mm256_cmpgt_epi64(_mm256_set1_epi64x(width), lane);
@@ -243,7 +248,7 @@ VRPD_FN bool base_covered(Domain dom, Grid grid, uvec2 base) {
     ivec2 offset[8 * (2 * MAX_REACH + 1)];  // row r's lane k at 8 r + k
     uint64_t kept = 0u;                     // the same bits
     for (int r = 0; r < width; r++) {
-        const auto* row = reinterpret_cast<const long long*>(centre + (r - reach) * stride - reach);
+        const auto* row = reinterpret_cast<const long long*>(centre + (r - kReach) * stride - kReach);
         for (int half = 0; half < (width > 4 ? 2 : 1); half++) {
             const __m256i w = _mm256_maskload_epi64(row + 4 * half, half == 0 ? low : high);
             const __m256i o = _mm256_sub_epi32(w, corner);
@@ -257,14 +262,25 @@ VRPD_FN bool base_covered(Domain dom, Grid grid, uvec2 base) {
             kept |= uint64_t(uint(close & ~tagged) & (half == 0 ? low_lanes : high_lanes)) << (8 * r + 4 * half);
         }
     }
-    // The 3 x 3 adjacent cells: lanes reach - 1 to reach + 1 of rows reach - 1 to reach + 1.
+    // The 3 x 3 adjacent cells: lanes kReach - 1 to kReach + 1 of rows kReach - 1 to kReach + 1.
     const uint64_t adjacent =
-        uint64_t(7u << (reach - 1)) *
-        ((uint64_t(1) << (8 * (reach - 1))) | (uint64_t(1) << (8 * reach)) | (uint64_t(1) << (8 * (reach + 1))));
+        uint64_t(7u << (kReach - 1)) *
+        ((uint64_t(1) << (8 * (kReach - 1))) | (uint64_t(1) << (8 * kReach)) | (uint64_t(1) << (8 * (kReach + 1))));
     uint n = 0u;
     for (uint64_t m = kept & adjacent; m != 0u; m &= m - 1u) out[n++] = offset[std::countr_zero(m)];
     for (uint64_t m = kept & ~adjacent; m != 0u; m &= m - 1u) out[n++] = offset[std::countr_zero(m)];
     return n;
+}
+[[gnu::target("avx2")]] inline uint window_gather(const uvec2* centre, int stride, int reach, uvec2 origin, int side,
+                                                  uint64_t limit2, ivec2* out) {
+    switch (reach) {
+        case 1:
+            return window_gather_at<1>(centre, stride, origin, side, limit2, out);
+        case 2:
+            return window_gather_at<2>(centre, stride, origin, side, limit2, out);
+        default:
+            return window_gather_at<int(MAX_REACH)>(centre, stride, origin, side, limit2, out);
+    }
 }
 #endif
 

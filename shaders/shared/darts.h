@@ -42,6 +42,63 @@ VRPD_FN uint dart_count(uint stream, uint exp_neg_lambda) {
     return k;
 }
 
+#ifdef __cplusplus
+#ifdef VRPD_HOST_AVX2
+// The host's body of cell_dart_counts on processors with AVX2: eight cells a step, the hashes in
+// 32-bit lanes and each lane's product of uniforms in 64 (even and odd lanes apart), the step's
+// uniforms drawn while some lane's product stays above exp_neg_lambda.
+[[gnu::target("avx2")]] inline __m256i hash32_x8(__m256i x) {
+    x = _mm256_xor_si256(x, _mm256_srli_epi32(x, 16));
+    x = _mm256_mullo_epi32(x, _mm256_set1_epi32(int(0x7feb352du)));
+    x = _mm256_xor_si256(x, _mm256_srli_epi32(x, 15));
+    x = _mm256_mullo_epi32(x, _mm256_set1_epi32(int(0x846ca68bu)));
+    return _mm256_xor_si256(x, _mm256_srli_epi32(x, 16));
+}
+[[gnu::target("avx2")]] inline __m256i hash_mix_x8(__m256i h, __m256i v) {
+    const __m256i m = _mm256_mullo_epi32(v, _mm256_set1_epi32(int(0x9e3779b9u)));
+    return hash32_x8(_mm256_xor_si256(h, _mm256_add_epi32(m, _mm256_set1_epi32(0x7f4a7c15))));
+}
+[[gnu::target("avx2")]] inline void cell_dart_counts_avx2(uint round_key, const uvec2* corners, uint n,
+                                                          uint exp_neg_lambda, uint* counts) {
+    const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+    const __m256i split = _mm256_setr_epi32(0, 2, 4, 6, 1, 3, 5, 7);  // x of 4 corners, then their y
+    const __m256i key = _mm256_set1_epi32(int(round_key));
+    const __m256i limit = _mm256_set1_epi32(int(exp_neg_lambda));
+    for (uint k = 0u; k < n; k += 8u) {
+        const __m256i valid = _mm256_cmpgt_epi32(_mm256_set1_epi32(int(n - k)), lane);
+        const auto* at = reinterpret_cast<const long long*>(corners + k);
+        const __m256i a = _mm256_permutevar8x32_epi32(
+            _mm256_maskload_epi64(at, _mm256_cvtepi32_epi64(_mm256_castsi256_si128(valid))), split);
+        const __m256i b = _mm256_permutevar8x32_epi32(
+            _mm256_maskload_epi64(at + 4, _mm256_cvtepi32_epi64(_mm256_extracti128_si256(valid, 1))), split);
+        const __m256i x = _mm256_permute2x128_si256(a, b, 0x20), y = _mm256_permute2x128_si256(a, b, 0x31);
+        const __m256i stream = hash_mix_x8(hash_mix_x8(key, x), y);
+        __m256i product = _mm256_set1_epi32(-1);
+        __m256i count = _mm256_setzero_si256();
+        __m256i live = valid;
+        for (uint step = 0u; !_mm256_testz_si256(live, live); step++) {
+            const __m256i u = hash_mix_x8(stream, _mm256_set1_epi32(int(0xA5A5A5A5u + step)));
+            const __m256i even = _mm256_srli_epi64(_mm256_mul_epu32(product, u), 32);
+            const __m256i odd = _mm256_mul_epu32(_mm256_srli_epi64(product, 32), _mm256_srli_epi64(u, 32));
+            product = _mm256_blend_epi32(even, odd, 0xAA);
+            live = _mm256_andnot_si256(_mm256_cmpeq_epi32(_mm256_min_epu32(product, limit), product), live);
+            count = _mm256_sub_epi32(count, live);  // a live lane is -1: one more dart
+        }
+        _mm256_maskstore_epi32(reinterpret_cast<int*>(counts + k), valid, count);
+    }
+}
+#endif
+
+// The host's dart counts of n cells: counts[k] = dart_count(cell_stream(round_key, corners[k]),
+// exp_neg_lambda).
+inline void cell_dart_counts(uint round_key, const uvec2* corners, uint n, uint exp_neg_lambda, uint* counts) {
+#ifdef VRPD_HOST_AVX2
+    if (host_has_avx2()) return cell_dart_counts_avx2(round_key, corners, n, exp_neg_lambda, counts);
+#endif
+    for (uint k = 0u; k < n; k++) counts[k] = dart_count(cell_stream(round_key, corners[k]), exp_neg_lambda);
+}
+#endif
+
 // Dart j of a cell: .xy its lattice position (uniform over the cell's side x side points, side a
 // power of two), .z its arrival key. Ties in the key are broken by the dart's index in the round.
 VRPD_FN uvec4 make_dart(uint stream, uint j, uvec2 corner, uint side) {

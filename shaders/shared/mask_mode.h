@@ -45,6 +45,18 @@ VRPD_FN uint masked_dart_count(CellArgs a, uvec2 w, uint b) {
     return count;
 }
 
+#ifdef __cplusplus
+// Mask mode, the host's counting: the corners of the active sub-cells of base cell b (word w, its
+// sub-cells of side `side`), written to `out` in masked_dart_count's order; returns their number.
+inline uint masked_subcell_corners(Domain dom, uvec2 w, uint b, uint side, uvec2* out) {
+    uvec2 corner = base_corner(dom, b);
+    uint n = 0u;
+    for (uint mask = w.y & GRID_MASK_BITS; mask != 0u; mask &= mask - 1u)
+        out[n++] = subcell_corner(corner, uint(findLSB(mask)), side);
+    return n;
+}
+#endif
+
 // Mask mode: an active word with its round's dart count (< 2^16; the engines check), then with
 // the index of its first dart: a packed darts word (domain.h).
 VRPD_FN uvec2 counted_word(uvec2 w, uint count) { return uvec2(w.x, (count << 16u) | (w.y & GRID_MASK_BITS)); }
@@ -90,6 +102,31 @@ VRPD_FN void site_masked_darts(CellArgs a, Darts darts, uvec2 w, uint b, uint fi
     }
 }
 
+#ifdef VRPD_HOST_AVX2
+// The host's body of refine_masked_base where the sub-cells split and vector_refinement holds:
+// the gather (window_gather), then each active sub-cell's children tested as
+// uncovered_children tests them (inner_child_boxes). `centre` is the base cell's grid word, at
+// `corner`; `side` the children's.
+template <int kReach>
+[[gnu::target("avx2")]] inline uvec2 refine_masked_inner(Domain dom, const uvec2* centre, uvec2 corner, uint mask,
+                                                         uint side) {
+    ivec2 at[MAX_CELL_SAMPLES];
+    uint samples =
+        window_gather_at<kReach>(centre, int(dom.cells_x), corner, 1 << dom.cell_bits, dom.radii.coverage2, at);
+    uvec2 kept = uvec2(0u, 0u);
+    for (; mask != 0u; mask &= mask - 1u) {
+        uint k = uint(findLSB(mask));
+        ivec2 lo = ivec2(subcell_corner(uvec2(0u, 0u), k, 2u * side));
+        uint children = uncovered_children(inner_child_boxes(lo, int(side), 4u), at, samples, dom.radii.coverage2, 15u);
+        if (k < 8u)
+            kept.x |= children << (4u * k);
+        else
+            kept.y |= children << (4u * k - 32u);
+    }
+    return kept;
+}
+#endif
+
 // Mask mode: the surviving children of base cell b's active sub-cells (a.side: the children's
 // side; a.param: 4 children, or 1: the cell itself), sub-cell k's as bits a.param * k + c, up to
 // 16 sub-cells: bits 0-31 in .x and 32-63 in .y, so that level 2's sub-cells may split too.
@@ -99,8 +136,23 @@ VRPD_FN uvec2 refine_masked_base(CellArgs a, Grid grid, uint b) {
     if (grid_is_sample(w) || (w.y & GRID_MASK_BITS) == 0u) return kept;
     uvec2 base = uvec2(b % a.domain.cells_x, b / a.domain.cells_x);
     Domain dom = local_domain(a.domain, base);
-    uint samples = cover_tested(dom, a.param, a.side) ? gather_cell_samples(dom, grid, base) : 0u;
     uvec2 corner = base_corner(a.domain, b);
+#ifdef VRPD_HOST_AVX2
+    if (a.param == 4u && vector_refinement(dom, base)) {
+        uint mask = w.y & GRID_MASK_BITS;
+        switch (cover_reach(dom.radii)) {
+            case 1:
+                return refine_masked_inner<1>(dom, grid.word + b, corner, mask, a.side);
+            case 2:
+                return refine_masked_inner<2>(dom, grid.word + b, corner, mask, a.side);
+            case 3:
+                return refine_masked_inner<3>(dom, grid.word + b, corner, mask, a.side);
+            default:
+                break;
+        }
+    }
+#endif
+    uint samples = cover_tested(dom, a.param, a.side) ? gather_cell_samples(dom, grid, base) : 0u;
     uint parent_side = a.param == 4u ? 2u * a.side : a.side;
     for (uint mask = w.y & GRID_MASK_BITS; mask != 0u; mask &= mask - 1u) {
         uint k = uint(findLSB(mask));

@@ -107,7 +107,8 @@ VRPD_FN bool cover_tested(Domain dom, uint fanout, uint side) {
 // a child that no single disk covers is tested exactly (t_membership.h): it stays iff it still holds
 // a point of U. So the cells track U exactly, and vanish as soon as U does. Should that test run
 // past its bounds, the child stays; at the deepest level it then falls back to its lattice point.
-VRPD_FN uint surviving_children(Domain dom, Grid grid, uvec2 base, uvec2 corner, uint side, uint fanout, uint samples) {
+VRPD_FN uint surviving_children(VRPD_IN(Domain) dom, Grid grid, uvec2 base, uvec2 corner, uint side, uint fanout,
+                                uint samples) {
     // Child 0 shares the cell's corner; the others' corners lie side further along x, y or both.
     uint x1 = corner.x + side;
     uint y1 = corner.y + side;
@@ -167,6 +168,43 @@ VRPD_FN uint surviving_children(Domain dom, Grid grid, uvec2 base, uvec2 corner,
     return mask;
 }
 
+#ifdef VRPD_HOST_AVX2
+// Do the host's vector bodies refine the cells of base cell `base` (one radius)? Where its window
+// neither wraps nor meets a free boundary (vector_window) and the base cell lies whole on the
+// lattice (a hierarchy's step may keep base cells past a free boundary), so that no child is
+// clipped or off the lattice.
+inline bool vector_refinement(Domain dom, uvec2 base) {
+    return !two_radii(dom.radii) && ((base.x + 1u) << dom.cell_bits) <= dom.lattice.extent_x &&
+           ((base.y + 1u) << dom.cell_bits) <= dom.lattice.extent_y && vector_window(dom, base);
+}
+
+// One radius: the intervals of the `fanout` children of side `side` of the cell at offset lo from
+// its base cell's corner, where vector_refinement holds: surviving_children's intervals, which no
+// boundary clips there.
+inline ChildBoxes inner_child_boxes(ivec2 lo, int side, uint fanout) {
+    ivec2 lo1 = fanout == 4u ? lo + side : lo;
+    return ChildBoxes{lo, lo + side - 1, lo1, lo1 + side - 1};
+}
+
+// The host's body of refine_cells_of_base where vector_refinement holds and the children are
+// cover-tested: the gather (window_gather), then each cell's
+// children tested by uncovered_children. `centre` is the base cell's grid word, at `origin`.
+template <int kReach>
+[[gnu::target("avx2")]] inline void refine_cells_inner(CellArgs a, Cells cells, Uints counts, Uints masks,
+                                                       const uvec2* centre, uvec2 origin, uint first, uint end) {
+    ivec2 at[MAX_CELL_SAMPLES];
+    uint samples = window_gather_at<kReach>(centre, int(a.domain.cells_x), origin, 1 << a.domain.cell_bits,
+                                            a.domain.radii.coverage2, at);
+    uint all = a.param == 4u ? 15u : 1u;
+    for (uint i = first; i < end; i++) {
+        ChildBoxes b = inner_child_boxes(ivec2(cells.cell[i] - origin), int(a.side), a.param);
+        uint mask = uncovered_children(b, at, samples, a.domain.radii.coverage2, all);
+        masks.value[i] = mask;
+        counts.value[i] = uint(bitCount(mask));
+    }
+}
+#endif
+
 // For the active cells [first, end) of one base cell: masks[i] has bit c set for the children c
 // of cell i that stay active (none if the base cell holds a sample or one covers it), and
 // counts[i] their number, for the scan that places them in the next active list. The samples
@@ -180,6 +218,22 @@ VRPD_FN void refine_cells_of_base(CellArgs a, Cells cells, Uints counts, Uints m
     // A base cell that holds a sample, or (two radii) that one sample covers, keeps no cell.
     bool spent =
         grid_is_sample(grid.word[base_index(dom, base)]) || (two_radii(dom.radii) && base_covered(dom, grid, base));
+#ifdef VRPD_HOST_AVX2
+    if (!spent && cover_tested(dom, a.param, a.side) && vector_refinement(dom, base)) {
+        const uvec2* centre = grid.word + base_index(dom, base);
+        uvec2 origin = uvec2(base.x << dom.cell_bits, base.y << dom.cell_bits);
+        switch (cover_reach(dom.radii)) {
+            case 1:
+                return refine_cells_inner<1>(a, cells, counts, masks, centre, origin, first, end);
+            case 2:
+                return refine_cells_inner<2>(a, cells, counts, masks, centre, origin, first, end);
+            case 3:
+                return refine_cells_inner<3>(a, cells, counts, masks, centre, origin, first, end);
+            default:
+                break;
+        }
+    }
+#endif
     uint samples = spent || !cover_tested(dom, a.param, a.side) ? 0u : gather_cell_samples(dom, grid, base);
     for (uint i = first; i < end; i++) {
         uint mask = spent ? 0u : surviving_children(dom, grid, base, cells.cell[i], a.side, a.param, samples);

@@ -3,6 +3,7 @@
 // threads in arrival order, arrival_order.h); `serial` accepts the same darts one at a time in
 // arrival order (serial_oracle.h): the textbook process over explicit lists, kept simple as the oracle.
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <queue>
@@ -144,8 +145,7 @@ private:
 
         fit(scan_, std::size_t(n) + 1);
         pool_.parallel_for(n, [&](std::size_t b, std::size_t e, unsigned) {
-            for (std::size_t i = b; i < e; ++i)
-                scan_[i] = dart_count(cell_stream(key, targets[i]), spec.exp_neg_lambda);
+            cell_dart_counts(key, &targets[b], uint(e - b), spec.exp_neg_lambda, &scan_[b]);
         });
         const std::uint64_t total = exclusive_scan(n);
         clear_darts(total);
@@ -173,14 +173,29 @@ private:
         std::vector<std::uint64_t> first(pool_.chunks(bases) + 1, 0);
         std::atomic<bool> crowded = false;
         pool_.parallel_for(bases, [&](std::size_t b, std::size_t e, unsigned w) {
+            // The sub-cells (up to 16 a base cell) of kBatch base cells at a time are counted together.
+            constexpr uint kBatch = 64;
+            std::array<uvec2, kBatch * 16> corners;
+            std::array<uint, kBatch * 16> counts;
             std::uint64_t sum = 0;
-            for (std::size_t i = b; i < e; ++i) {
-                uvec2& word = grid_[i];
-                if (!masked_active(word)) continue;
-                const uint count = masked_dart_count(args, word, uint(i));
-                if (count > GRID_MASK_BITS) crowded = true;
-                word = counted_word(word, count);
-                sum += count;
+            for (std::size_t i = b; i < e;) {
+                const std::size_t end = std::min(e, i + kBatch);
+                uint n = 0;
+                for (std::size_t j = i; j < end; ++j)
+                    if (masked_active(grid_[j]))
+                        n += masked_subcell_corners(dom, grid_[j], uint(j), spec.side, &corners[n]);
+                cell_dart_counts(args.round_key, corners.data(), n, spec.exp_neg_lambda, counts.data());
+                n = 0;
+                for (std::size_t j = i; j < end; ++j) {
+                    uvec2& word = grid_[j];
+                    if (!masked_active(word)) continue;
+                    uint count = 0;
+                    for (int k = bitCount(word.y & GRID_MASK_BITS); k > 0; --k) count += counts[n++];
+                    if (count > GRID_MASK_BITS) crowded = true;
+                    word = counted_word(word, count);
+                    sum += count;
+                }
+                i = end;
             }
             first[w + 1] = sum;
         });
