@@ -5,6 +5,7 @@
 #define VRPD_BRIDGE_H
 
 #ifdef __cplusplus
+#include <array>
 #include <bit>
 #include <cmath>
 #include <cstddef>

@@ -22,8 +22,21 @@ VRPD_BEGIN
 // index at side 2^i side: its low bit moves x by that side, its high bit y, so x gathers k's
 // even bits and y its odd bits.
 VRPD_FN uvec2 subcell_corner(uvec2 corner, uint k, uint side) {
+#ifdef __cplusplus
+    // The host reads the two coordinates from a table of k's gathered bits, x in the low nibble.
+    static constexpr auto kXy = [] {
+        std::array<std::uint8_t, 64> t{};
+        for (uint i = 0u; i < 64u; i++)
+            t[i] = std::uint8_t((i & 1u) | ((i >> 1u) & 2u) | ((i >> 2u) & 4u) |
+                                (((i >> 1u) & 1u) | ((i >> 2u) & 2u) | ((i >> 3u) & 4u)) << 4u);
+        return t;
+    }();
+    uint x = kXy[k] & 15u;
+    uint y = uint(kXy[k]) >> 4u;
+#else
     uint x = (k & 1u) | ((k >> 1u) & 2u) | ((k >> 2u) & 4u);
     uint y = ((k >> 1u) & 1u) | ((k >> 2u) & 2u) | ((k >> 3u) & 4u);
+#endif
     return corner + uvec2(x, y) * side;
 }
 
@@ -46,10 +59,10 @@ VRPD_FN uint masked_dart_count(CellArgs a, uvec2 w, uint b) {
 }
 
 #ifdef __cplusplus
-// Mask mode, the host's counting: the corners of the active sub-cells of base cell b (word w, its
-// sub-cells of side `side`), written to `out` in masked_dart_count's order; returns their number.
-inline uint masked_subcell_corners(Domain dom, uvec2 w, uint b, uint side, uvec2* out) {
-    uvec2 corner = base_corner(dom, b);
+// Mask mode, the host's counting: the corners of the active sub-cells of the base cell at `corner`
+// (word w, its sub-cells of side `side`), written to `out` in masked_dart_count's order; returns
+// their number.
+inline uint masked_subcell_corners(uvec2 corner, uvec2 w, uint side, uvec2* out) {
     uint n = 0u;
     for (uint mask = w.y & GRID_MASK_BITS; mask != 0u; mask &= mask - 1u)
         out[n++] = subcell_corner(corner, uint(findLSB(mask)), side);

@@ -181,9 +181,12 @@ private:
             for (std::size_t i = b; i < e;) {
                 const std::size_t end = std::min(e, i + kBatch);
                 uint n = 0;
-                for (std::size_t j = i; j < end; ++j)
+                uvec2 cell(uint(i % dom.cells_x), uint(i / dom.cells_x));
+                for (std::size_t j = i; j < end; ++j) {
                     if (masked_active(grid_[j]))
-                        n += masked_subcell_corners(dom, grid_[j], uint(j), spec.side, &corners[n]);
+                        n += masked_subcell_corners(cell << dom.cell_bits, grid_[j], spec.side, &corners[n]);
+                    if (++cell.x == dom.cells_x) cell = uvec2(0, cell.y + 1);
+                }
                 cell_dart_counts(args.round_key, corners.data(), n, spec.exp_neg_lambda, counts.data());
                 n = 0;
                 for (std::size_t j = i; j < end; ++j) {
