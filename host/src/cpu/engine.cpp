@@ -113,13 +113,15 @@ private:
         return f();
     }
 
-    // Sizes the darts' array to `total` darts, every word 0 (undecided), on the pool's threads.
+    // Sizes the darts' array to `total` darts, every state 0 (undecided), on the pool's threads.
+    // Only the blocks' state words are cleared: throwing writes every dart's record, and ors its
+    // state into its block's word.
     void clear_darts(std::uint64_t total) {
         if (total >= MAX_ROUND_DARTS) throw Error("a round would throw more than 2^30 darts");
         darts_.resize(dart_words(total));
         dart_count_ = total;
-        pool_.parallel_for(darts_.size(), [&](std::size_t b, std::size_t e, unsigned) {
-            std::fill(darts_.begin() + b, darts_.begin() + e, 0u);
+        pool_.parallel_for(darts_.size() / DART_BLOCK_WORDS, [&](std::size_t b, std::size_t e, unsigned) {
+            for (std::size_t k = b; k < e; ++k) darts_[dart_state_word(uint(16 * k))] = 0u;
         });
     }
 
@@ -177,23 +179,28 @@ private:
             constexpr uint kBatch = 64;
             std::array<uvec2, kBatch * 16> corners;
             std::array<uint, kBatch * 16> counts;
+            std::array<std::uint8_t, kBatch> subcells;  // each base cell's, none if it is not active
             std::uint64_t sum = 0;
             for (std::size_t i = b; i < e;) {
                 const std::size_t end = std::min(e, i + kBatch);
                 uint n = 0;
                 uvec2 cell(uint(i % dom.cells_x), uint(i / dom.cells_x));
                 for (std::size_t j = i; j < end; ++j) {
-                    if (masked_active(grid_[j]))
-                        n += masked_subcell_corners(cell << dom.cell_bits, grid_[j], spec.side, &corners[n]);
+                    const uvec2 word = grid_[j];
+                    const uint m = masked_active(word)
+                                       ? masked_subcell_corners(cell << dom.cell_bits, word, spec.side, &corners[n])
+                                       : 0;
+                    subcells[j - i] = std::uint8_t(m);
+                    n += m;
                     if (++cell.x == dom.cells_x) cell = uvec2(0, cell.y + 1);
                 }
                 cell_dart_counts(args.round_key, corners.data(), n, spec.exp_neg_lambda, counts.data());
                 n = 0;
                 for (std::size_t j = i; j < end; ++j) {
+                    if (subcells[j - i] == 0) continue;
                     uvec2& word = grid_[j];
-                    if (!masked_active(word)) continue;
                     uint count = 0;
-                    for (int k = bitCount(word.y & GRID_MASK_BITS); k > 0; --k) count += counts[n++];
+                    for (uint k = subcells[j - i]; k > 0; --k) count += counts[n++];
                     if (count > GRID_MASK_BITS) crowded = true;
                     word = counted_word(word, count);
                     sum += count;
