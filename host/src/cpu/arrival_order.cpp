@@ -91,6 +91,15 @@ inline void spin_pause() {
 std::uint64_t decide_in_arrival_order(const Domain& dom, Grid grid, Darts darts, uint count, std::vector<uvec2>& out,
                                       ThreadPool& pool, uint strip_darts) {
     const int conflict = conflict_reach(dom.radii);
+#ifdef VRPD_HOST_AVX2
+    // One radius: a dart in an inner base cell is judged by near_sample's vector body directly,
+    // without the local domain and the choice of body for each dart. On a torus an inner cell's
+    // local domain is straight (vector_window's condition) where the grid is wide enough for it.
+    const uint influence = influence_reach(dom.radii);
+    const bool vector_darts =
+        !two_radii(dom.radii) && conflict <= int(MAX_REACH) && host_has_avx2() &&
+        (dom.lattice.periodic == 0u || (dom.cells_x >= 2u * influence + 2u && dom.cells_y >= 2u * influence + 2u));
+#endif
     Strips strips;
     strips.rows = dom.cells_y;
     strips.periodic = dom.lattice.periodic != 0u;
@@ -182,10 +191,21 @@ std::uint64_t decide_in_arrival_order(const Domain& dom, Grid grid, Darts darts,
                 if (below < parts && int(cell.y) < int(lo) + strips.reach && !wait_for(below, order[k])) return;
                 if (above < parts && int(cell.y) + strips.reach >= int(hi) && !wait_for(above, order[k])) return;
             }
-            const Domain local = local_domain(dom, cell);
-            const uint state = two_radii(dom.radii) ? state_given_samples(local, grid, p, cell)
-                               : near_sample(local, grid, cell, p, INHIBITION) ? DART_REJECTED
-                                                                               : DART_ACCEPTED;
+            uint state;
+#ifdef VRPD_HOST_AVX2
+            if (vector_darts && inner_cell(dom, cell))
+                state = window_holds_within<false>(grid.word + base_index(dom, cell), int(dom.cells_x), conflict, p,
+                                                   dom.radii.inhibition2)
+                            ? DART_REJECTED
+                            : DART_ACCEPTED;
+            else
+#endif
+            {
+                const Domain local = local_domain(dom, cell);
+                state = two_radii(dom.radii)                            ? state_given_samples(local, grid, p, cell)
+                        : near_sample(local, grid, cell, p, INHIBITION) ? DART_REJECTED
+                                                                        : DART_ACCEPTED;
+            }
             if (state == DART_TOO_COMPLEX) throw Error(kTooComplex);
             set_dart_state(darts, d, state);
             if (state != DART_REJECTED) {
