@@ -58,22 +58,50 @@ VRPD_FN uint masked_dart_count(CellArgs a, uvec2 w, uint b) {
     return count;
 }
 
-#ifdef __cplusplus
-// Mask mode, the host's counting: the corners of the active sub-cells of the base cell at `corner`
-// (word w, its sub-cells of side `side`), written to `out` in masked_dart_count's order; returns
-// their number.
-inline uint masked_subcell_corners(uvec2 corner, uvec2 w, uint side, uvec2* out) {
-    uint n = 0u;
-    for (uint mask = w.y & GRID_MASK_BITS; mask != 0u; mask &= mask - 1u)
-        out[n++] = subcell_corner(corner, uint(findLSB(mask)), side);
-    return n;
-}
-#endif
-
 // Mask mode: an active word with its round's dart count (< 2^16; the engines check), then with
 // the index of its first dart: a packed darts word (domain.h).
 VRPD_FN uvec2 counted_word(uvec2 w, uint count) { return uvec2(w.x, (count << 16u) | (w.y & GRID_MASK_BITS)); }
 VRPD_FN uvec2 numbered_word(uvec2 w, uint first) { return uvec2(GRID_TAG | GRID_PACKED | first, w.y); }
+
+#ifdef __cplusplus
+// Mask mode, the host's count pass over base cells [b, e): each active word gets its round's dart
+// count (counted_word), masked_dart_count's sum, with the sub-cells (up to 16 a base cell) of
+// kBatch base cells at a time counted together by cell_dart_counts. Returns the range's darts;
+// sets `crowded` if a base cell got more than a word holds.
+inline uint64_t count_masked_range(CellArgs a, uvec2* words, uint b, uint e, bool& crowded) {
+    constexpr uint kBatch = 64u;
+    std::array<uvec2, kBatch * 16u> corners;
+    std::array<uint, kBatch * 16u> counts;
+    std::array<std::uint8_t, kBatch> subcells;  // each base cell's, none if it is not active
+    uint64_t sum = 0u;
+    for (uint i = b; i < e;) {
+        uint end = e - i < kBatch ? e : i + kBatch;
+        uint n = 0u;
+        uvec2 cell = uvec2(i % a.domain.cells_x, i / a.domain.cells_x);
+        for (uint j = i; j < end; j++) {
+            uvec2 w = words[j];
+            uint m = 0u;
+            for (uint mask = masked_active(w) ? w.y & GRID_MASK_BITS : 0u; mask != 0u; mask &= mask - 1u)
+                corners[n + m++] = subcell_corner(cell << a.domain.cell_bits, uint(findLSB(mask)), a.side);
+            subcells[j - i] = std::uint8_t(m);
+            n += m;
+            if (++cell.x == a.domain.cells_x) cell = uvec2(0u, cell.y + 1u);
+        }
+        cell_dart_counts(a.round_key, corners.data(), n, a.param, counts.data());
+        n = 0u;
+        for (uint j = i; j < end; j++) {
+            if (subcells[j - i] == 0u) continue;
+            uint count = 0u;
+            for (uint k = subcells[j - i]; k > 0u; k--) count += counts[n++];
+            crowded = crowded || count > GRID_MASK_BITS;
+            words[j] = counted_word(words[j], count);
+            sum += count;
+        }
+        i = end;
+    }
+    return sum;
+}
+#endif
 
 // Mask mode, the host's throw: writes the darts of base cell b, from `first` on, in the order of
 // its sub-cells, each rejected if it lies in the disk of a sample of an earlier round (as

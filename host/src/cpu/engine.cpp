@@ -3,7 +3,6 @@
 // threads in arrival order, arrival_order.h); `serial` accepts the same darts one at a time in
 // arrival order (serial_oracle.h): the textbook process over explicit lists, kept simple as the oracle.
 #include <algorithm>
-#include <array>
 #include <atomic>
 #include <chrono>
 #include <queue>
@@ -175,39 +174,9 @@ private:
         std::vector<std::uint64_t> first(pool_.chunks(bases) + 1, 0);
         std::atomic<bool> crowded = false;
         pool_.parallel_for(bases, [&](std::size_t b, std::size_t e, unsigned w) {
-            // The sub-cells (up to 16 a base cell) of kBatch base cells at a time are counted together.
-            constexpr uint kBatch = 64;
-            std::array<uvec2, kBatch * 16> corners;
-            std::array<uint, kBatch * 16> counts;
-            std::array<std::uint8_t, kBatch> subcells;  // each base cell's, none if it is not active
-            std::uint64_t sum = 0;
-            for (std::size_t i = b; i < e;) {
-                const std::size_t end = std::min(e, i + kBatch);
-                uint n = 0;
-                uvec2 cell(uint(i % dom.cells_x), uint(i / dom.cells_x));
-                for (std::size_t j = i; j < end; ++j) {
-                    const uvec2 word = grid_[j];
-                    const uint m = masked_active(word)
-                                       ? masked_subcell_corners(cell << dom.cell_bits, word, spec.side, &corners[n])
-                                       : 0;
-                    subcells[j - i] = std::uint8_t(m);
-                    n += m;
-                    if (++cell.x == dom.cells_x) cell = uvec2(0, cell.y + 1);
-                }
-                cell_dart_counts(args.round_key, corners.data(), n, spec.exp_neg_lambda, counts.data());
-                n = 0;
-                for (std::size_t j = i; j < end; ++j) {
-                    if (subcells[j - i] == 0) continue;
-                    uvec2& word = grid_[j];
-                    uint count = 0;
-                    for (uint k = subcells[j - i]; k > 0; --k) count += counts[n++];
-                    if (count > GRID_MASK_BITS) crowded = true;
-                    word = counted_word(word, count);
-                    sum += count;
-                }
-                i = end;
-            }
-            first[w + 1] = sum;
+            bool many = false;
+            first[w + 1] = count_masked_range(args, grid_.data(), uint(b), uint(e), many);
+            if (many) crowded = true;
         });
         if (crowded) throw Error("internal: a base cell got more than 65535 darts in one round");
         const std::uint64_t total = chunk_offsets(first);
