@@ -148,12 +148,11 @@ VRPD_FN void site_masked_darts(CellArgs a, Darts darts, uvec2 w, uint b, uint fi
 // the gather (window_gather), then each active sub-cell's children tested as
 // uncovered_children tests them (inner_child_boxes). `centre` is the base cell's grid word, at
 // `corner`; `side` the children's.
-template <int kReach>
 [[gnu::target("avx2")]] inline uvec2 refine_masked_inner(Domain dom, const uvec2* centre, uvec2 corner, uint mask,
                                                          uint side) {
     ivec2 at[MAX_CELL_SAMPLES];
-    uint samples =
-        window_gather_at<kReach>(centre, int(dom.cells_x), corner, 1 << dom.cell_bits, dom.radii.coverage2, at);
+    uint samples = window_gather(centre, int(dom.cells_x), cover_reach(dom.radii), corner, 1 << dom.cell_bits,
+                                 dom.radii.coverage2, at);
     uvec2 kept = uvec2(0u, 0u);
     for (; mask != 0u; mask &= mask - 1u) {
         uint k = uint(findLSB(mask));
@@ -179,19 +178,8 @@ VRPD_FN uvec2 refine_masked_base(CellArgs a, Grid grid, uint b) {
     Domain dom = local_domain(a.domain, base);
     uvec2 corner = base_corner(a.domain, b);
 #ifdef VRPD_HOST_AVX2
-    if (a.param == 4u && vector_refinement(dom, base)) {
-        uint mask = w.y & GRID_MASK_BITS;
-        switch (cover_reach(dom.radii)) {
-            case 1:
-                return refine_masked_inner<1>(dom, grid.word + b, corner, mask, a.side);
-            case 2:
-                return refine_masked_inner<2>(dom, grid.word + b, corner, mask, a.side);
-            case 3:
-                return refine_masked_inner<3>(dom, grid.word + b, corner, mask, a.side);
-            default:
-                break;
-        }
-    }
+    if (a.param == 4u && vector_refinement(dom, base))
+        return refine_masked_inner(dom, grid.word + b, corner, w.y & GRID_MASK_BITS, a.side);
 #endif
     uint samples = cover_tested(dom, a.param, a.side) ? gather_cell_samples(dom, grid, base) : 0u;
     uint parent_side = a.param == 4u ? 2u * a.side : a.side;

@@ -53,14 +53,19 @@ VRPD_FN int row_reach(Domain dom, int dy, int reach, uint64_t limit2) {
     return computed_row_reach(dom, dy, reach, limit2);
 }
 
+// Do inner cells see a straight domain (local_domain)? On a free boundary, or on a torus at least
+// 2 (reach + 1) cells wide.
+VRPD_FN bool straight_inner_cells(Domain dom) {
+    uint r = influence_reach(dom.radii);
+    return dom.lattice.periodic == 0u || (dom.cells_x >= 2u * r + 2u && dom.cells_y >= 2u * r + 2u);
+}
+
 // The domain as seen from base cell `cell`: on a torus at least 2 (reach + 1) cells wide, a cell
 // whose neighbourhood does not wrap sees every relevant offset shorter than half the torus, so
 // straight distances equal torus distances there and the wrap can be skipped. Every predicate
 // gives the same answer with either domain; this one is cheaper.
 VRPD_FN Domain local_domain(Domain dom, uvec2 cell) {
-    uint r = influence_reach(dom.radii);
-    if (dom.lattice.periodic != 0u && inner_cell(dom, cell) && dom.cells_x >= 2u * r + 2u && dom.cells_y >= 2u * r + 2u)
-        dom.lattice.periodic = 0u;
+    if (dom.lattice.periodic != 0u && inner_cell(dom, cell) && straight_inner_cells(dom)) dom.lattice.periodic = 0u;
     return dom;
 }
 

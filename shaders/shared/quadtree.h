@@ -174,7 +174,8 @@ VRPD_FN uint surviving_children(VRPD_IN(Domain) dom, Grid grid, uvec2 base, uvec
 // lattice (a hierarchy's step may keep base cells past a free boundary), so that no child is
 // clipped or off the lattice.
 inline bool vector_refinement(Domain dom, uvec2 base) {
-    return !two_radii(dom.radii) && ((base.x + 1u) << dom.cell_bits) <= dom.lattice.extent_x &&
+    return !two_radii(dom.radii) && cover_reach(dom.radii) <= int(MAX_REACH) &&
+           ((base.x + 1u) << dom.cell_bits) <= dom.lattice.extent_x &&
            ((base.y + 1u) << dom.cell_bits) <= dom.lattice.extent_y && vector_window(dom, base);
 }
 
@@ -187,14 +188,13 @@ inline ChildBoxes inner_child_boxes(ivec2 lo, int side, uint fanout) {
 }
 
 // The host's body of refine_cells_of_base where vector_refinement holds and the children are
-// cover-tested: the gather (window_gather), then each cell's
-// children tested by uncovered_children. `centre` is the base cell's grid word, at `origin`.
-template <int kReach>
+// cover-tested: the gather (window_gather), then each cell's children tested by
+// uncovered_children. `centre` is the base cell's grid word, at `origin`.
 [[gnu::target("avx2")]] inline void refine_cells_inner(CellArgs a, Cells cells, Uints counts, Uints masks,
                                                        const uvec2* centre, uvec2 origin, uint first, uint end) {
     ivec2 at[MAX_CELL_SAMPLES];
-    uint samples = window_gather_at<kReach>(centre, int(a.domain.cells_x), origin, 1 << a.domain.cell_bits,
-                                            a.domain.radii.coverage2, at);
+    uint samples = window_gather(centre, int(a.domain.cells_x), cover_reach(a.domain.radii), origin,
+                                 1 << a.domain.cell_bits, a.domain.radii.coverage2, at);
     uint all = a.param == 4u ? 15u : 1u;
     for (uint i = first; i < end; i++) {
         ChildBoxes b = inner_child_boxes(ivec2(cells.cell[i] - origin), int(a.side), a.param);
@@ -219,20 +219,9 @@ VRPD_FN void refine_cells_of_base(CellArgs a, Cells cells, Uints counts, Uints m
     bool spent =
         grid_is_sample(grid.word[base_index(dom, base)]) || (two_radii(dom.radii) && base_covered(dom, grid, base));
 #ifdef VRPD_HOST_AVX2
-    if (!spent && cover_tested(dom, a.param, a.side) && vector_refinement(dom, base)) {
-        const uvec2* centre = grid.word + base_index(dom, base);
-        uvec2 origin = uvec2(base.x << dom.cell_bits, base.y << dom.cell_bits);
-        switch (cover_reach(dom.radii)) {
-            case 1:
-                return refine_cells_inner<1>(a, cells, counts, masks, centre, origin, first, end);
-            case 2:
-                return refine_cells_inner<2>(a, cells, counts, masks, centre, origin, first, end);
-            case 3:
-                return refine_cells_inner<3>(a, cells, counts, masks, centre, origin, first, end);
-            default:
-                break;
-        }
-    }
+    if (!spent && cover_tested(dom, a.param, a.side) && vector_refinement(dom, base))
+        return refine_cells_inner(a, cells, counts, masks, grid.word + base_index(dom, base),
+                                  uvec2(base.x << dom.cell_bits, base.y << dom.cell_bits), first, end);
 #endif
     uint samples = spent || !cover_tested(dom, a.param, a.side) ? 0u : gather_cell_samples(dom, grid, base);
     for (uint i = first; i < end; i++) {

@@ -93,12 +93,10 @@ std::uint64_t decide_in_arrival_order(const Domain& dom, Grid grid, Darts darts,
     const int conflict = conflict_reach(dom.radii);
 #ifdef VRPD_HOST_AVX2
     // One radius: a dart in an inner base cell is judged by near_sample's vector body directly,
-    // without the local domain and the choice of body for each dart. On a torus an inner cell's
-    // local domain is straight (vector_window's condition) where the grid is wide enough for it.
-    const uint influence = influence_reach(dom.radii);
+    // without the local domain and the choice of body for each dart, where inner cells' local
+    // domains are straight (vector_window's condition).
     const bool vector_darts =
-        !two_radii(dom.radii) && conflict <= int(MAX_REACH) && host_has_avx2() &&
-        (dom.lattice.periodic == 0u || (dom.cells_x >= 2u * influence + 2u && dom.cells_y >= 2u * influence + 2u));
+        !two_radii(dom.radii) && conflict <= int(MAX_REACH) && host_has_avx2() && straight_inner_cells(dom);
 #endif
     Strips strips;
     strips.rows = dom.cells_y;
