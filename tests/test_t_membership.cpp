@@ -223,7 +223,8 @@ TEST_CASE("T membership: the host's estimated crossing signs are the exact ones"
                 shared::disk_at[1] = db;
                 shared::estimate_disks(2);
                 shared::t_steps = 0;
-                const bool estimated = shared::pair_crossing_uncovered(da, db, 0, 1, 2, r2, -far, far, true);
+                const bool estimated = shared::pair_crossing_uncovered(da, db, 0, 1, 2, r2, -far, far, true,
+                                                                       shared::near_sides(-far, far, r2));
                 bool exact = false;
                 for (const int sigma : {-1, 1})
                     exact = exact || shared::crossing_side(da, db, glm::ivec2(0, 0), sigma, r2) <= 0;

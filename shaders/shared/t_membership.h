@@ -135,10 +135,22 @@ VRPD_FN bool crossing_near(ivec2 a, ivec2 b, ivec2 c, uint64_t r2) {
 const int FAR_SIDE = 1 << 21;
 VRPD_FN bool side_near(int s, uint64_t r2) { return uint64_t(int64_t(s) * int64_t(s)) <= r2; }
 
+// The sides of the box within Rc of the origin (side_near), as bits: lo.x, hi.x, lo.y, hi.y. A
+// test takes them once; on a torus, and for a dart away from a free box's sides, there are none.
+const uint SIDE_LO_X = 1u;
+const uint SIDE_HI_X = 2u;
+const uint SIDE_LO_Y = 4u;
+const uint SIDE_HI_Y = 8u;
+VRPD_FN uint near_sides(ivec2 lo, ivec2 hi, uint64_t r2) {
+    return (side_near(lo.x, r2) ? SIDE_LO_X : 0u) | (side_near(hi.x, r2) ? SIDE_HI_X : 0u) |
+           (side_near(lo.y, r2) ? SIDE_LO_Y : 0u) | (side_near(hi.y, r2) ? SIDE_HI_Y : 0u);
+}
+
 // Is the crossing (sigma) of the circles around a and b inside the box (lo.x, lo.y) - (hi.x, hi.y)?
 // 2 sqrt(L) (p.x - x0) = (a.x + b.x - 2 x0) sqrt(L) - sigma dy sqrt(M), and alike for the others.
-// Only sides within Rc of the dart are tested: the crossings tested lie within Rc of it.
-VRPD_FN bool crossing_in_box(ivec2 a, ivec2 b, int sigma, ivec2 lo, ivec2 hi, uint64_t r2) {
+// Only the `sides` near the dart (near_sides) are tested: the crossings tested lie within Rc of it.
+VRPD_FN bool crossing_in_box(ivec2 a, ivec2 b, int sigma, ivec2 lo, ivec2 hi, uint64_t r2, uint sides) {
+    if (sides == 0u) return true;
     int64_t dx = int64_t(b.x) - int64_t(a.x);
     int64_t dy = int64_t(b.y) - int64_t(a.y);
     uint64_t l = uint64_t(dx * dx + dy * dy);
@@ -146,10 +158,10 @@ VRPD_FN bool crossing_in_box(ivec2 a, ivec2 b, int sigma, ivec2 lo, ivec2 hi, ui
     int64_t sx = int64_t(a.x) + int64_t(b.x);
     int64_t sy = int64_t(a.y) + int64_t(b.y);
     int64_t sg = int64_t(sigma);
-    if (side_near(lo.x, r2) && sign_of_root_sum(sx - 2 * int64_t(lo.x), l, -sg * dy, m) < 0) return false;
-    if (side_near(hi.x, r2) && sign_of_root_sum(2 * int64_t(hi.x) - sx, l, sg * dy, m) < 0) return false;
-    if (side_near(lo.y, r2) && sign_of_root_sum(sy - 2 * int64_t(lo.y), l, sg * dx, m) < 0) return false;
-    if (side_near(hi.y, r2) && sign_of_root_sum(2 * int64_t(hi.y) - sy, l, -sg * dx, m) < 0) return false;
+    if ((sides & SIDE_LO_X) != 0u && sign_of_root_sum(sx - 2 * int64_t(lo.x), l, -sg * dy, m) < 0) return false;
+    if ((sides & SIDE_HI_X) != 0u && sign_of_root_sum(2 * int64_t(hi.x) - sx, l, sg * dy, m) < 0) return false;
+    if ((sides & SIDE_LO_Y) != 0u && sign_of_root_sum(sy - 2 * int64_t(lo.y), l, sg * dx, m) < 0) return false;
+    if ((sides & SIDE_HI_Y) != 0u && sign_of_root_sum(2 * int64_t(hi.y) - sy, l, -sg * dx, m) < 0) return false;
     return true;
 }
 
@@ -273,10 +285,11 @@ bool crossing_uncovered(ivec2 a, ivec2 b, int sigma, uint skip_a, uint skip_b, u
 
 // Is a crossing of the circles around a and b (disk_at[i] and disk_at[j]) in the region and
 // outside every other open disk? sigma = -1 first, then +1.
-bool pair_crossing_uncovered(ivec2 a, ivec2 b, uint i, uint j, uint n, uint64_t r2, ivec2 lo, ivec2 hi, bool in_disk) {
+bool pair_crossing_uncovered(ivec2 a, ivec2 b, uint i, uint j, uint n, uint64_t r2, ivec2 lo, ivec2 hi, bool in_disk,
+                             uint sides) {
     for (int sigma = -1; sigma <= 1; sigma += 2)
         if ((!in_disk || crossing_side(a, b, ivec2(0, 0), sigma, r2) <= 0) &&
-            crossing_in_box(a, b, sigma, lo, hi, r2) && crossing_uncovered(a, b, sigma, i, j, n, r2))
+            crossing_in_box(a, b, sigma, lo, hi, r2, sides) && crossing_uncovered(a, b, sigma, i, j, n, r2))
             return true;
     return false;
 }
@@ -332,17 +345,26 @@ inline bool crossing_uncovered(ivec2 a, ivec2 b, int sigma, uint skip_a, uint sk
     const Doubled p = twice_crossing(a, b, double(sigma) * crossing_scale(a, b, r2));
     return estimated_crossing_uncovered(p, a, b, sigma, skip_a, skip_b, n, r2);
 }
-// One square root for the pair's two crossings, and the dart's circle estimated too.
-inline bool pair_crossing_uncovered(ivec2 a, ivec2 b, uint i, uint j, uint n, uint64_t r2, ivec2 lo, ivec2 hi,
-                                    bool in_disk) {
-    const double scale = crossing_scale(a, b, r2);
+// One square root for the pair's two crossings (twice_crossing's arithmetic, its sums and
+// differences taken once), and the dart's circle estimated too.
+[[gnu::always_inline]] inline bool pair_crossing_uncovered(ivec2 a, ivec2 b, uint i, uint j, uint n, uint64_t r2,
+                                                           ivec2 lo, ivec2 hi, bool in_disk, uint sides) {
+    const double dx = double(b.x) - double(a.x);
+    const double dy = double(b.y) - double(a.y);
+    const double sx = double(a.x) + double(b.x);
+    const double sy = double(a.y) + double(b.y);
+    const double l = dx * dx + dy * dy;
+    const double r4 = 4.0 * double(r2);
+    const double scale = std::sqrt((r4 - l) / l);
     for (int sigma = -1; sigma <= 1; sigma += 2) {
-        const Doubled p = twice_crossing(a, b, double(sigma) * scale);
+        const double s = double(sigma) * scale;
+        const Doubled p = {sx - s * dy, sy + s * dx};
         if (in_disk) {
-            const double d = p.x * p.x + p.y * p.y - 4.0 * double(r2);
+            const double d = p.x * p.x + p.y * p.y - r4;
             if (d > 1.0 || (d >= -1.0 && crossing_side(a, b, ivec2(0, 0), sigma, r2) > 0)) continue;
         }
-        if (crossing_in_box(a, b, sigma, lo, hi, r2) && estimated_crossing_uncovered(p, a, b, sigma, i, j, n, r2))
+        if (crossing_in_box(a, b, sigma, lo, hi, r2, sides) &&
+            estimated_crossing_uncovered(p, a, b, sigma, i, j, n, r2))
             return true;
     }
     return false;
@@ -373,13 +395,11 @@ VRPD_FN uint reaches_uncovered(uint n, uint64_t r2, ivec2 lo, ivec2 hi, bool in_
     bool centre_covered = false;
     for (uint k = 0u; k < n && !centre_covered; k++) centre_covered = norm2(disk_at[k]) < r2;
     if (in_disk && !centre_covered) return T_INSIDE;
-    ivec2 origin = ivec2(0, 0);
+    uint sides = near_sides(lo, hi, r2);
+    // The dart's circle's crossings with each other circle (both lie on the dart's circle).
     for (uint i = 0u; i < n && in_disk && t_step(); i++) {
         if (norm2(disk_at[i]) == uint64_t(0)) continue;
-        for (int sigma = -1; sigma <= 1; sigma += 2)
-            if (crossing_in_box(origin, disk_at[i], sigma, lo, hi, r2) &&
-                crossing_uncovered(origin, disk_at[i], sigma, i, i, n, r2))
-                return T_INSIDE;
+        if (pair_crossing_uncovered(ivec2(0, 0), disk_at[i], i, i, n, r2, lo, hi, false, sides)) return T_INSIDE;
     }
     for (uint i = 0u; i < n && t_step(); i++) {
         for (uint j = i + 1u; j < n && t_step(); j++) {
@@ -387,7 +407,7 @@ VRPD_FN uint reaches_uncovered(uint n, uint64_t r2, ivec2 lo, ivec2 hi, bool in_
             ivec2 b = disk_at[j];
             uint64_t l = norm2(ivec2(b.x - a.x, b.y - a.y));
             if (l == uint64_t(0) || l > uint64_t(4) * r2) continue;
-            if (pair_crossing_uncovered(a, b, i, j, n, r2, lo, hi, in_disk)) return T_INSIDE;
+            if (pair_crossing_uncovered(a, b, i, j, n, r2, lo, hi, in_disk, sides)) return T_INSIDE;
         }
     }
     if (boundary_vertex_uncovered(n, r2, lo, hi, in_disk)) return T_INSIDE;
