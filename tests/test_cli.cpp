@@ -44,6 +44,9 @@ TEST_CASE("bad input: one line on stderr, non-zero exit, no output file", "[cli]
         "sample --radius 1e-300",   // cell counts beyond any integer: refused before converting
         "sample --radius 0.1 --extent 1e300,1 --boundary free",
         "sample --radius 0.01 --seed -1",
+        "sample --radius 0.01 --seed 1.5",
+        "sample --radius 0.01 --seed 4294967296",
+        "sample --radius 0.01 --seed 0x10",
         "sample --radius 0.01 --bogus",
         "sample",
         "sample --radius 0.01 --threads 0",

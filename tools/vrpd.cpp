@@ -1,6 +1,7 @@
 // The vrpd command line: sample, lod, devices, bench; with the geometry target, check, analyze, plot,
 // figures.
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
@@ -229,8 +230,19 @@ int main(int argc, char** argv) {
         "--rc", rc, "coverage radius Rc, 1.1 Rf <= Rc <= 4 Rf: every point within Rc of a sample");
     sample_cmd->add_option("--extent", extent, "box W,H (default 1,1)");
     sample_cmd->add_option("--boundary", boundary, "periodic (default) or free");
-    sample_cmd->add_option("--seed", opt.seed, "random seed, 0 to 4294967295 (default 0)")
-        ->check(CLI::Range(0.0, 4294967295.0));
+    // A seed is a whole number that fits 32 bits; anything else is refused in those words (a range
+    // check would print its bounds as floating point).
+    const CLI::Validator whole_seed(
+        [](std::string& text) {
+            std::uint64_t value = 0;
+            const char* end = text.data() + text.size();
+            const auto [at, ec] = std::from_chars(text.data(), end, value);
+            return ec == std::errc() && at == end && value <= UINT32_MAX
+                       ? std::string()
+                       : "must be a whole number from 0 to 4294967295 (got " + text + ")";
+        },
+        "");
+    sample_cmd->add_option("--seed", opt.seed, "random seed, 0 to 4294967295 (default 0)")->check(whole_seed);
     sample_cmd->add_option("--device", device,
                            "auto (default: a hardware GPU if present, else cpu), gpu (Vulkan, lavapipe included; "
                            "$VRPD_DEVICE picks the device), cpu or serial");
