@@ -312,18 +312,21 @@ VRPD_PRIVATE Doubled disk_twice[MAX_DISKS];
 inline void estimate_disks(uint n) {
     for (uint k = 0u; k < n; k++) disk_twice[k] = {2.0 * double(disk_at[k].x), 2.0 * double(disk_at[k].y)};
 }
-// sqrt(M / L) for the circles around a and b.
-inline double crossing_scale(ivec2 a, ivec2 b, uint64_t r2) {
+// The circles around a and b: b - a, a + b and sqrt(M / L), as doubles, taken once for both
+// crossings.
+struct CirclePair {
+    double dx, dy, sx, sy, scale;
+};
+inline CirclePair circle_pair(ivec2 a, ivec2 b, uint64_t r2) {
     const double dx = double(b.x) - double(a.x);
     const double dy = double(b.y) - double(a.y);
     const double l = dx * dx + dy * dy;
-    return std::sqrt((4.0 * double(r2) - l) / l);
+    return {dx, dy, double(a.x) + double(b.x), double(a.y) + double(b.y), std::sqrt((4.0 * double(r2) - l) / l)};
 }
-// P for the crossing sigma of the circles around a and b, given scale = sigma sqrt(M / L).
-inline Doubled twice_crossing(ivec2 a, ivec2 b, double scale) {
-    const double dx = double(b.x) - double(a.x);
-    const double dy = double(b.y) - double(a.y);
-    return {double(a.x) + double(b.x) - scale * dy, double(a.y) + double(b.y) + scale * dx};
+// P for crossing sigma of the pair.
+inline Doubled twice_crossing(const CirclePair& c, int sigma) {
+    const double s = double(sigma) * c.scale;
+    return {c.sx - s * c.dy, c.sy + s * c.dx};
 }
 // crossing_uncovered, the crossing's P given.
 inline bool estimated_crossing_uncovered(Doubled p, ivec2 a, ivec2 b, int sigma, uint skip_a, uint skip_b, uint n,
@@ -342,25 +345,17 @@ inline bool estimated_crossing_uncovered(Doubled p, ivec2 a, ivec2 b, int sigma,
     return t_steps <= T_TEST_BUDGET;  // a search cut short proves nothing
 }
 inline bool crossing_uncovered(ivec2 a, ivec2 b, int sigma, uint skip_a, uint skip_b, uint n, uint64_t r2) {
-    const Doubled p = twice_crossing(a, b, double(sigma) * crossing_scale(a, b, r2));
-    return estimated_crossing_uncovered(p, a, b, sigma, skip_a, skip_b, n, r2);
+    return estimated_crossing_uncovered(twice_crossing(circle_pair(a, b, r2), sigma), a, b, sigma, skip_a, skip_b, n,
+                                        r2);
 }
-// One square root for the pair's two crossings (twice_crossing's arithmetic, its sums and
-// differences taken once), and the dart's circle estimated too.
+// One square root for the pair's two crossings, and the dart's circle estimated too.
 [[gnu::always_inline]] inline bool pair_crossing_uncovered(ivec2 a, ivec2 b, uint i, uint j, uint n, uint64_t r2,
                                                            ivec2 lo, ivec2 hi, bool in_disk, uint sides) {
-    const double dx = double(b.x) - double(a.x);
-    const double dy = double(b.y) - double(a.y);
-    const double sx = double(a.x) + double(b.x);
-    const double sy = double(a.y) + double(b.y);
-    const double l = dx * dx + dy * dy;
-    const double r4 = 4.0 * double(r2);
-    const double scale = std::sqrt((r4 - l) / l);
+    const CirclePair pair = circle_pair(a, b, r2);
     for (int sigma = -1; sigma <= 1; sigma += 2) {
-        const double s = double(sigma) * scale;
-        const Doubled p = {sx - s * dy, sy + s * dx};
+        const Doubled p = twice_crossing(pair, sigma);
         if (in_disk) {
-            const double d = p.x * p.x + p.y * p.y - r4;
+            const double d = p.x * p.x + p.y * p.y - 4.0 * double(r2);
             if (d > 1.0 || (d >= -1.0 && crossing_side(a, b, ivec2(0, 0), sigma, r2) > 0)) continue;
         }
         if (crossing_in_box(a, b, sigma, lo, hi, r2, sides) &&
