@@ -2,8 +2,7 @@
 // only around the run), for every k a run makes. Each such run must end in an exception the CLI
 // turns into one line and exit 2: never an abort, a hang, or a worker left running. Thread starts
 // allocate too, so a failed start is among them. Its own test binary: the replacement applies to
-// the whole process.
-#define CATCH_CONFIG_MAIN
+// the whole process. Catch2's runner is the shared one (main.cpp).
 #include <catch2/catch.hpp>
 
 #include <atomic>
