@@ -150,7 +150,11 @@ private:
 class Events {
 public:
     Events(const FieldTable& t, const SampleOptions& o, std::uint64_t max_leaves, ThreadPool& pool)
-        : t_(t), lattice_(t.lattice), rule_(t.rule), start_(hierarchy_start(o)), tree_(t, max_leaves, pool) {
+        : t_(t),
+          lattice_(t.lattice),
+          rule_(std::uint32_t(o.sizing->rule)),
+          start_(hierarchy_start(o)),
+          tree_(t, max_leaves, pool) {
         // Cells of about the least r, at most 2^22 of them.
         mark_bits_ = std::uint32_t(std::bit_width(std::max(1u, t.r_lo)) - 1);
         auto cells = [&](std::uint32_t extent) {

@@ -78,7 +78,7 @@ public:
         : t_(t),
           pool_(o.backend == Backend::Serial ? 1 : o.threads),
           tree_(t, max_leaves, pool_),
-          rule_(t.rule),
+          rule_(std::uint32_t(o.sizing->rule)),
           density_(o.sizing->weighting == Weighting::Density),
           seed_(o.seed),
           serial_(o.backend == Backend::Serial),

@@ -324,7 +324,6 @@ FieldTable tabulate(const Sizing& s, const Box& box, unsigned threads) {
     // The drafts are many small blocks of the heap, freed before the bounds are made: their pages
     // stay with the heap, whose later small arrays reuse them without a page fault.
     std::vector<PatchDraft>().swap(patches);
-    t.rule = std::uint32_t(s.rule);
     complete_bounds(t, pool);
     return t;
 }

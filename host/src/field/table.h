@@ -38,7 +38,6 @@ struct FieldTableData {
     std::uint32_t box_lo = 0, box_hi = 0;  // r's least and greatest over the box's lattice points
     double lipschitz = 0;                  // of the interpolant, exact
     double tabulation_error = 0;
-    std::uint32_t rule = 0;
     double constant = 0;  // the source's value where it is one constant, else 0
 
     // A table cell refined where its interpolant strays from the source (a kink, such as abs()'s):

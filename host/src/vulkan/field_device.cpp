@@ -80,9 +80,9 @@ Sampling FieldVulkan::run(const FieldTable& table, const FieldQuadtree& tree, co
     run_args_.tree = {view.tile_bits, view.tiles_x, view.tiles_y, device_ref<FieldWords>(roots_.address()),
                       device_ref<FieldWords>(nodes_.address())};
     run_args_.lattice = t_->lattice;
-    run_args_.rule = t_->rule;
-    if (field_variant(t_->rule, t_->lattice.periodic != 0, density_) != variant_of(o_))
-        throw std::logic_error("a field table's rule or box differs from the kernels'");
+    run_args_.rule = std::uint32_t(o_.sizing->rule);
+    if (field_variant(run_args_.rule, t_->lattice.periodic != 0, density_) != variant_of(o_))
+        throw std::logic_error("a field table's box differs from the kernels'");
     run_args_.r_hi = t_->r_hi;
     run_args_.r_lo = t_->r_lo;
     // 1 / (1 - L) rounded up in 2^-16 units (a larger factor only widens the searches).
