@@ -1,6 +1,7 @@
 // A sizing-field run from given samples (SampleOptions::initial): they come first, in their
 // order, and the run completes them to a sampling maximal under the rule; a given set in conflict
-// under the rule, in its order, is refused.
+// under the rule, in its order, is refused. A run from a field tabulated before (SizingField)
+// gives the points of a run that tabulates it.
 #include <catch2/catch.hpp>
 
 #include <algorithm>
@@ -74,6 +75,72 @@ TEST_CASE("a field run from given samples: they come first, then a completion ma
                 CHECK(again.lattice == full.lattice);
                 CHECK(again.stats.darts < full.stats.darts / 2);
             }
+}
+
+TEST_CASE("a field tabulated once samples as the runs that tabulate it, under each rule and weighting", "[field]") {
+    for (const Boundary boundary : {Boundary::Free, Boundary::Periodic}) {
+        SampleOptions o = field_options("0.012 + 0.006*abs(sin(3*pi*x))", SizingRule::Prior, boundary, 6);
+        o.box.width = 1.5;
+        const SizingField field(*o.sizing, o.box);
+        for (SizingRule rule : kRules)
+            for (Weighting weighting : {Weighting::Uniform, Weighting::Density}) {
+                INFO("boundary " << int(boundary) << ", rule " << sizing_rule_name(rule) << ", weighting "
+                                 << int(weighting));
+                o.sizing->rule = rule;
+                o.sizing->weighting = weighting;
+                o.backend = Backend::Cpu;
+                const Sampling direct = sample(o), reused = sample(o, field);
+                REQUIRE(direct.size() > 1000);
+                CHECK(reused.lattice == direct.lattice);
+                CHECK(reused.local_radius == direct.local_radius);
+                CHECK(reused.stats.darts == direct.stats.darts);
+                CHECK(reused.field.tabulation_error == direct.field.tabulation_error);
+                if (rule != SizingRule::Bigger) continue;
+                o.backend = Backend::Serial;
+                CHECK(sample(o, field).lattice == direct.lattice);
+            }
+        // A hierarchy's levels scale the field it is given.
+        o.hierarchy.steps = 3;
+        o.backend = Backend::Cpu;
+        const Sampling levels = sample(o, field);
+        CHECK(levels.lattice == sample(o).lattice);
+        CHECK(levels.birth.size() == levels.size());
+    }
+    // The field must be the options' sizing over their box; the rule and weighting are the run's.
+    SampleOptions o = field_options("0.02 + 0.01*x", SizingRule::Smaller, Boundary::Free, 1);
+    const SizingField field(*o.sizing, o.box);
+    auto refused = [&](const SampleOptions& options, const SizingField& f) {
+        try {
+            sample(options, f);
+        } catch (const Error& e) {
+            return std::string(e.what());
+        }
+        return std::string("accepted");
+    };
+    const std::string mismatch = "the field was not tabulated from the options' sizing and box";
+    CHECK(refused(o, field) == "accepted");
+    SampleOptions other = o;
+    other.box.boundary = Boundary::Periodic;
+    CHECK(refused(other, field) == mismatch);
+    other = o;
+    other.box.height = 0.5;
+    CHECK(refused(other, field) == mismatch);
+    other = o;
+    other.sizing->expression = "0.02 + 0.011*x";
+    CHECK(refused(other, field) == mismatch);
+    other = o;
+    other.sizing->table_budget = 16;
+    CHECK(refused(other, field) == mismatch);
+    other = o;
+    other.sizing->lipschitz = 0.5;
+    CHECK(refused(other, field) == mismatch);
+    CHECK(refused(o, field.scaled(2)) == mismatch);
+    other = o;
+    other.sizing.reset();
+    CHECK(refused(other, field) == "sampling a tabulated field needs the options' sizing (its rule and weighting)");
+    other = o;
+    other.threads = 100000;
+    CHECK_THAT(refused(other, field), Catch::Contains("threads must be at most"));
 }
 
 TEST_CASE("given samples in conflict under a field's rule, in their order, are refused", "[field]") {

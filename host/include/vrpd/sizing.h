@@ -59,7 +59,7 @@ private:
 // The field a run of `sizing` over `box` samples (vrpd.h, Sizing): its source tabulated in fixed
 // point, r at a lattice point the table's integer interpolant. Throws Error as sample would.
 // The source is evaluated on `threads` threads (0: one per hardware thread); the table does not
-// depend on the count.
+// depend on the count, nor on the sizing's rule and weighting, which are the run's.
 class SizingField {
 public:
     SizingField(const Sizing& sizing, const Box& box, unsigned threads = 0);
@@ -68,6 +68,10 @@ public:
     FieldStats stats() const;
     double quantum() const;
     const detail::FieldTable& table() const { return *table_; }
+    // Whether this is the field `sizing` gives over `box`: the same source (expression, or image
+    // and its radii), Lipschitz limit and table budget, and the same box. The rule and weighting
+    // may differ. A scaled field is no sizing's.
+    bool made_from(const Sizing& sizing, const Box& box) const;
     // This field times `scale` (> 0) on the same lattice, each node of its table rounded: a
     // discrete hierarchy's field at birth t is its final field scaled by S t. Throws Error for a
     // scale that is not a finite number > 0 or passes the lattice's 32-bit radii. Its bounds are
@@ -75,9 +79,19 @@ public:
     SizingField scaled(double scale, unsigned threads = 0) const;
 
 private:
-    explicit SizingField(std::shared_ptr<const detail::FieldTable> table) : table_(std::move(table)) {}
-    std::shared_ptr<const detail::FieldTable> table_;
+    SizingField(std::shared_ptr<const detail::FieldTable> table, const Sizing& sizing, const Box& box, double scale)
+        : table_(std::move(table)), sizing_(sizing), box_(box), scale_(scale) {}
+    std::shared_ptr<const detail::FieldTable> table_;  // shared by the field's copies
+    Sizing sizing_;
+    Box box_;
+    double scale_ = 1;
 };
+
+// Samples `field`, tabulated before, where sample(options) would tabulate options.sizing again:
+// the same points, without the tabulation's time. Runs with several seeds, rules or weightings,
+// or from given samples, share one table so. Throws Error unless the field was made from
+// options.sizing and options.box (SizingField::made_from).
+Sampling sample(const SampleOptions& options, const SizingField& field);
 
 // Table 1's conflict rules (SizingRule, vrpd.h) by name.
 SizingRule parse_sizing_rule(const std::string& name);  // throws Error naming the four

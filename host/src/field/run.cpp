@@ -1,6 +1,7 @@
 // Sampling with a sizing field (vrpd.h, Sizing): tabulate, then the field sampler, or the uniform
 // engines when the field is one constant (every rule is then the one-radius case).
 #include <chrono>
+#include <optional>
 
 #include <fmt/format.h>
 
@@ -11,7 +12,16 @@
 namespace vrpd {
 
 SizingField::SizingField(const Sizing& sizing, const Box& box, unsigned threads)
-    : table_(std::make_shared<const detail::FieldTable>(detail::tabulate(sizing, box, threads))) {}
+    : table_(std::make_shared<const detail::FieldTable>(detail::tabulate(sizing, box, threads))),
+      sizing_(sizing),
+      box_(box) {}
+
+bool SizingField::made_from(const Sizing& s, const Box& box) const {
+    const Sizing& m = sizing_;
+    return scale_ == 1 && s.expression == m.expression && s.image == m.image && s.r_min == m.r_min &&
+           s.r_max == m.r_max && s.lipschitz == m.lipschitz && s.table_budget == m.table_budget &&
+           box.width == box_.width && box.height == box_.height && box.boundary == box_.boundary;
+}
 
 double SizingField::operator()(glm::dvec2 p) const {
     const detail::FieldTable& t = *table_;
@@ -25,21 +35,20 @@ double SizingField::operator()(glm::dvec2 p) const {
 SizingField SizingField::scaled(double scale, unsigned threads) const {
     if (!(std::isfinite(scale) && scale > 0)) throw Error(fmt::format("a field's scale must be > 0 (got {})", scale));
     detail::ThreadPool pool(threads);
-    return SizingField(std::make_shared<const detail::FieldTable>(detail::scaled(*table_, scale, pool)));
+    return SizingField(std::make_shared<const detail::FieldTable>(detail::scaled(*table_, scale, pool)), sizing_, box_,
+                       scale_ * scale);
 }
 
 FieldStats SizingField::stats() const { return table_->stats(); }
 double SizingField::quantum() const { return table_->quantum; }
 
 namespace detail {
+namespace {
 
-Sampling sample_sized(const SampleOptions& o) {
-    validate(o);
-    const auto start = std::chrono::steady_clock::now();
-    // The tabulation runs on the threads the sampler will (one for the serial backend).
-    const SizingField field(*o.sizing, o.box, o.backend == Backend::Serial ? 1 : o.threads);
+// Samples `field`, tabulated from o.sizing over o.box by this run in `tabulation` seconds, or
+// before it (none).
+Sampling sample_tabulated(const SampleOptions& o, const SizingField& field, std::optional<double> tabulation) {
     const FieldTable& t = field.table();
-    const double tabulation = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     // A constant field's continuous hierarchy is the field sampler's: the one-radius one is CGAL's.
     const bool levels = o.hierarchy.steps != 0 || o.hierarchy.continuous;
     if (t.constant > 0 && !o.hierarchy.continuous) {
@@ -67,10 +76,31 @@ Sampling sample_sized(const SampleOptions& o) {
     chosen.backend = choice.backend;
     Sampling s = sample_field(chosen, t);
     s.choice = choice.reason;
-    s.stats.seconds += tabulation;
-    if (o.profile) s.stats.profile.insert(s.stats.profile.begin(), PhaseTime{"tabulate", tabulation, 1});
+    if (tabulation) {
+        s.stats.seconds += *tabulation;
+        if (o.profile) s.stats.profile.insert(s.stats.profile.begin(), PhaseTime{"tabulate", *tabulation, 1});
+    }
     return s;
 }
 
+}  // namespace
+
+Sampling sample_sized(const SampleOptions& o) {
+    validate(o);
+    const auto start = std::chrono::steady_clock::now();
+    // The tabulation runs on the threads the sampler will (one for the serial backend).
+    const SizingField field(*o.sizing, o.box, o.backend == Backend::Serial ? 1 : o.threads);
+    const double tabulation = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return sample_tabulated(o, field, tabulation);
+}
+
 }  // namespace detail
+
+Sampling sample(const SampleOptions& o, const SizingField& field) {
+    if (!o.sizing) throw Error("sampling a tabulated field needs the options' sizing (its rule and weighting)");
+    validate(o);
+    if (!field.made_from(*o.sizing, o.box)) throw Error("the field was not tabulated from the options' sizing and box");
+    return detail::sample_tabulated(o, field, std::nullopt);
+}
+
 }  // namespace vrpd
