@@ -240,7 +240,11 @@ TEST_CASE("bench and check write JSON that says what they measured", "[cli]") {
         CHECK(h["rows"][k + 1]["rule"] == h["rows"][k]["rule"]);
         CHECK(h["rows"][k + 1]["hierarchy_steps"] == 3);
         CHECK(h["rows"][k + 1]["samples"].get<int>() > h["rows"][k]["samples"].get<int>() / 2);
+        // A field's row counts its one tabulation in its time.
+        CHECK(h["rows"][k]["tabulation_seconds"].get<double>() > 0);
+        CHECK(h["rows"][k]["best_seconds"].get<double>() > h["rows"][k]["tabulation_seconds"].get<double>());
     }
+    CHECK(!h["rows"][0].contains("tabulation_seconds"));
 
     REQUIRE(cli("sample --radius 0.05 --seed 4 --device cpu -o " + pts.string()).code == 0);
     REQUIRE(cli("check " + pts.string() + " --radius 0.05 --json " + report.string()).code == 0);
