@@ -96,8 +96,12 @@ TEST_CASE("a field tabulated once samples as the runs that tabulate it, under ea
                 CHECK(reused.stats.darts == direct.stats.darts);
                 CHECK(reused.field.tabulation_error == direct.field.tabulation_error);
                 if (rule != SizingRule::Bigger) continue;
+                // The host names its backend as the one-radius engines do.
+                CHECK_THAT(direct.device, Catch::StartsWith("cpu (host, "));
                 o.backend = Backend::Serial;
-                CHECK(sample(o, field).lattice == direct.lattice);
+                const Sampling serial = sample(o, field);
+                CHECK(serial.lattice == direct.lattice);
+                CHECK(serial.device == "serial (host, one thread)");
             }
         // A hierarchy's levels scale the field it is given.
         o.hierarchy.steps = 3;

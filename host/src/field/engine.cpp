@@ -365,6 +365,7 @@ Sampling sample_field(const SampleOptions& o, const FieldTable& t) {
     // On a Vulkan device, one context and its kernels serve every level.
     std::optional<FieldDevice> device;
     if (o.backend == Backend::Gpu) device.emplace(o);
+    std::string host;  // the host sampler's name, without a device
     for (std::size_t k = 0; k < steps.size(); ++k) {
         const auto [birth, scale] = steps[k];
         std::optional<FieldTable> own;
@@ -387,6 +388,7 @@ Sampling sample_field(const SampleOptions& o, const FieldTable& t) {
             // Given samples from the options are checked against each other; a level's given
             // samples, the earlier levels', are conflict-free by the scales' order.
             s = sampler.run(samples, k > 0, out.stats.rounds);
+            host = sampler.device_name();
         }
         out.stats.rounds += s.stats.rounds;
         out.stats.darts += s.stats.darts;
@@ -417,7 +419,7 @@ Sampling sample_field(const SampleOptions& o, const FieldTable& t) {
     out.stats.seconds = std::chrono::duration<double>(Clock::now() - start).count();
     out.box = o.box;
     out.backend = o.backend == Backend::Serial || o.backend == Backend::Gpu ? o.backend : Backend::Cpu;
-    out.device = "host";
+    out.device = host;
     if (device) {
         out.device = device->device_name();
         out.stats.round_trips = device->round_trips();

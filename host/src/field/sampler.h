@@ -6,6 +6,7 @@
 #include <bit>
 #include <cstdint>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "quadtree.h"
@@ -96,6 +97,11 @@ public:
     // Only the check of run's given samples (for a Vulkan run, which takes them checked): throws
     // the same Error if one conflicts with an earlier one under the rule.
     void check_given(const std::vector<uvec2>& given) { add_given(given, false); }
+    // The host as the one-radius engines name theirs.
+    std::string device_name() const {
+        if (serial_) return "serial (host, one thread)";
+        return "cpu (host, " + std::to_string(pool_.size()) + (pool_.size() == 1 ? " thread)" : " threads)");
+    }
 
 private:
     // The farthest an earlier sample conflicting with some point of [a, b] can be, given the
