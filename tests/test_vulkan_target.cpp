@@ -12,6 +12,7 @@
 
 #include "support.h"
 #include "vrpd/hierarchy.h"
+#include "vrpd/sizing.h"
 #include "vrpd/vulkan_target.h"
 #include "vulkan/loader.h"
 
@@ -237,6 +238,16 @@ TEST_CASE("a DeviceSampler keeps its pipelines on the application's device from 
             app.vk.vkDestroyBuffer(app.device, out.buffer, nullptr);
             app.vk.vkFreeMemory(app.device, out.memory, nullptr);
         }
+        // A field tabulated once, sampled again with another seed: the cpu's points, no new pipeline.
+        const SizingField tabulated(*field.sizing, field.box);
+        field.seed = field_cpu.seed = 7;
+        const DeviceSamples out = sampler.sample(field, tabulated);
+        CHECK(out.sampling.lattice == sample(field_cpu).lattice);
+        CHECK(out.sampling.lattice != expected.lattice);
+        CHECK(out.bytes == out.sampling.size() * sizeof(DeviceSample));
+        CHECK(sampler.pipelines() == made);
+        app.vk.vkDestroyBuffer(app.device, out.buffer, nullptr);
+        app.vk.vkFreeMemory(app.device, out.memory, nullptr);
     }
     // The sampler gone, nothing of vrpd's is left on the device.
     app.vk.vkDestroyDevice(app.device, nullptr);

@@ -61,6 +61,7 @@ DeviceSamples sample_on(const VulkanTarget& target, const SampleOptions& options
 namespace detail {
 class VulkanContext;
 }
+class SizingField;  // vrpd/sizing.h
 
 // sample_on for an application that samples more than once: vrpd's command pool, fence and
 // kernels' pipelines on the target's device (tens of milliseconds to make) are made once and kept
@@ -74,10 +75,17 @@ public:
     DeviceSampler& operator=(const DeviceSampler&) = delete;
     // sample_on(target, options, into, into_bytes), on the objects kept.
     DeviceSamples sample(const SampleOptions& options, VkBuffer into = VK_NULL_HANDLE, VkDeviceSize into_bytes = 0);
+    // The same from a sizing field tabulated before (vrpd/sizing.h, sample(options, field)): a
+    // renderer sampling one field again, with another seed or from other given samples, skips
+    // its tabulation.
+    DeviceSamples sample(const SampleOptions& options, const SizingField& field, VkBuffer into = VK_NULL_HANDLE,
+                         VkDeviceSize into_bytes = 0);
     // The pipelines made on the device so far: a call makes none of those its kernels have.
     std::size_t pipelines() const;
 
 private:
+    // The samples of a run on the target to a buffer there (`into`, or one vrpd makes).
+    DeviceSamples deliver(Sampling sampling, VkBuffer into, VkDeviceSize into_bytes);
     VulkanTarget target_;
     std::unique_ptr<detail::VulkanContext> ctx_;
 };

@@ -7,6 +7,7 @@
 
 #include "buffer.h"
 #include "device.h"
+#include "vrpd/sizing.h"
 #include "vrpd/vulkan_target.h"
 
 namespace vrpd {
@@ -26,11 +27,22 @@ DeviceSampler::~DeviceSampler() { detail::lend_context(&target_, nullptr); }
 std::size_t DeviceSampler::pipelines() const { return ctx_->pipelines(); }
 
 DeviceSamples DeviceSampler::sample(const SampleOptions& options, VkBuffer into, VkDeviceSize into_bytes) {
-    using namespace detail;
     SampleOptions on_target = options;
     on_target.vulkan = &target_;  // the runs borrow ctx_ (ContextLease)
+    return deliver(vrpd::sample(on_target), into, into_bytes);
+}
+
+DeviceSamples DeviceSampler::sample(const SampleOptions& options, const SizingField& field, VkBuffer into,
+                                    VkDeviceSize into_bytes) {
+    SampleOptions on_target = options;
+    on_target.vulkan = &target_;
+    return deliver(vrpd::sample(on_target, field), into, into_bytes);
+}
+
+DeviceSamples DeviceSampler::deliver(Sampling sampling, VkBuffer into, VkDeviceSize into_bytes) {
+    using namespace detail;
     DeviceSamples out;
-    out.sampling = vrpd::sample(on_target);
+    out.sampling = std::move(sampling);
     const Sampling& s = out.sampling;
     out.bytes = s.size() * sizeof(DeviceSample);
     if (into && into_bytes < out.bytes)
