@@ -24,10 +24,14 @@ inline SampleOptions field_options(const std::string& expr, SizingRule rule, Bou
     return o;
 }
 
-inline SizingReport judge(const Sampling& s, const Sizing& sizing) {
-    const SizingField field(sizing, s.box);
+// On a field tabulated before (the run's own, made from its sizing and box).
+inline SizingReport judge(const Sampling& s, const SizingField& field, SizingRule rule) {
     const FieldStats f = field.stats();
-    return check_sizing(points_of(s), std::cref(field), sizing.rule, s.box, 1e-9, {f.r_min, f.r_max, f.lipschitz, 0});
+    return check_sizing(points_of(s), std::cref(field), rule, s.box, 1e-9, {f.r_min, f.r_max, f.lipschitz, 0});
+}
+
+inline SizingReport judge(const Sampling& s, const Sizing& sizing) {
+    return judge(s, SizingField(sizing, s.box), sizing.rule);
 }
 
 }  // namespace vrpd::test

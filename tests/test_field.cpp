@@ -101,20 +101,24 @@ TEST_CASE("each rule on a ramp, rectified sines, a kink and an image: conflict-f
     fields[2].sizing.r_min = 0.005;
     fields[2].sizing.r_max = 0.03;
     fields[2].boundary = Boundary::Free;
-    for (const Field& f : fields)
+    for (const Field& f : fields) {
+        // One table for the rules and seeds, and for the judgement (test_field_from.cpp: a run
+        // from it gives the points of a run that tabulates it).
+        const SizingField field(f.sizing, {1, 1, f.boundary});
         for (SizingRule rule : kRules)
             for (std::uint32_t seed : {1u, 2u}) {
                 SampleOptions o = field_options("", rule, f.boundary, seed);
                 o.sizing = f.sizing;
                 o.sizing->rule = rule;
-                const Sampling s = sample(o);
+                const Sampling s = sample(o, field);
                 INFO(f.sizing.expression << f.sizing.image << " rule " << sizing_rule_name(rule) << " seed " << seed);
                 REQUIRE(s.size() > 500);
                 REQUIRE(s.local_radius.size() == s.size());
-                const SizingReport r = judge(s, *o.sizing);
+                const SizingReport r = judge(s, field, rule);
                 CHECK(r.conflicts == 0);
                 CHECK(r.uncovered == 0);
             }
+    }
     // The image's L: its steepest step between pixel centres (grey steps of 4 or 5 levels of 255
     // over 1/64 of the box), and at least its mean slope, (r_max - r_min) / width.
     int step = 0;

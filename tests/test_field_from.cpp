@@ -42,39 +42,43 @@ TEST_CASE("a field run from given samples: they come first, then a completion ma
     };
     const Field fields[] = {{"0.005 + 0.03*x", Boundary::Free},
                             {"0.008 + 0.004*sin(2*pi*x)*cos(2*pi*y)", Boundary::Periodic}};
-    for (const Field& f : fields)
+    for (const Field& f : fields) {
+        // One table for every run (a run from it gives the points of a run that tabulates it).
+        const SizingField field(*field_options(f.expression, SizingRule::Prior, f.boundary, 3).sizing,
+                                {1, 1, f.boundary});
         for (SizingRule rule : kRules)
             for (Weighting weighting : {Weighting::Uniform, Weighting::Density}) {
                 INFO(f.expression << ", rule " << sizing_rule_name(rule) << ", weighting " << int(weighting));
                 SampleOptions o = field_options(f.expression, rule, f.boundary, 3);
                 o.sizing->weighting = weighting;
-                const Sampling full = sample(o);
+                const Sampling full = sample(o, field);
                 // A prefix of a run is conflict-free under the rule in its order (a prefix of the
                 // acceptance order): completed with another seed, it is kept as it is.
                 SampleOptions from = o;
                 from.seed = 8;
                 from.initial = prefix(full, full.size() / 4);
-                const Sampling s = sample(from);
+                const Sampling s = sample(from, field);
                 REQUIRE(s.size() > from.initial.size());
                 const auto n = std::ptrdiff_t(from.initial.size());
                 CHECK(std::equal(full.lattice.begin(), full.lattice.begin() + n, s.lattice.begin()));
                 CHECK(std::equal(full.local_radius.begin(), full.local_radius.begin() + n, s.local_radius.begin()));
                 CHECK(s.lattice != full.lattice);
-                const SizingReport r = judge(s, *o.sizing);
+                const SizingReport r = judge(s, field, rule);
                 CHECK(r.conflicts == 0);
                 CHECK(r.uncovered == 0);
                 if (weighting == Weighting::Density) continue;
                 // The same points on the serial backend.
                 from.backend = Backend::Serial;
-                CHECK(sample(from).lattice == s.lattice);
+                CHECK(sample(from, field).lattice == s.lattice);
                 // A maximal set given whole gains nothing. The leaves one given sample covers are
                 // dropped before the first round; the darts go to those that several cover.
                 SampleOptions whole = o;
                 whole.initial = points_of(full);
-                const Sampling again = sample(whole);
+                const Sampling again = sample(whole, field);
                 CHECK(again.lattice == full.lattice);
                 CHECK(again.stats.darts < full.stats.darts / 2);
             }
+    }
 }
 
 TEST_CASE("a field tabulated once samples as the runs that tabulate it, under each rule and weighting", "[field]") {
