@@ -8,6 +8,8 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <thread>
+#include <vector>
 
 #include "cli_support.h"
 #include "field_support.h"
@@ -107,6 +109,25 @@ TEST_CASE("a field tabulated once samples as the runs that tabulate it, under ea
                 CHECK(serial.lattice == direct.lattice);
                 CHECK(serial.device == "serial (host, one thread)");
             }
+        // Two runs on one field at once, each on a thread of its own.
+        o.sizing->rule = SizingRule::Current;
+        o.backend = Backend::Cpu;
+        o.threads = 1;
+        std::vector<Sampling> both(2);
+        std::vector<std::thread> runs;
+        for (std::uint32_t k = 0; k < 2; ++k)
+            runs.emplace_back([&, k] {
+                SampleOptions mine = o;
+                mine.seed = 20 + k;
+                both[k] = sample(mine, field);
+            });
+        for (std::thread& t : runs) t.join();
+        for (std::uint32_t k = 0; k < 2; ++k) {
+            SampleOptions alone = o;
+            alone.seed = 20 + k;
+            CHECK(both[k].lattice == sample(alone).lattice);
+        }
+        o.threads = 0;
         // A hierarchy's levels scale the field it is given.
         o.hierarchy.steps = 3;
         o.backend = Backend::Cpu;

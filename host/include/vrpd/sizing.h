@@ -89,8 +89,9 @@ private:
 
 // Samples `field`, tabulated before, where sample(options) would tabulate options.sizing again:
 // the same points, without the tabulation's time. Runs with several seeds, rules or weightings,
-// or from given samples, share one table so. Throws Error unless the field was made from
-// options.sizing and options.box (SizingField::made_from).
+// or from given samples, share one table so, on several threads at once too (a field is never
+// written after it is made). Throws Error unless the field was made from options.sizing and
+// options.box (SizingField::made_from).
 Sampling sample(const SampleOptions& options, const SizingField& field);
 
 // Table 1's conflict rules (SizingRule, vrpd.h) by name.
