@@ -136,15 +136,16 @@ TEST_CASE("auto takes a hardware device, a CPU Vulkan driver only when named, an
     const std::string field = " sample --sizing \"0.04 + 0.02*x\" --rule smaller --boundary free -o " + out.string();
     CHECK(WEXITSTATUS(std::system((std::string(VRPD_CLI) + field + " 2> " + err.string()).c_str())) == 0);
     if (hardware.empty()) {
-        CHECK(slurp(err).find("device host (auto: no hardware Vulkan device") != std::string::npos);
+        CHECK(slurp(err).find("device cpu (host, ") != std::string::npos);
+        CHECK(slurp(err).find(") (auto: no hardware Vulkan device") != std::string::npos);
     } else {
         CHECK(slurp(err).find("(auto: hardware Vulkan device " + hardware + ")") != std::string::npos);
-        CHECK(slurp(err).find("device host") == std::string::npos);
+        CHECK(slurp(err).find("device cpu (host") == std::string::npos);
     }
     CHECK(WEXITSTATUS(
               std::system(("VRPD_DEVICE=0 " + std::string(VRPD_CLI) + field + " 2> " + err.string()).c_str())) == 0);
     CHECK(slurp(err).find("(auto: VRPD_DEVICE names a Vulkan device)") != std::string::npos);
-    CHECK(slurp(err).find("device host") == std::string::npos);
+    CHECK(slurp(err).find("device cpu (host") == std::string::npos);
 }
 
 TEST_CASE("a good run's CSV parses, and devices give byte-identical files", "[cli][gpu]") {
