@@ -192,6 +192,12 @@ TEST_CASE(
     CHECK(on_device.sampling.backend == Backend::Gpu);
     app.vk.vkDestroyBuffer(app.device, on_device.buffer, nullptr);
     app.vk.vkFreeMemory(app.device, on_device.memory, nullptr);
+    // From a field tabulated before, the same levels.
+    const DeviceSamples reused = sample_on(target, gpu, SizingField(*o.sizing, o.box));
+    CHECK(reused.sampling.lattice == expected.lattice);
+    CHECK(reused.sampling.birth == expected.birth);
+    app.vk.vkDestroyBuffer(app.device, reused.buffer, nullptr);
+    app.vk.vkFreeMemory(app.device, reused.memory, nullptr);
     cpu.backend = Backend::Cpu;
     CHECK_THROWS_WITH(sample_on(target, cpu), Catch::Contains("needs the gpu backend"));
     app.vk.vkDestroyDevice(app.device, nullptr);

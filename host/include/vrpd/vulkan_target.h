@@ -57,11 +57,14 @@ struct DeviceSamples {
 // transfers ownership of the buffer first. Throws Error with the reason.
 DeviceSamples sample_on(const VulkanTarget& target, const SampleOptions& options, VkBuffer into = VK_NULL_HANDLE,
                         VkDeviceSize into_bytes = 0);
+// The same from a sizing field tabulated before (vrpd/sizing.h, sample(options, field)).
+class SizingField;
+DeviceSamples sample_on(const VulkanTarget& target, const SampleOptions& options, const SizingField& field,
+                        VkBuffer into = VK_NULL_HANDLE, VkDeviceSize into_bytes = 0);
 
 namespace detail {
 class VulkanContext;
 }
-class SizingField;  // vrpd/sizing.h
 
 // sample_on for an application that samples more than once: vrpd's command pool, fence and
 // kernels' pipelines on the target's device (tens of milliseconds to make) are made once and kept

@@ -17,6 +17,11 @@ DeviceSamples sample_on(const VulkanTarget& target, const SampleOptions& options
     return DeviceSampler(target).sample(options, into, into_bytes);
 }
 
+DeviceSamples sample_on(const VulkanTarget& target, const SampleOptions& options, const SizingField& field,
+                        VkBuffer into, VkDeviceSize into_bytes) {
+    return DeviceSampler(target).sample(options, field, into, into_bytes);
+}
+
 DeviceSampler::DeviceSampler(const VulkanTarget& target)
     : target_(target), ctx_(std::make_unique<detail::VulkanContext>(target)) {
     detail::lend_context(&target_, ctx_.get());
