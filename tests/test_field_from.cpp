@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "cli_support.h"
+#include "field/table.h"
 #include "field_support.h"
 
 using namespace vrpd;
@@ -85,9 +86,11 @@ TEST_CASE("a field run from given samples: they come first, then a completion ma
 
 TEST_CASE("a field tabulated once samples as the runs that tabulate it, under each rule and weighting", "[field]") {
     for (const Boundary boundary : {Boundary::Free, Boundary::Periodic}) {
-        SampleOptions o = field_options("0.025 + 0.0125*abs(sin(3*pi*x))", SizingRule::Prior, boundary, 6);
+        SampleOptions o = field_options("0.025 + 0.0125*abs(sin(2*pi*x/w))", SizingRule::Prior, boundary, 6);
         o.box.width = 1.5;
         const SizingField field(*o.sizing, o.box);
+        // On the free box the kinks are patched; on the torus the table alone is within 0.075 %.
+        CHECK((field.table().patch_count > 0) == (boundary == Boundary::Free));
         for (SizingRule rule : kRules)
             for (Weighting weighting : {Weighting::Uniform, Weighting::Density}) {
                 INFO("boundary " << int(boundary) << ", rule " << sizing_rule_name(rule) << ", weighting "
