@@ -27,9 +27,13 @@ std::vector<glm::dvec2> prefix(const Sampling& s, std::size_t n) {
     return p;
 }
 
-std::string refusal(const SampleOptions& o) {
+// The error a run of o gives (from `field` when one is given), or "accepted".
+std::string refusal(const SampleOptions& o, const SizingField* field = nullptr) {
     try {
-        sample(o);
+        if (field)
+            sample(o, *field);
+        else
+            sample(o);
     } catch (const Error& e) {
         return e.what();
     }
@@ -141,38 +145,31 @@ TEST_CASE("a field tabulated once samples as the runs that tabulate it, under ea
     // The field must be the options' sizing over their box; the rule and weighting are the run's.
     SampleOptions o = field_options("0.02 + 0.01*x", SizingRule::Smaller, Boundary::Free, 1);
     const SizingField field(*o.sizing, o.box);
-    auto refused = [&](const SampleOptions& options, const SizingField& f) {
-        try {
-            sample(options, f);
-        } catch (const Error& e) {
-            return std::string(e.what());
-        }
-        return std::string("accepted");
-    };
     const std::string mismatch = "the field was not tabulated from the options' sizing and box";
-    CHECK(refused(o, field) == "accepted");
+    CHECK(refusal(o, &field) == "accepted");
     SampleOptions other = o;
     other.box.boundary = Boundary::Periodic;
-    CHECK(refused(other, field) == mismatch);
+    CHECK(refusal(other, &field) == mismatch);
     other = o;
     other.box.height = 0.5;
-    CHECK(refused(other, field) == mismatch);
+    CHECK(refusal(other, &field) == mismatch);
     other = o;
     other.sizing->expression = "0.02 + 0.011*x";
-    CHECK(refused(other, field) == mismatch);
+    CHECK(refusal(other, &field) == mismatch);
     other = o;
     other.sizing->table_budget = 16;
-    CHECK(refused(other, field) == mismatch);
+    CHECK(refusal(other, &field) == mismatch);
     other = o;
     other.sizing->lipschitz = 0.5;
-    CHECK(refused(other, field) == mismatch);
-    CHECK(refused(o, field.scaled(2)) == mismatch);
+    CHECK(refusal(other, &field) == mismatch);
+    const SizingField doubled = field.scaled(2);
+    CHECK(refusal(o, &doubled) == mismatch);
     other = o;
     other.sizing.reset();
-    CHECK(refused(other, field) == "sampling a tabulated field needs the options' sizing (its rule and weighting)");
+    CHECK(refusal(other, &field) == "sampling a tabulated field needs the options' sizing (its rule and weighting)");
     other = o;
     other.threads = 100000;
-    CHECK_THAT(refused(other, field), Catch::Contains("threads must be at most"));
+    CHECK_THAT(refusal(other, &field), Catch::Contains("threads must be at most"));
 }
 
 TEST_CASE("given samples in conflict under a field's rule, in their order, are refused", "[field]") {

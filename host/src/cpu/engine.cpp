@@ -10,8 +10,6 @@
 #include <type_traits>
 #include <utility>
 
-#include <fmt/format.h>
-
 #include "engine.h"
 #include "arrival_order.h"
 #include "shared/sampler.h"
@@ -43,7 +41,7 @@ public:
 
     std::string device_name() const override {
         if (resolution_ == Resolution::Serial) return "serial (host, one dart at a time)";
-        return fmt::format("cpu (host, {} thread{})", pool_.size(), pool_.size() == 1 ? "" : "s");
+        return pool_.device_name();
     }
 
     std::uint64_t start(const Plan& plan, const std::vector<uvec2>& initial) override {

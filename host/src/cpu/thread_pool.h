@@ -13,6 +13,7 @@
 #include <utility>
 #include <functional>
 #include <mutex>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -29,6 +30,10 @@ public:
     ThreadPool& operator=(const ThreadPool&) = delete;
 
     unsigned size() const { return unsigned(workers_.size()) + 1; }
+    // The cpu backend's device name on these threads: "cpu (host, N threads)".
+    std::string device_name() const {
+        return "cpu (host, " + std::to_string(size()) + (size() == 1 ? " thread)" : " threads)");
+    }
     // The chunks parallel_for splits [0, n) into: one on one thread or for fewer than `grain`
     // items, else kChunksPerThread a thread.
     std::size_t chunks(std::size_t n, std::size_t grain = kGrain) const {

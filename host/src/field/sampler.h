@@ -98,10 +98,7 @@ public:
     // the same Error if one conflicts with an earlier one under the rule.
     void check_given(const std::vector<uvec2>& given) { add_given(given, false); }
     // The host as the one-radius engines name theirs.
-    std::string device_name() const {
-        if (serial_) return "serial (host, one thread)";
-        return "cpu (host, " + std::to_string(pool_.size()) + (pool_.size() == 1 ? " thread)" : " threads)");
-    }
+    std::string device_name() const { return serial_ ? "serial (host, one thread)" : pool_.device_name(); }
 
 private:
     // The farthest an earlier sample conflicting with some point of [a, b] can be, given the
