@@ -343,3 +343,53 @@ TEST_CASE("check: memory follows the points, not the radius", "[cli]") {
 #endif
     CHECK(cli("check " + far.string() + " --radius 3e-5").code == 1);
 }
+
+TEST_CASE("sample --runs: a file a seed, each the run of that seed alone; a field tabulated once", "[cli]") {
+    const fs::path dir = scratch() / "runs";
+    fs::create_directories(dir);
+    const auto name = [&](const std::string& stem, const std::string& seed) { return (dir / (stem + seed)).string(); };
+    const std::string uniform = "sample --radius 0.03 --device cpu";
+    const Run three = cli(uniform + " --seed 7 --runs 3 -o " + name("u_", "{seed}.csv"));
+    INFO(three.err);
+    REQUIRE(three.code == 0);
+    for (const std::string seed : {"7", "8", "9"}) {
+        REQUIRE(cli(uniform + " --seed " + seed + " -o " + name("one_", seed + ".csv")).code == 0);
+        CHECK(slurp(name("u_", seed + ".csv")) == slurp(name("one_", seed + ".csv")));
+        CHECK_THAT(three.err, Catch::Contains("vrpd: seed " + seed + ": "));
+    }
+    CHECK(std::count(three.err.begin(), three.err.end(), '\n') == 3);
+    CHECK(slurp(name("u_", "7.csv")) != slurp(name("u_", "8.csv")));
+
+    // A field whose L passes the bigger rule's bound, up to the last seed there is: the runs share
+    // one table and say its warning once.
+    const std::string field =
+        "sample --sizing \"0.01 + 0.8*x*x\" --rule bigger --weighting density --boundary free "
+        "--device serial";
+    const Run two = cli(field + " --seed 4294967294 --runs 2 -o " + name("f_", "{seed}.bin"));
+    INFO(two.err);
+    REQUIRE(two.code == 0);
+    CHECK_THAT(two.err, Catch::Contains("vrpd: the field tabulated once for 2 runs"));
+    CHECK(std::count(two.err.begin(), two.err.end(), '\n') == 4);  // tabulation, two runs, one warning
+    CHECK_THAT(two.err, Catch::Contains("exceeds the bigger rule's bound"));
+    for (const std::string seed : {"4294967294", "4294967295"}) {
+        REQUIRE(cli(field + " --seed " + seed + " -o " + name("g_", seed + ".bin")).code == 0);
+        CHECK(slurp(name("f_", seed + ".bin")) == slurp(name("g_", seed + ".bin")));
+    }
+
+    // Refused before any run: no file is written.
+    fs::create_directories(dir / "5");
+    for (const std::string& args :
+         {" --runs 2 -o " + name("r_", ".csv"), std::string(" --runs 2"), " --runs 0 -o " + name("r_", "{seed}.csv"),
+          " --seed 4294967295 --runs 2 -o " + name("r_", "{seed}.csv"),
+          " --seed 5 --runs 2 -o " + (dir / "{seed}" / "r.csv").string()}) {
+        const Run r = cli(uniform + args);
+        INFO(args << " -> " << r.err);
+        CHECK(r.code == 2);
+        CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+    }
+    CHECK_THAT(cli(uniform + " --runs 2").err, Catch::Contains("give an output with {seed} in its name"));
+    CHECK_THAT(cli(uniform + " --seed 4294967295 --runs 2 -o " + name("r_", "{seed}.csv")).err,
+               Catch::Contains("the last seed would pass 4294967295"));
+    for (const auto& entry : fs::directory_iterator(dir)) CHECK(entry.path().filename().string().rfind("r_", 0) != 0);
+    CHECK(fs::is_empty(dir / "5"));
+}

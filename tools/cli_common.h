@@ -1,6 +1,7 @@
 // Small pieces shared by the vrpd CLI's subcommands.
 #pragma once
 
+#include <cstdint>
 #include <optional>
 #include <ostream>
 #include <string>
@@ -49,9 +50,17 @@ struct SizingArgs {
 std::optional<Sizing> parse_sizing(const SizingArgs& args);
 // Registers the options on a subcommand (weighting: only where `weighting`).
 void add_sizing_options(CLI::App& app, SizingArgs& args, bool weighting);
-// The summary line of a sizing-field run: n, the field's range, measured L against the rule's
-// bound (a warning past it), the tabulation error, time and memory.
-void print_field_summary(const Sampling& s, const Sizing& sizing, std::ostream& out);
+// `vrpd sample`: `runs` runs (>= 1) of `o`, seeds o.seed on, each written to `output` (or "-") with
+// "{seed}" replaced by its seed, and summarized on stderr. Refuses, before the first run, an
+// output without {seed} for several runs, seeds past 32 bits, and any output it cannot write.
+void run_samples(SampleOptions o, const std::string& output, std::uint32_t runs);
+
+// The summary line of a sizing-field run: n, the field's range, measured L, the tabulation error,
+// time and memory; `run` names the run ("seed 7: ") where there are several.
+void print_field_summary(const Sampling& s, const Sizing& sizing, std::ostream& out, const std::string& run = "");
+// The field's warnings, a line each: L past the rule's bound (Table 1), at t = 1 or at a
+// hierarchy's upper levels, and a table farther than 0.1 % from the source.
+void print_field_warnings(const Sampling& s, const Sizing& sizing, std::ostream& out);
 
 struct CheckOptions {
     std::string file;

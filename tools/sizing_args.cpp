@@ -61,16 +61,20 @@ void add_sizing_options(CLI::App& app, SizingArgs& a, bool weighting) {
                        "uniform (default: each sample uniform over the uncovered set) or density (1/r^2, Eq. 12)");
 }
 
-void print_field_summary(const Sampling& s, const Sizing& sizing, std::ostream& out) {
+void print_field_summary(const Sampling& s, const Sizing& sizing, std::ostream& out, const std::string& run) {
     const FieldStats& f = s.field;
     out << fmt::format(
-        "vrpd: {} samples, r {:.6g} to {:.6g}, rule {}, {} weighting; table of {} nodes within "
+        "vrpd: {}{} samples, r {:.6g} to {:.6g}, rule {}, {} weighting; table of {} nodes within "
         "{:.3g} % of the source, L {:.4g}; {:.3f} s, {:.3g} points/s, {} rounds, {} darts, {:.1f} MiB "
         "of arrays, device {}{}\n",
-        s.size(), f.r_min, f.r_max, sizing_rule_name(sizing.rule),
+        run, s.size(), f.r_min, f.r_max, sizing_rule_name(sizing.rule),
         sizing.weighting == Weighting::Density ? "density" : "uniform", f.table_nodes, 100 * f.tabulation_error,
         f.lipschitz, s.stats.seconds, double(s.size()) / s.stats.seconds, s.stats.rounds, s.stats.darts,
         double(s.stats.peak_bytes) / (1 << 20), s.device, s.choice.empty() ? "" : " (auto: " + s.choice + ")");
+}
+
+void print_field_warnings(const Sampling& s, const Sizing& sizing, std::ostream& out) {
+    const FieldStats& f = s.field;
     const double bound = rule_lipschitz_bound(sizing.rule);
     // --lipschitz L makes the nodes L-Lipschitz; a bilinear cell is up to sqrt(2) times steeper
     // at a corner, and the rounding to lattice units adds under 1e-4: L = bound / sqrt(2), cut to

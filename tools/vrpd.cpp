@@ -17,7 +17,6 @@
 #include "cli_common.h"
 #ifdef VRPD_HAVE_GEOMETRY
 #include <nlohmann/json.hpp>
-#include "vrpd/continuous.h"
 #include "vrpd/verify.h"
 #endif
 #include "vrpd/hierarchy.h"
@@ -180,37 +179,6 @@ void remove_partial_file_on_signals() {
     }
 }
 
-// The phases' times, longest first, and the rest of the run's wall time (setup, host work
-// between phases, submits, read-backs).
-void print_profile(const SamplingStats& stats, std::ostream& out) {
-    std::vector<PhaseTime> phases = stats.profile;
-    std::stable_sort(phases.begin(), phases.end(),
-                     [](const PhaseTime& a, const PhaseTime& b) { return a.seconds > b.seconds; });
-    double timed = 0.0;
-    out << fmt::format("vrpd: profile, {:.3f} s in all\n  {:<18} {:>9} {:>7} {:>7}\n", stats.seconds, "phase",
-                       "seconds", "share", "calls");
-    for (const PhaseTime& p : phases) {
-        timed += p.seconds;
-        out << fmt::format("  {:<18} {:9.3f} {:6.1f}% {:7}\n", p.name, p.seconds, 100.0 * p.seconds / stats.seconds,
-                           p.calls);
-    }
-    const double rest = std::max(0.0, stats.seconds - timed);
-    out << fmt::format("  {:<18} {:9.3f} {:6.1f}%\n", "(outside phases)", rest, 100.0 * rest / stats.seconds);
-    if (stats.round_trips > 0)
-        out << fmt::format("  host round trips: {}, {:.1f} per level ({} levels, {} rounds)\n", stats.round_trips,
-                           double(stats.round_trips) / std::max(1u, stats.levels), stats.levels, stats.rounds);
-}
-
-// A continuous hierarchy, built on the geometry target.
-Sampling continuous(const SampleOptions& options) {
-#ifdef VRPD_HAVE_GEOMETRY
-    return continuous_hierarchy(options);
-#else
-    (void)options;
-    throw Error("continuous hierarchies need the geometry target (CGAL); this vrpd is built without it");
-#endif
-}
-
 }  // namespace vrpd::cli
 
 int main(int argc, char** argv) {
@@ -259,6 +227,12 @@ int main(int argc, char** argv) {
         "start from the samples of FILE (conflict-free at Rf, or under a sizing field's rule); output them first");
     cli::SizingArgs sizing;
     cli::add_sizing_options(*sample_cmd, sizing, true);
+    std::uint32_t runs = 1;
+    sample_cmd
+        ->add_option("--runs", runs,
+                     "N runs, seeds --seed to --seed + N - 1, each to the output with {seed} replaced by its "
+                     "seed; a sizing field is tabulated once for all of them (default 1)")
+        ->check(CLI::Range(1u, 4294967295u));
     sample_cmd->add_flag("--profile", opt.profile,
                          "also print where the time went: per phase (cpu, serial) or per kernel (gpu, device "
                          "timestamps)");
@@ -379,18 +353,7 @@ int main(int argc, char** argv) {
             cli::parse_extent(extent, opt.box);
             validate(opt);
             if (output.empty()) output = "-";
-            check_writable(output);
-            Sampling s = opt.hierarchy.continuous && !opt.sizing ? cli::continuous(opt) : sample(opt);
-            write_points(s, output);
-            const double area = s.box.width * s.box.height;
-            if (opt.sizing) cli::print_field_summary(s, *opt.sizing, std::cerr);
-            else std::cerr << fmt::format(
-                "vrpd: {} samples, n*{}^2/area {:.5f}, {:.3f} s, {:.3g} points/s, {} levels, {} darts, "
-                "{:.1f} MiB of arrays, device {}{}\n",
-                s.size(), s.coverage == s.radius ? "r" : "Rf", double(s.size()) * s.radius * s.radius / area,
-                s.stats.seconds, double(s.size()) / s.stats.seconds, s.stats.levels, s.stats.darts,
-                double(s.stats.peak_bytes) / (1 << 20), s.device, s.choice.empty() ? "" : " (auto: " + s.choice + ")");
-            if (opt.profile) cli::print_profile(s.stats, std::cerr);
+            cli::run_samples(opt, output, runs);
             return cli::finish_output(0);
         }
         if (*lod_cmd) {
