@@ -344,7 +344,7 @@ TEST_CASE("check: memory follows the points, not the radius", "[cli]") {
     CHECK(cli("check " + far.string() + " --radius 3e-5").code == 1);
 }
 
-TEST_CASE("sample --runs: a file a seed, each the run of that seed alone; a field tabulated once", "[cli]") {
+TEST_CASE("sample --runs: a file a seed, each the run of that seed alone, a field tabulated once", "[cli]") {
     const fs::path dir = scratch() / "runs";
     fs::create_directories(dir);
     const auto name = [&](const std::string& stem, const std::string& seed) { return (dir / (stem + seed)).string(); };
