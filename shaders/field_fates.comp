@@ -4,8 +4,9 @@
 #include "field.glsl"
 // Each active cell's fate (words1) and the cells it leaves in the next list (words0, scanned
 // next): dropped (0), kept whole (FIELD_KEEP), or split (FIELD_SPLIT | the mask of its open
-// children). The variant FIELD_VARIANT_BALANCE balances the list, the
-// other refines it after a round (each is half the code, which llvmpipe runs whole).
+// children). Compiled with FIELD_BALANCE (the kernel field_balance) it balances the list; without,
+// it refines it after a round. Each holds only its own half: llvmpipe builds and runs code a
+// constant leaves dead as if it were live.
 // Balancing splits the cells whose biased exponent is p2 or more (and whose side is above one
 // lattice unit); the children a sample covers drop. Refining takes one of the lists
 // field_triage.comp made (in target, dispatched by work_args.comp; p0 = 0 the cells that search
@@ -15,31 +16,35 @@
 // FieldRun::touched).
 
 void main() {
-    bool balance = (FIELD_VARIANT & FIELD_VARIANT_BALANCE) != 0u;
-    uint k = balance ? field_item() : work_item();
-    if (k >= (balance ? a.count : FieldWords(a.counters).value[FIELD_COUNTER_WORK + 4u * a.p0 + 3u])) return;
-    uint i = balance ? k : FieldWords(a.target).value[field_search_slot(a.p0, k, a.p1)];
+#ifdef FIELD_BALANCE
+    uint i = field_item();
+    if (i >= a.count) return;
+#else
+    uint k = work_item();
+    if (k >= FieldWords(a.counters).value[FIELD_COUNTER_WORK + 4u * a.p0 + 3u]) return;
+    uint i = FieldWords(a.target).value[field_search_slot(a.p0, k, a.p1)];
+#endif
     FieldRun run = field_run();
     uvec4 cell = field_cell(run, a.cells, i);
     FieldBudget budget = FieldBudget(run.budget, 0u);
     uint fate = FIELD_KEEP;
-    if (balance) {
-        if (cell.z > 0u && field_exponent(cell) >= a.p2)
-            fate = FIELD_SPLIT | field_open_children(run, cell.xy, cell.z, budget);
-    } else {
-        FieldWords offsets = FieldWords(a.words2);
-        bool got = field_scan_end(offsets, i, a.p1, a.p2) > offsets.value[i];
-        uvec2 leaf = field_leaf_at(run.tree, cell.xy);
-        // Only a cell smaller than its leaf searches for a cover by this round's samples (touched
-        // this round, p3); field_triage.comp settled the others, and the cells whose leaf holds a
-        // sample.
-        bool near = field_touched_in(run.touched.value[leaf.x], a.p3) && cell.z < leaf.y;
-        uvec2 far = field_far_corner(run.lattice, cell.xy, cell.z);
-        if (near && field_covered(run, cell.xy, far, FIELD_FRESH, budget))
-            fate = 0u;
-        else if (got && cell.z > 0u)
-            fate = FIELD_SPLIT | field_open_children(run, cell.xy, cell.z, budget);
-    }
+#ifdef FIELD_BALANCE
+    if (cell.z > 0u && field_exponent(cell) >= a.p2)
+        fate = FIELD_SPLIT | field_open_children(run, cell.xy, cell.z, budget);
+#else
+    FieldWords offsets = FieldWords(a.words2);
+    bool got = field_scan_end(offsets, i, a.p1, a.p2) > offsets.value[i];
+    uvec2 leaf = field_leaf_at(run.tree, cell.xy);
+    // Only a cell smaller than its leaf searches for a cover by this round's samples (touched
+    // this round, p3); field_triage.comp settled the others, and the cells whose leaf holds a
+    // sample.
+    bool near = field_touched_in(run.touched.value[leaf.x], a.p3) && cell.z < leaf.y;
+    uvec2 far = field_far_corner(run.lattice, cell.xy, cell.z);
+    if (near && field_covered(run, cell.xy, far, FIELD_FRESH, budget))
+        fate = 0u;
+    else if (got && cell.z > 0u)
+        fate = FIELD_SPLIT | field_open_children(run, cell.xy, cell.z, budget);
+#endif
     field_note_budget(budget);
     if ((fate & FIELD_SPLIT) != 0u) atomicAdd(FieldWords(a.counters).value[FIELD_COUNTER_SPLITS], 1u);
     FieldWords(a.words1).value[i] = fate;

@@ -26,12 +26,9 @@ struct FieldPoints {
 #endif
 
 // A field kernel's variant (specialization constant 1, kernel.h): the run's rule (RULE_*),
-// FIELD_VARIANT_TORUS where its box is a torus, FIELD_VARIANT_DENSITY under Eq. 12's weighting,
-// and for field_fates.comp FIELD_VARIANT_BALANCE where it balances the list rather than refining
-// it.
+// FIELD_VARIANT_TORUS where its box is a torus, FIELD_VARIANT_DENSITY under Eq. 12's weighting.
 const uint FIELD_VARIANT_TORUS = 4u;
-const uint FIELD_VARIANT_BALANCE = 8u;
-const uint FIELD_VARIANT_DENSITY = 16u;
+const uint FIELD_VARIANT_DENSITY = 8u;
 VRPD_FN uint field_variant(uint rule, bool torus, bool density) {
     return rule | (torus ? FIELD_VARIANT_TORUS : 0u) | (density ? FIELD_VARIANT_DENSITY : 0u);
 }

@@ -6,6 +6,7 @@
 
 #include "field/power_sum.h"
 #include "field_accepted.h"
+#include "field_balance.h"
 #include "field_compact.h"
 #include "field_count_darts.h"
 #include "field_emit.h"
@@ -54,8 +55,7 @@ FieldVulkan::FieldVulkan(const SampleOptions& o, std::uint32_t budget, std::uint
       primitives_(ctx_, counters_),
       VRPD_KERNEL(field_histogram, FieldArgs, WORKGROUP_SIZE, variant_of(o)),
       VRPD_KERNEL(field_fates, FieldArgs, WORKGROUP_SIZE, variant_of(o)),
-      field_balance_(ctx_, "field_balance", spirv_words(spirv_field_fates), sizeof(FieldArgs), WORKGROUP_SIZE,
-                     variant_of(o) | FIELD_VARIANT_BALANCE),
+      VRPD_KERNEL(field_balance, FieldArgs, WORKGROUP_SIZE, variant_of(o)),
       VRPD_KERNEL(field_scatter, FieldArgs, WORKGROUP_SIZE, variant_of(o)),
       VRPD_KERNEL(field_count_darts, FieldArgs, WORKGROUP_SIZE, variant_of(o)),
       VRPD_KERNEL(field_throw, FieldArgs, WORKGROUP_SIZE, variant_of(o)),
