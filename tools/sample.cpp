@@ -5,6 +5,7 @@
 #include <iostream>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -79,10 +80,9 @@ void run_samples(SampleOptions o, const std::string& output, std::uint32_t runs)
     if (o.sizing && runs > 1) {
         const auto start = std::chrono::steady_clock::now();
         field.emplace(*o.sizing, o.box, o.backend == Backend::Serial ? 1 : o.threads);
+        const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         std::cerr << fmt::format(
-            "vrpd: the field tabulated once for {} runs in {:.3f} s (the runs' times leave it "
-            "out)\n",
-            runs, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+            "vrpd: the field tabulated once for {} runs in {:.3f} s (the runs' times leave it out)\n", runs, seconds);
     }
     for (std::uint32_t k = 0; k < runs; ++k) {
         o.seed = first + k;
