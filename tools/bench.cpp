@@ -84,7 +84,7 @@ CaseResult run_case(Radii radii, Backend backend, const BenchOptions& o) {
         std::optional<SizingField> field;
         if (opt.sizing) {
             const auto t0 = std::chrono::steady_clock::now();
-            field.emplace(*opt.sizing, opt.box, backend == Backend::Serial ? 1 : opt.threads);
+            field.emplace(opt);
             r.tabulation = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         }
         for (unsigned i = 0; i < o.repeat; ++i) {

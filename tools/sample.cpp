@@ -79,7 +79,7 @@ void run_samples(SampleOptions o, const std::string& output, std::uint32_t runs)
     std::optional<SizingField> field;
     if (o.sizing && runs > 1) {
         const auto start = std::chrono::steady_clock::now();
-        field.emplace(*o.sizing, o.box, o.backend == Backend::Serial ? 1 : o.threads);
+        field.emplace(o);
         const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         std::cerr << fmt::format(
             "vrpd: the field tabulated once for {} runs in {:.3f} s (the runs' times leave it out)\n", runs, seconds);

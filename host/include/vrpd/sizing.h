@@ -63,6 +63,9 @@ private:
 class SizingField {
 public:
     SizingField(const Sizing& sizing, const Box& box, unsigned threads = 0);
+    // The field of a run's options: o.sizing over o.box, on the threads the run takes (one for
+    // the serial backend, else o.threads). Throws Error if the options have no sizing.
+    explicit SizingField(const SampleOptions& o);
     // r at the lattice point nearest p (clamped into the box), in box units.
     double operator()(glm::dvec2 p) const;
     FieldStats stats() const;

@@ -16,6 +16,10 @@ SizingField::SizingField(const Sizing& sizing, const Box& box, unsigned threads)
       sizing_(sizing),
       box_(box) {}
 
+SizingField::SizingField(const SampleOptions& o)
+    : SizingField(o.sizing ? *o.sizing : throw Error("a field needs the options' sizing"), o.box,
+                  o.backend == Backend::Serial ? 1 : o.threads) {}
+
 bool SizingField::made_from(const Sizing& s, const Box& box) const {
     const Sizing& m = sizing_;
     return scale_ == 1 && s.expression == m.expression && s.image == m.image && s.r_min == m.r_min &&
@@ -88,8 +92,7 @@ Sampling sample_tabulated(const SampleOptions& o, const SizingField& field, std:
 Sampling sample_sized(const SampleOptions& o) {
     validate(o);
     const auto start = std::chrono::steady_clock::now();
-    // The tabulation runs on the threads the sampler will (one for the serial backend).
-    const SizingField field(*o.sizing, o.box, o.backend == Backend::Serial ? 1 : o.threads);
+    const SizingField field(o);  // on the threads the sampler will take
     const double tabulation = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return sample_tabulated(o, field, tabulation);
 }
