@@ -152,8 +152,8 @@ TEST_CASE("radii near half the torus: each rule conflict-free and maximal, cpu =
 
 TEST_CASE("sizing fields: cpu on 1 or 3 threads and serial give the same samples", "[field]") {
     // The second field's kink gives its table patches. The third's radii, 50 times the least on
-    // the right, crowd its first rounds' darts into the leaves there, which on 3 threads are
-    // then decided in arrival order (field/resolve.cpp).
+    // the right, crowd its first rounds' darts into the leaves there: on 3 threads a leaf's darts
+    // are put in arrival order, and each defers to its leaf's earlier ones (field/resolve.cpp).
     for (const auto& [expression, boundary] : {std::pair{"0.01 + 0.04*x*y", Boundary::Periodic},
                                                {"0.01 + 0.05*abs(x - 0.3)", Boundary::Free},
                                                {"0.01 + max(0, x - 0.5)", Boundary::Free}})

@@ -17,24 +17,9 @@ std::uint8_t load_state(std::uint8_t* state, std::uint32_t j) {
 
 }  // namespace
 
-bool FieldSampler::crowded() const {
-    // The mean count of darts in a dart's leaf (its own included): the sum of m^2 over the leaves
-    // with m darts, over the darts. A leaf's darts are consecutive (resolve_in_parallel).
-    std::uint64_t squares = 0, run = 0;
-    for (std::size_t j = 0; j < darts_.size(); ++j) {
-        run = j > 0 && darts_[j].leaf == darts_[j - 1].leaf ? run + 1 : 1;
-        if (j + 1 == darts_.size() || darts_[j + 1].leaf != darts_[j].leaf) squares += run * run;
-    }
-    return squares > kCrowdedLeaves * darts_.size();
-}
-
 void FieldSampler::resolve() {
-    // On one thread the parallel resolution's extra searches buy nothing. Where darts crowd the
-    // leaves (a round's darts have one intensity over the active area, so a leaf where r is
-    // large takes many) they cost it their square: each of m darts in a leaf tests the others
-    // that arrive before it, again after each wait, where in arrival order a dart tests the
-    // round's samples only.
-    if (serial_ || pool_.size() == 1 || crowded())
+    // On one thread the parallel resolution's extra searches buy nothing.
+    if (serial_ || pool_.size() == 1)
         resolve_in_arrival_order();
     else
         resolve_in_parallel();
@@ -116,23 +101,37 @@ void FieldSampler::resolve_in_arrival_order() {
 
 std::uint32_t FieldSampler::decide(std::uint32_t j, std::uint8_t* state, std::uint32_t& wait) const {
     const Dart& d = darts_[j];
-    const std::uint32_t r = t_.radius(d.p);
     wait = FieldQuadtree::kNone;
+    // Two points of one leaf conflict under every rule (its diagonal is shorter than r anywhere in
+    // it), so a leaf accepts at most one dart, and the leaf's darts before j (its earlier arrivals)
+    // decide first: an accepted one rejects j, an undecided one holds it.
+    for (std::uint32_t k = tree_.first_dart(d.leaf); k < j; ++k) {
+        const std::uint8_t s = load_state(state, k);
+        if (s == shared::DART_REJECTED) continue;
+        if (s == shared::DART_ACCEPTED) return shared::DART_REJECTED;
+        wait = k;
+        return shared::DART_UNDECIDED;
+    }
+    const std::uint32_t r = t_.radius(d.p);
     // An earlier dart in conflict lies within the reach: r under current and smaller (f <= r of
-    // the later), under prior and bigger grown with r nearby (f may be the earlier's radius).
+    // the later), under prior and bigger grown with r nearby (f may be the earlier's radius). In
+    // another leaf, its darts before j in arrival order count: up to its accepted one (the rest
+    // conflict with that one), or up to an undecided one in conflict, which j waits for (none
+    // after it can be accepted before it is decided).
     auto test = [&](std::uint32_t leaf) {
+        if (leaf == d.leaf) return false;
         for (std::uint32_t k = tree_.first_dart(leaf); k < darts_.size() && darts_[k].leaf == leaf; ++k) {
             const Dart& o = darts_[k];
-            if (!shared::arrives_before(o.key, k, d.key, j)) continue;
+            if (!shared::arrives_before(o.key, k, d.key, j)) break;
             const std::uint8_t s = load_state(state, k);
             if (s == shared::DART_REJECTED) continue;
-            // Two points of one leaf conflict under every rule: its diagonal is shorter than r
-            // anywhere in it.
-            if (leaf != d.leaf && !shared::field_conflict(shared::rule_f(rule_, t_.radius(o.p), r),
-                                                          shared::distance2(t_.lattice, o.p, d.p)))
-                continue;
-            if (s == shared::DART_ACCEPTED) return true;
-            wait = k;
+            const bool conflict = shared::field_conflict(shared::rule_f(rule_, t_.radius(o.p), r),
+                                                         shared::distance2(t_.lattice, o.p, d.p));
+            if (s == shared::DART_ACCEPTED) return conflict;
+            if (conflict) {
+                wait = k;
+                break;
+            }
         }
         return false;
     };
@@ -146,9 +145,11 @@ std::uint32_t FieldSampler::decide(std::uint32_t j, std::uint8_t* state, std::ui
 void FieldSampler::resolve_in_parallel() {
     const std::size_t n = darts_.size();
     // Darts come in cell order, and a leaf's cells are consecutive in the list (a split cell's
-    // children take its place), so a leaf's darts are too. Each leaf with darts records its first
-    // in its sample's slot and is marked fresh (it holds no sample: its darts would have been
-    // rejected when thrown), so that a search meets only the leaves with darts.
+    // children take its place), so a leaf's darts are too. They are put in arrival order within
+    // the leaf: a stable sort by key keeps ties in throwing order, and each leaf keeps its range,
+    // so every dart arrives before the same darts as it did. Each leaf with darts records its
+    // first in its sample's slot and is marked fresh (it holds no sample: its darts would have
+    // been rejected when thrown), so that a search meets only the leaves with darts.
     std::vector<std::uint8_t> state(n, std::uint8_t(shared::DART_UNDECIDED));
     note_bytes(n);
     // Calls at(j) for each leaf's first dart j, on the threads.
@@ -163,6 +164,11 @@ void FieldSampler::resolve_in_parallel() {
     };
     each_first_dart([&](std::size_t j) {
         if (j > 0 && darts_[j].leaf < darts_[j - 1].leaf) throw Error("internal: a leaf's darts are not consecutive");
+        std::size_t end = j + 1;
+        while (end < n && darts_[end].leaf == darts_[j].leaf) ++end;
+        if (end - j > 1)
+            std::stable_sort(darts_.begin() + std::ptrdiff_t(j), darts_.begin() + std::ptrdiff_t(end),
+                             [](const Dart& a, const Dart& b) { return a.key < b.key; });
         tree_.set_first_dart(darts_[j].leaf, std::uint32_t(j));
         tree_.mark_fresh(darts_[j].p);
     });

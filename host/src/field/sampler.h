@@ -232,18 +232,14 @@ private:
     std::optional<ExponentCounts> exponents_;
     void throw_darts(std::uint32_t round);
     // Decides the round's darts (field/resolve.cpp): as the textbook does, one dart at a time in
-    // arrival order, or (cpu backend on several threads, darts not crowded) in parallel, with the
-    // same outcome.
+    // arrival order, or (cpu backend on several threads) in parallel, with the same outcome.
     void resolve();
     void resolve_in_arrival_order();
     void resolve_in_parallel();
-    // Do the darts share their leaves with more than kCrowdedLeaves darts each, on average?
-    static constexpr std::uint64_t kCrowdedLeaves = 16;
-    bool crowded() const;
     // Dart j's state given the states decided so far (darts.h's DART_*): rejected if an earlier
     // dart in conflict is accepted, accepted if every earlier one in conflict is rejected, else
     // undecided, with `wait` set to an undecided earlier dart in conflict. Each leaf marked fresh
-    // holds its first dart (FieldQuadtree::first_dart).
+    // holds its first dart (FieldQuadtree::first_dart), and its darts are in arrival order.
     std::uint32_t decide(std::uint32_t j, std::uint8_t* state, std::uint32_t& wait) const;
     // Appends point p (radius r) to the samples; returns its index.
     std::uint32_t add_sample(uvec2 p, std::uint32_t r) {
