@@ -190,6 +190,7 @@ public:
 
     // Adds patches grown in cell order.
     void adopt(std::vector<PatchDraft>&& grown) {
+        patches.reserve(patches.size() + grown.size());
         for (PatchDraft& p : grown) {
             split_count += p.splits.size();
             slot_[p.cell] = std::int32_t(patches.size());

@@ -57,8 +57,6 @@ std::vector<PatchDraft> draft_patches(ThreadPool& pool, const FieldSource& f, co
         // judged on the threads in batches (their midpoints in one call of the source each), and
         // those past the target split in order. A child left a leaf keeps its error.
         if (over.size() > grown_limit) return {};
-        std::vector<PatchDraft> grown(over.size());
-        for (std::size_t k = 0; k < over.size(); ++k) grown[k] = forest.root(over[k]);
         struct Parent {
             std::uint32_t patch;
             std::int32_t split;
@@ -68,8 +66,14 @@ std::vector<PatchDraft> draft_patches(ThreadPool& pool, const FieldSource& f, co
             std::uint32_t child;  // in the level's children: 4 a parent
             double node[5];
         };
+        std::vector<PatchDraft> grown(over.size());
         std::vector<Parent> parents(over.size()), next;
-        for (std::uint32_t k = 0; k < over.size(); ++k) parents[k] = {k, 0, forest.corners(over[k])};
+        pool.parallel_for(over.size(), [&](std::size_t begin, std::size_t end, unsigned) {
+            for (std::size_t k = begin; k < end; ++k) {
+                grown[k] = forest.root(over[k]);
+                parents[k] = {std::uint32_t(k), 0, forest.corners(over[k])};
+            }
+        });
         std::uint64_t total = over.size();
         while (!parents.empty()) {
             const std::size_t children = 4 * parents.size(), batches = (children + kBatch - 1) / kBatch;
@@ -129,11 +133,14 @@ std::vector<PatchDraft> draft_patches(ThreadPool& pool, const FieldSource& f, co
     std::reverse(work.begin(), work.end());
     // The table's steepest gradient, a reference for the patches' own: continuity moves a node
     // off the source by up to the target, which over a small leaf can be steeper than the field.
-    double steepest = 0;
-    for (std::uint32_t c = 0; c < cells; ++c) {
-        const Corners v = forest.corners(c);
-        raise_steepest(steepest, v[0], v[1], v[2], v[3], 1);
-    }
+    std::vector<double> chunk_steepest(pool.chunks(cells), 0.0);  // a maximum per chunk: exact in any order
+    pool.parallel_for(cells, [&](std::size_t begin, std::size_t end, unsigned chunk) {
+        for (std::size_t c = begin; c < end; ++c) {
+            const Corners v = forest.corners(std::uint32_t(c));
+            raise_steepest(chunk_steepest[chunk], v[0], v[1], v[2], v[3], 1);
+        }
+    });
+    double steepest = *std::max_element(chunk_steepest.begin(), chunk_steepest.end());
     // Balanced, then settled: where continuity takes a leaf past the target, or makes it steeper
     // than any leaf or cell with the source's nodes, the leaves of a larger size across its edges
     // (whose edges set its corners there) are split; a leaf past the target with none is split
