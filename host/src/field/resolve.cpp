@@ -152,26 +152,39 @@ void FieldSampler::resolve_in_parallel() {
     // been rejected when thrown), so that a search meets only the leaves with darts.
     std::vector<std::uint8_t> state(n, std::uint8_t(shared::DART_UNDECIDED));
     note_bytes(n);
-    // Calls at(j) for each leaf's first dart j, on the threads.
-    auto each_first_dart = [&](auto&& at) {
-        pool_.parallel_for(
-            n,
-            [&](std::size_t begin, std::size_t end, unsigned) {
-                for (std::size_t j = begin; j < end; ++j)
-                    if (j == 0 || darts_[j].leaf != darts_[j - 1].leaf) at(j);
-            },
-            kCellGrain);
-    };
-    each_first_dart([&](std::size_t j) {
-        if (j > 0 && darts_[j].leaf < darts_[j - 1].leaf) throw Error("internal: a leaf's darts are not consecutive");
-        std::size_t end = j + 1;
-        while (end < n && darts_[end].leaf == darts_[j].leaf) ++end;
-        if (end - j > 1)
-            std::stable_sort(darts_.begin() + std::ptrdiff_t(j), darts_.begin() + std::ptrdiff_t(end),
-                             [](const Dart& a, const Dart& b) { return a.key < b.key; });
-        tree_.set_first_dart(darts_[j].leaf, std::uint32_t(j));
-        tree_.mark_fresh(darts_[j].p);
-    });
+    // Each leaf's first dart, found by the chunks in order (reading only), then each leaf's range
+    // sorted by one thread, which reads and writes nothing outside it.
+    std::vector<std::vector<std::uint32_t>> found(pool_.chunks(n, kCellGrain));
+    pool_.parallel_for(
+        n,
+        [&](std::size_t begin, std::size_t end, unsigned chunk) {
+            for (std::size_t j = begin; j < end; ++j) {
+                if (j > 0 && darts_[j].leaf == darts_[j - 1].leaf) continue;
+                if (j > 0 && darts_[j].leaf < darts_[j - 1].leaf)
+                    throw Error("internal: a leaf's darts are not consecutive");
+                found[chunk].push_back(std::uint32_t(j));
+            }
+        },
+        kCellGrain);
+    std::vector<std::uint32_t> first;  // each leaf's first dart, then n
+    for (const std::vector<std::uint32_t>& f : found) first.insert(first.end(), f.begin(), f.end());
+    std::vector<std::vector<std::uint32_t>>().swap(found);
+    first.push_back(std::uint32_t(n));
+    note_bytes(first.size() * 4);
+    const std::size_t leaves = first.size() - 1;
+    pool_.parallel_for(
+        leaves,
+        [&](std::size_t begin, std::size_t end, unsigned) {
+            for (std::size_t k = begin; k < end; ++k) {
+                const auto from = darts_.begin() + std::ptrdiff_t(first[k]);
+                const auto to = darts_.begin() + std::ptrdiff_t(first[k + 1]);
+                if (to - from > 1)
+                    std::stable_sort(from, to, [](const Dart& a, const Dart& b) { return a.key < b.key; });
+                tree_.set_first_dart(from->leaf, first[k]);
+                tree_.mark_fresh(from->p);
+            }
+        },
+        kCellGrain);
     // Each thread decides the darts of its part (spatial order), one at a time: a dart left
     // undecided waits for an earlier one, decided first (depth first; each wait is for an earlier
     // arrival, so the chains end). Threads may decide the same dart near their parts' border:
@@ -201,10 +214,15 @@ void FieldSampler::resolve_in_parallel() {
         },
         kCellGrain);
     // The darts' marks and first darts end before the samples' begin.
-    each_first_dart([&](std::size_t j) {
-        tree_.settle(darts_[j].p);
-        tree_.clear_first_dart(darts_[j].leaf);
-    });
+    pool_.parallel_for(
+        leaves,
+        [&](std::size_t begin, std::size_t end, unsigned) {
+            for (std::size_t k = begin; k < end; ++k) {
+                tree_.settle(darts_[first[k]].p);
+                tree_.clear_first_dart(darts_[first[k]].leaf);
+            }
+        },
+        kCellGrain);
     // The accepted darts become samples in arrival order; the tree's marks and the stamps are
     // then set in throwing order, which is spatial: neighbouring searches share cached nodes.
     std::vector<std::uint32_t> accepted;
