@@ -5,7 +5,8 @@
 // judge a dart against earlier rounds (two radii: its T test sees it as the textbook's list of
 // accepted darts would, in the same place). The parallel resolution instead reads every dart of
 // the round near each undecided one (resolve.h). Arrival order is random in space, so the loop
-// fetches the record of the dart 16 ahead and the grid rows around the dart 8 ahead. On several
+// fetches the record of the dart 16 ahead and the grid rows around the dart 8 ahead (with two
+// radii, the rows of its T test's window). On several
 // threads each takes a strip of base-cell rows, waiting at its borders for the neighbouring
 // strips' earlier darts (decide_strip), and the strips' accepted darts are merged by arrival.
 #include "arrival_order.h"
@@ -107,14 +108,21 @@ std::uint64_t decide_in_arrival_order(const Domain& dom, Grid grid, Darts darts,
     // side, and of it only rows within reach of their border; and strip_darts darts a thread.
     const uint tall = uint(2 * strips.reach + 1);
     strips.parts = std::max(1u, std::min({pool.size(), dom.cells_y / tall, strip_darts ? count / strip_darts : count}));
-    auto fetch_rows = [&](uint j) {
+    // The window a dart's judgement reads: Rf's with one radius; with two radii the 2 Rc window
+    // that the T test gathers, which about half the darts past the Rf and Rc scans take.
+    const int fetched = two_radii(dom.radii) ? int(influence_reach(dom.radii)) : conflict;
+    // Inlined by force: GCC counts a prefetch as no effect, and deletes the calls of a function
+    // that only prefetches (its interprocedural analysis finds it pure before inlining).
+    auto fetch_rows = [&](uint j) __attribute__((always_inline)) {
+        constexpr int kLineWords = 64 / sizeof(uvec2);
         const uint r = dart_record(j);
         const uvec2 c = base_cell_of(dom, uvec2(darts.word[r], darts.word[r + 1u]));
-        const int last_x = int(dom.cells_x) - 1;
-        for (int y = std::max(int(c.y) - conflict, 0); y <= std::min(int(c.y) + conflict, int(dom.cells_y) - 1); ++y) {
+        const int first_x = std::max(int(c.x) - fetched, 0),
+                  last_x = std::min(int(c.x) + fetched, int(dom.cells_x) - 1);
+        for (int y = std::max(int(c.y) - fetched, 0); y <= std::min(int(c.y) + fetched, int(dom.cells_y) - 1); ++y) {
             const std::size_t row = std::size_t(y) * dom.cells_x;
-            __builtin_prefetch(&grid.word[row + std::size_t(std::max(int(c.x) - conflict, 0))]);
-            __builtin_prefetch(&grid.word[row + std::size_t(std::min(int(c.x) + conflict, last_x))]);
+            for (int x = first_x; x < last_x; x += kLineWords) __builtin_prefetch(&grid.word[row + std::size_t(x)]);
+            __builtin_prefetch(&grid.word[row + std::size_t(last_x)]);
         }
     };
     // A dart accepted in a strip, by (key, index), for the merge of the strips' emissions.
