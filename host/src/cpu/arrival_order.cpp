@@ -118,12 +118,15 @@ std::uint64_t decide_in_arrival_order(const Domain& dom, Grid grid, Darts darts,
         constexpr int kLineWords = 64 / sizeof(uvec2);
         const uint r = dart_record(j);
         const uvec2 c = base_cell_of(dom, uvec2(darts.word[r], darts.word[r + 1u]));
-        const int first_x = std::max(int(c.x) - fetched, 0),
-                  last_x = std::min(int(c.x) + fetched, int(dom.cells_x) - 1);
-        for (int y = std::max(int(c.y) - fetched, 0); y <= std::min(int(c.y) + fetched, int(dom.cells_y) - 1); ++y) {
-            const std::size_t row = std::size_t(y) * dom.cells_x;
-            for (int x = first_x; x < last_x; x += kLineWords) __builtin_prefetch(&grid.word[row + std::size_t(x)]);
-            __builtin_prefetch(&grid.word[row + std::size_t(last_x)]);
+        const int first_x = std::max(int(c.x) - fetched, 0);
+        const int span = std::min(int(c.x) + fetched, int(dom.cells_x) - 1) - first_x;
+        const int first_y = std::max(int(c.y) - fetched, 0);
+        const int rows = std::min(int(c.y) + fetched, int(dom.cells_y) - 1) - first_y;
+        const uvec2* row = &grid.word[std::size_t(first_y) * dom.cells_x + std::size_t(first_x)];
+        for (int y = 0; y <= rows; ++y, row += dom.cells_x) {
+            for (int x = kLineWords; x < span; x += kLineWords) __builtin_prefetch(row + x);
+            __builtin_prefetch(row);
+            __builtin_prefetch(row + span);
         }
     };
     // A dart accepted in a strip, by (key, index), for the merge of the strips' emissions.
