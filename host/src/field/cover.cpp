@@ -56,8 +56,13 @@ void FieldSampler::gather(const Cell& c, std::vector<std::uint32_t>& out) const 
     const uvec2 a = c.corner, b = far_corner(c);
     const std::uint32_t hi = t_.max_over(a, b);
     const std::uint64_t f = reach(a, b, hi);  // bounds the f of any sample covering a child
+    // The samples are in acceptance order, random in space: each one's point and r are fetched
+    // as it is found, for open_children, which reads them once the search ends.
     auto keep = [&](std::uint32_t leaf) {
-        out.push_back(tree_.sample(leaf));
+        const std::uint32_t s = tree_.sample(leaf);
+        __builtin_prefetch(&lattice_[s]);
+        __builtin_prefetch(&radii_[s]);
+        out.push_back(s);
         return false;
     };
     // A sample in a block covers a child only within f(r over the block, hi) of the cell.
