@@ -74,6 +74,7 @@ public:
             for (std::size_t i = b; i < e; ++i)
                 if (!grid_is_sample(grid_[i])) cells_[next++] = base_corner(d, uint(i));
         });
+        cells_free_bases_ = true;
         return cells_.size();
     }
 
@@ -87,6 +88,7 @@ public:
         Counts().swap(darts_);
         dart_count_ = 0;
         Words().swap(dart_cells_);
+        darts_on_cells_ = false;
         const std::uint64_t active = timed("refine", [&] { return masked_ ? refine_masked(spec) : refine(spec); });
         return {total, active};
     }
@@ -135,7 +137,7 @@ private:
     std::uint64_t throw_listed(const RoundSpec& spec) {
         const Domain dom = plan_.domain;
         if (two_radii(dom.radii)) list_dart_cells(spec);
-        Words& targets = two_radii(dom.radii) ? dart_cells_ : cells_;
+        Words& targets = dart_targets();
         const uint n = uint(targets.size());
         const uint side = two_radii(dom.radii) ? 1u << dom.cell_bits : spec.side;
         const uint key = round_key(plan_.seed, spec.round);
@@ -211,8 +213,9 @@ private:
             });
             return;
         }
-        const Cells listed{(two_radii(dom.radii) ? dart_cells_ : cells_).data()};
-        const std::size_t n = two_radii(dom.radii) ? dart_cells_.size() : cells_.size();
+        Words& targets = dart_targets();
+        const Cells listed{targets.data()};
+        const std::size_t n = targets.size();
         pool_.parallel_for(n, [&](std::size_t b, std::size_t e, unsigned) {
             for (std::size_t i = b; i < e; ++i) {
                 if (!first_in_base_cell(dom, listed, uint(i))) continue;
@@ -328,12 +331,19 @@ private:
     }
 
     Cells cells() { return {cells_.data()}; }
+    // The cells the round's darts are thrown into: the active cells, or with two radii the base
+    // cells list_dart_cells lists.
+    Words& dart_targets() { return two_radii(plan_.domain.radii) && !darts_on_cells_ ? dart_cells_ : cells_; }
     Darts darts() { return {darts_.data()}; }
     Grid grid() { return {grid_.data()}; }
     Uints scan() { return {scan_.data()}; }
 
     // Two radii: the base cells that get darts this round, from the active cells (see flag_dart_cells).
     void list_dart_cells(const RoundSpec& spec) {
+        // Darts for every free base cell, while the active list is still start's list of them:
+        // that list serves, and a copy of it (8 bytes a base cell) would be the run's peak.
+        darts_on_cells_ = spec.every_free_cell && cells_free_bases_;
+        if (darts_on_cells_) return;
         const Domain dom = plan_.domain;
         const uint n = uint(cells_.size());
         const uint bases = uint(plan_.base_cells);
@@ -452,6 +462,7 @@ private:
         });
         cells_.swap(next_);
         Words().swap(next_);
+        cells_free_bases_ = false;
         Counts().swap(masks_);
         return cells_.size();
     }
@@ -467,6 +478,8 @@ private:
     Words cells_;
     Words next_;
     Words dart_cells_;               // two radii: the base cells that get darts this round
+    bool cells_free_bases_ = false;  // cells_ is start's list of the base cells without a sample
+    bool darts_on_cells_ = false;    // two radii: this round's darts go to cells_ (dart_targets)
     Counts darts_;                   // this round's darts, stored as darts.h says
     std::uint64_t dart_count_ = 0;
     Counts scan_;
