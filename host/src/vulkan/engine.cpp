@@ -150,6 +150,7 @@ std::uint64_t VulkanEngine::start(const Plan& plan, const std::vector<uvec2>& in
     ctx_.submit_and_wait();
     emitted_ = initial.size();
     active_ = std::uint32_t(listed);
+    cells_free_bases_ = !masked_;
     return listed;
 }
 
@@ -157,13 +158,16 @@ RoundResult VulkanEngine::round(const RoundSpec& spec, const RoundSpec* next) {
     const bool two = two_radii(plan_.domain.radii);
     const bool masked = masked_;
     // One radius: the darts go to the active cells, or in mask mode to the base cells' active
-    // sub-cells. Two radii: to the base cells near the active cells.
+    // sub-cells. Two radii: to the base cells near the active cells; to every base cell without a
+    // sample while the active list is still start's list of them, which then serves (no list to
+    // make, nor the submit that counts it).
     const std::uint32_t bases = std::uint32_t(plan_.base_cells);
     // Mask mode's kernels run over the base cells, or over the list of the active ones (masked.glsl).
     const bool by_list = masked && listed_bases_ > 0;
-    const std::uint32_t n = masked ? (by_list ? listed_bases_ : bases) : (two ? list_dart_cells(spec) : active_);
+    const bool dart_cells = two && !(spec.every_free_cell && cells_free_bases_);
+    const std::uint32_t n = masked ? (by_list ? listed_bases_ : bases) : (dart_cells ? list_dart_cells(spec) : active_);
     const std::uint64_t targets =
-        masked ? (by_list ? base_list_.address() : 0) : (two ? dart_cells_.address() : cells_.address());
+        masked ? (by_list ? base_list_.address() : 0) : (dart_cells ? dart_cells_.address() : cells_.address());
     const std::uint32_t side = two ? 1u << plan_.domain.cell_bits : spec.side;
     // Cells whose children refinement counts: the list's, or in mask mode none (the masks go
     // to the ranks region, over the base cells).
@@ -397,6 +401,7 @@ Buffer VulkanEngine::record_refinement(const RoundSpec& spec, const Regions& r, 
 std::uint32_t VulkanEngine::adopt(Buffer list) {
     darts_ = Buffer();
     cells_ = std::move(list);
+    cells_free_bases_ = false;
     return counter(COUNTER_ACTIVE);
 }
 

@@ -109,6 +109,7 @@ private:
     Buffer counters_, grid_;
     Buffer gate_;        // the commands of gated dispatches (round, VulkanContext::open_gate)
     Buffer cells_;       // the active cells, ordered by base cell
+    bool cells_free_bases_ = false;  // cells_ is start's list of the base cells without a sample
     Buffer dart_cells_;  // two radii: the base cells that get darts this round
     Buffer samples_;     // all samples so far, in acceptance order
     Buffer scratch_;     // each round's transient arrays (see Scratch)
