@@ -236,6 +236,36 @@ TEST_CASE("T membership: the host's estimated crossing signs are the exact ones"
     }
 }
 
+// The pair's box test from the estimated crossing (estimated_crossing_in_box) against the
+// kernel's exact one (crossing_in_box), for a crossing at an integer point exactly on a side or a
+// corner of the box, and one unit inside or outside each.
+TEST_CASE("T membership: the host's estimated box test is the exact one", "[two-radii]") {
+    int inside = 0, outside = 0;
+    for (const int k : {1, 7, 1000, 104857}) {
+        INFO("R = 5 * " << k);
+        const std::uint64_t r2 = std::uint64_t(25) * std::uint64_t(k) * std::uint64_t(k);
+        const glm::ivec2 a(3 * k, 4 * k), b(-3 * k, 4 * k);  // their circles cross at (0, 0) and (0, 8k)
+        for (const int dx : {-1, 0, 1}) {
+            for (const int dy : {-1, 0, 1}) {
+                const glm::ivec2 near(dx, dy), span(3 * k, 3 * k);
+                for (const auto& [lo, hi] : {std::pair(near, near + span), std::pair(near - span, near)}) {
+                    const shared::uint sides = shared::near_sides(lo, hi, r2);
+                    REQUIRE(sides == 15u);
+                    for (const int sigma : {-1, 1}) {
+                        const auto p = shared::twice_crossing(shared::circle_pair(a, b, r2), sigma);
+                        const bool exact = shared::crossing_in_box(a, b, sigma, lo, hi, r2, sides);
+                        INFO("box " << lo.x << "," << lo.y << " - " << hi.x << "," << hi.y << " sigma " << sigma);
+                        REQUIRE(shared::estimated_crossing_in_box(p, a, b, sigma, lo, hi, r2, sides) == exact);
+                        (exact ? inside : outside)++;
+                    }
+                }
+            }
+        }
+    }
+    CHECK(inside == 4 * 8);  // the origin on or inside the box: 4 of the 9 offsets of each box
+    CHECK(outside == 4 * 28);
+}
+
 // The same for a circle's crossing with a box side (side_crossing_uncovered): crossings of
 // radius-5k circles at integer points, exactly at an end of the side, on another circle or on the
 // dart's circle, and one unit off each, against the kernel's exact signs.

@@ -348,6 +348,22 @@ inline bool crossing_uncovered(ivec2 a, ivec2 b, int sigma, uint skip_a, uint sk
     return estimated_crossing_uncovered(twice_crossing(circle_pair(a, b, r2), sigma), a, b, sigma, skip_a, skip_b, n,
                                         r2);
 }
+// crossing_in_box, the crossing's P given: 2 sqrt(L) (p.x - x0) has the sign of P.x - 2 x0, which
+// the estimate holds within 2^-28 (the sides tested lie within Rc of the origin), so the exact
+// test runs only where P.x - 2 x0 is within 1 of 0 (and alike for the other sides).
+inline bool estimated_crossing_in_box(Doubled p, ivec2 a, ivec2 b, int sigma, ivec2 lo, ivec2 hi, uint64_t r2,
+                                      uint sides) {
+    if (sides == 0u) return true;
+    const double off[4] = {p.x - 2.0 * double(lo.x), 2.0 * double(hi.x) - p.x, p.y - 2.0 * double(lo.y),
+                           2.0 * double(hi.y) - p.y};
+    bool unsure = false;
+    for (uint k = 0u; k < 4u; k++) {
+        if ((sides & (1u << k)) == 0u) continue;
+        if (off[k] < -1.0) return false;
+        unsure = unsure || off[k] <= 1.0;
+    }
+    return !unsure || crossing_in_box(a, b, sigma, lo, hi, r2, sides);
+}
 // One square root for the pair's two crossings, and the dart's circle estimated too.
 [[gnu::always_inline]] inline bool pair_crossing_uncovered(ivec2 a, ivec2 b, uint i, uint j, uint n, uint64_t r2,
                                                            ivec2 lo, ivec2 hi, bool in_disk, uint sides) {
@@ -358,7 +374,7 @@ inline bool crossing_uncovered(ivec2 a, ivec2 b, int sigma, uint skip_a, uint sk
             const double d = p.x * p.x + p.y * p.y - 4.0 * double(r2);
             if (d > 1.0 || (d >= -1.0 && crossing_side(a, b, ivec2(0, 0), sigma, r2) > 0)) continue;
         }
-        if (crossing_in_box(a, b, sigma, lo, hi, r2, sides) &&
+        if (estimated_crossing_in_box(p, a, b, sigma, lo, hi, r2, sides) &&
             estimated_crossing_uncovered(p, a, b, sigma, i, j, n, r2))
             return true;
     }
