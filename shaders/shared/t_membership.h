@@ -303,6 +303,17 @@ bool pair_crossing_uncovered(ivec2 a, ivec2 b, uint i, uint j, uint n, uint64_t 
 // P - 2c is within 2^-28 of the truth (each rounding of a sum adds at most 2^-30), its square
 // within 2 * 2^23 * 2^-28 + 2^-7 < 0.07, and D within 0.2. The dart's own circle (the pair
 // loop's in_disk test) is the one around the origin, c = 0: the same bound holds.
+// The exact tests the estimates fall back on, out of line: inlined, the compiler computes their
+// operands for every pair ahead of the rare call, holding them on the stack.
+VRPD_COLD_FN int exact_crossing_side(ivec2 a, ivec2 b, ivec2 c, int sigma, uint64_t r2) {
+    return crossing_side(a, b, c, sigma, r2);
+}
+VRPD_COLD_FN bool exact_crossing_covered(ivec2 a, ivec2 b, ivec2 c, int sigma, uint64_t r2) {
+    return crossing_near(a, b, c, r2) && crossing_side(a, b, c, sigma, r2) < 0;
+}
+VRPD_COLD_FN bool exact_crossing_in_box(ivec2 a, ivec2 b, int sigma, ivec2 lo, ivec2 hi, uint64_t r2, uint sides) {
+    return crossing_in_box(a, b, sigma, lo, hi, r2, sides);
+}
 struct Doubled {  // a point times two, in doubles: P, or 2c
     double x = 0.0, y = 0.0;
 };
@@ -339,8 +350,7 @@ inline bool estimated_crossing_uncovered(Doubled p, ivec2 a, ivec2 b, int sigma,
         const double d = ex * ex + ey * ey - r4;
         if (d > 1.0) continue;
         if (d < -1.0) return false;
-        ivec2 c = disk_at[k];
-        if (crossing_near(a, b, c, r2) && crossing_side(a, b, c, sigma, r2) < 0) return false;
+        if (exact_crossing_covered(a, b, disk_at[k], sigma, r2)) return false;
     }
     return t_steps <= T_TEST_BUDGET;  // a search cut short proves nothing
 }
@@ -362,7 +372,7 @@ inline bool estimated_crossing_in_box(Doubled p, ivec2 a, ivec2 b, int sigma, iv
         if (off[k] < -1.0) return false;
         unsure = unsure || off[k] <= 1.0;
     }
-    return !unsure || crossing_in_box(a, b, sigma, lo, hi, r2, sides);
+    return !unsure || exact_crossing_in_box(a, b, sigma, lo, hi, r2, sides);
 }
 // One square root for the pair's two crossings, and the dart's circle estimated too.
 [[gnu::always_inline]] inline bool pair_crossing_uncovered(ivec2 a, ivec2 b, uint i, uint j, uint n, uint64_t r2,
@@ -372,7 +382,7 @@ inline bool estimated_crossing_in_box(Doubled p, ivec2 a, ivec2 b, int sigma, iv
         const Doubled p = twice_crossing(pair, sigma);
         if (in_disk) {
             const double d = p.x * p.x + p.y * p.y - 4.0 * double(r2);
-            if (d > 1.0 || (d >= -1.0 && crossing_side(a, b, ivec2(0, 0), sigma, r2) > 0)) continue;
+            if (d > 1.0 || (d >= -1.0 && exact_crossing_side(a, b, ivec2(0, 0), sigma, r2) > 0)) continue;
         }
         if (estimated_crossing_in_box(p, a, b, sigma, lo, hi, r2, sides) &&
             estimated_crossing_uncovered(p, a, b, sigma, i, j, n, r2))
