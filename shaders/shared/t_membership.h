@@ -294,15 +294,6 @@ bool pair_crossing_uncovered(ivec2 a, ivec2 b, uint i, uint j, uint n, uint64_t 
     return false;
 }
 #else
-// The host's body reads each sign from a double-precision estimate first, and takes the exact
-// test (the kernel's) only where the estimate is within 1 of 0: the answers, and the steps
-// counted, are the kernel's. The estimate: with P = a + b + sigma sqrt(M / L) n (twice the
-// crossing), D = |P - 2c|^2 - 4 R2 = 4 (|p - c|^2 - R2). R2 <= 2^38 and the centres lie within
-// 2 Rc <= 2^20 of the origin, so |P| < 2^22 and |P - 2c| < 2^23; M and L are exact, and
-// sqrt(M / L) times an integer carries a relative error below 4 * 2^-53, so each coordinate of
-// P - 2c is within 2^-28 of the truth (each rounding of a sum adds at most 2^-30), its square
-// within 2 * 2^23 * 2^-28 + 2^-7 < 0.07, and D within 0.2. The dart's own circle (the pair
-// loop's in_disk test) is the one around the origin, c = 0: the same bound holds.
 // The exact tests the estimates fall back on, out of line: inlined, the compiler computes their
 // operands for every pair ahead of the rare call, holding them on the stack.
 VRPD_COLD_FN int exact_crossing_side(ivec2 a, ivec2 b, ivec2 c, int sigma, uint64_t r2) {
@@ -314,6 +305,15 @@ VRPD_COLD_FN bool exact_crossing_covered(ivec2 a, ivec2 b, ivec2 c, int sigma, u
 VRPD_COLD_FN bool exact_crossing_in_box(ivec2 a, ivec2 b, int sigma, ivec2 lo, ivec2 hi, uint64_t r2, uint sides) {
     return crossing_in_box(a, b, sigma, lo, hi, r2, sides);
 }
+// The host's body reads each sign from a double-precision estimate first, and takes the exact
+// test (the kernel's) only where the estimate is within 1 of 0: the answers, and the steps
+// counted, are the kernel's. The estimate: with P = a + b + sigma sqrt(M / L) n (twice the
+// crossing), D = |P - 2c|^2 - 4 R2 = 4 (|p - c|^2 - R2). R2 <= 2^38 and the centres lie within
+// 2 Rc <= 2^20 of the origin, so |P| < 2^22 and |P - 2c| < 2^23; M and L are exact, and
+// sqrt(M / L) times an integer carries a relative error below 4 * 2^-53, so each coordinate of
+// P - 2c is within 2^-28 of the truth (each rounding of a sum adds at most 2^-30), its square
+// within 2 * 2^23 * 2^-28 + 2^-7 < 0.07, and D within 0.2. The dart's own circle (the pair
+// loop's in_disk test) is the one around the origin, c = 0: the same bound holds.
 struct Doubled {  // a point times two, in doubles: P, or 2c
     double x = 0.0, y = 0.0;
 };
