@@ -11,7 +11,8 @@ layout(push_constant) uniform Push { CellArgs a; };
 void main() {
     uint e = work_item();
     if (e < a.cell_count) {
-        if (first_in_base_cell(a.domain, a.cells, e)) flag_dart_cells(a, a.cells, a.scan, a.grid, e);
+        if (first_in_base_cell(a.domain, a.cells, e))
+            flag_dart_cells(a, a.cells, a.scan, a.grid, e, group_end(a.domain, a.cells, e, a.cell_count));
     } else if (e == a.cell_count) {
         a.scan.value[a.domain.cells_x * a.domain.cells_y] = 0u;
     }

@@ -10,6 +10,7 @@ layout(push_constant) uniform Push { CellArgs a; };
 void main() {
     uint e = work_item();
     if (e >= a.cell_count) return;
-    if (first_in_base_cell(a.domain, a.cells, e)) mark_dart_range(a, a.cells, a.scan, a.grid, e);
+    if (first_in_base_cell(a.domain, a.cells, e))
+        mark_dart_range(a, a.cells, a.scan, a.grid, e, group_end(a.domain, a.cells, e, a.cell_count));
     site_cell_darts(a.cells, a.scan, a.darts, e);
 }

@@ -10,13 +10,12 @@
 VRPD_BEGIN
 
 // Two radii. The active cells track where U (points >= Rc from every sample) may remain; the darts
-// go to base cells instead. For the first active cell e of a base cell: flags every base cell that
-// holds no sample and lies within Rc of the base cell's active cells. Each point of T is free, so
+// go to base cells instead. For the active cells [e, end_cell) of one base cell (group_end): flags
+// every base cell that holds no sample and lies within Rc of them. Each point of T is free, so
 // its base cell holds no sample, and within Rc of U, which lies in the active cells: the flagged
 // cells cover T, and darts uniform over them, kept iff in T (exact test), are uniform over T.
-VRPD_FN void flag_dart_cells(CellArgs a, Cells cells, Uints flags, Grid grid, uint e) {
+VRPD_FN void flag_dart_cells(CellArgs a, Cells cells, Uints flags, Grid grid, uint e, uint end_cell) {
     Domain dom = a.domain;
-    uint end_cell = group_end(dom, cells, e, a.cell_count);
     uvec2 base = base_cell_of(dom, cells.cell[e]);
     int side = 1 << dom.cell_bits;
     uvec2 origin = uvec2(base.x << dom.cell_bits, base.y << dom.cell_bits);

@@ -11,11 +11,10 @@
 
 VRPD_BEGIN
 
-// For the first active cell e of a base cell: the grid word of the base cell becomes the range of
-// this round's darts in it (the exclusive prefix sums of the counts). A pass of its own, so that
-// throwing, which reads the neighbours' words, never races with this write.
-VRPD_FN void mark_dart_range(CellArgs a, Cells cells, Uints scan, Grid grid, uint e) {
-    uint end_cell = group_end(a.domain, cells, e, a.cell_count);
+// For the active cells [e, end_cell) of one base cell (group_end): the grid word of the base cell
+// becomes the range of this round's darts in it (the exclusive prefix sums of the counts). A pass
+// of its own, so that throwing, which reads the neighbours' words, never races with this write.
+VRPD_FN void mark_dart_range(CellArgs a, Cells cells, Uints scan, Grid grid, uint e, uint end_cell) {
     grid.word[base_of_point(a.domain, cells.cell[e])] = uvec2(GRID_TAG | scan.value[e], scan.value[end_cell]);
 }
 
@@ -91,13 +90,12 @@ VRPD_FN uint throw_sited(CellArgs a, Darts darts, Grid grid, uint j, bool no_sam
     return rejected ? DART_REJECTED : DART_UNDECIDED;
 }
 
-// For the first active cell e of a base cell: writes the darts of all active cells of that base
-// cell (cell i's at scan[i] .. scan[i+1]), each rejected if it lies off the domain or in the disk
+// For the active cells [e, end_cell) of one base cell (group_end): writes their darts (cell i's at
+// scan[i] .. scan[i+1]), each rejected if it lies off the domain or in the disk
 // of a sample of an earlier round (with two radii, membership in T is left to the resolution,
 // which sees this round's earlier darts as well): the host's throw. Each dart is made, tested and
 // written once. Returns how many are still undecided.
-VRPD_FN uint throw_base_cell(CellArgs a, Cells cells, Uints scan, Darts darts, Grid grid, uint e) {
-    uint end_cell = group_end(a.domain, cells, e, a.cell_count);
+VRPD_FN uint throw_base_cell(CellArgs a, Cells cells, Uints scan, Darts darts, Grid grid, uint e, uint end_cell) {
     uvec2 base = base_cell_of(a.domain, cells.cell[e]);
     Domain dom = local_domain(a.domain, base);
     uint undecided = 0u;

@@ -34,6 +34,25 @@ constexpr unsigned kArrivalOrderThreads = 2;
 // again, before the resolution is called stuck; each retry needs a dart decided by another thread.
 constexpr uint kMaxRetries = 1u << 20;
 
+// Calls f(e, end) for each group [e, end) of list entries sharing a base cell (the list is in base
+// cell order) whose first entry lies in [b, stop): each entry's base cell is found once or twice,
+// where a test of every entry (first_in_base_cell) and its group's search find it three times or
+// more. `single`: each entry is a base cell of its own (two radii's dart cells), a group each.
+template <class F>
+void for_each_base_group(const Domain& dom, Cells cells, std::size_t b, std::size_t stop, uint n, bool single, F&& f) {
+    if (single) {
+        for (std::size_t i = b; i < stop; ++i) f(uint(i), uint(i + 1));
+        return;
+    }
+    std::size_t i = b;
+    while (i < stop && !first_in_base_cell(dom, cells, uint(i))) ++i;
+    while (i < stop) {
+        const uint end = group_end(dom, cells, uint(i), n);
+        f(uint(i), end);
+        i = end;
+    }
+}
+
 class HostEngine final : public Engine {
 public:
     HostEngine(const Plan& plan, Resolution resolution, unsigned threads)
@@ -139,7 +158,8 @@ private:
         if (two_radii(dom.radii)) list_dart_cells(spec);
         Words& targets = dart_targets();
         const uint n = uint(targets.size());
-        const uint side = two_radii(dom.radii) ? 1u << dom.cell_bits : spec.side;
+        const bool single = two_radii(dom.radii);  // dart cells: base cells, an entry each
+        const uint side = single ? 1u << dom.cell_bits : spec.side;
         const uint key = round_key(plan_.seed, spec.round);
         CellArgs args{dom, 0, 0, 0, 0, 0, 0, 0, 0, n, key, side, spec.exp_neg_lambda};
         const Cells cells{targets.data()};
@@ -150,15 +170,18 @@ private:
         });
         const std::uint64_t total = exclusive_scan(n);
         clear_darts(total);
+        // Only base cells that get darts are marked and thrown into (most two-radii dart cells get
+        // none): a base cell left empty reads as one with no darts.
         pool_.parallel_for(n, [&](std::size_t b, std::size_t e, unsigned) {
-            for (std::size_t i = b; i < e; ++i)
-                if (first_in_base_cell(dom, cells, uint(i))) mark_dart_range(args, cells, scan(), grid(), uint(i));
+            for_each_base_group(dom, cells, b, e, n, single, [&](uint g, uint end) {
+                if (scan_[g] != scan_[end]) mark_dart_range(args, cells, scan(), grid(), g, end);
+            });
         });
         // Throw, rejecting darts covered by earlier rounds.
         pool_.parallel_for(n, [&](std::size_t b, std::size_t e, unsigned) {
-            for (std::size_t i = b; i < e; ++i)
-                if (first_in_base_cell(dom, cells, uint(i)))
-                    throw_base_cell(args, cells, scan(), darts(), grid(), uint(i));
+            for_each_base_group(dom, cells, b, e, n, single, [&](uint g, uint end) {
+                if (scan_[g] != scan_[end]) throw_base_cell(args, cells, scan(), darts(), grid(), g, end);
+            });
         });
         Counts().swap(scan_);
         return total;
@@ -213,14 +236,15 @@ private:
             });
             return;
         }
-        Words& targets = dart_targets();
-        const Cells listed{targets.data()};
-        const std::size_t n = targets.size();
-        pool_.parallel_for(n, [&](std::size_t b, std::size_t e, unsigned) {
-            for (std::size_t i = b; i < e; ++i) {
-                if (!first_in_base_cell(dom, listed, uint(i))) continue;
-                uvec2& w = grid_[base_of_point(dom, listed.cell[i])];
-                if (grid_is_darts(w)) commit_word(w);
+        // The base cells that got darts, found from the darts (in base cell order): the first dart
+        // of each. Most of the listed cells got none.
+        pool_.parallel_for(dart_count_, [&](std::size_t b, std::size_t e, unsigned) {
+            uint last = b == 0 ? GRID_EMPTY : base_of_point(dom, dart_point(uint(b - 1)));
+            for (std::size_t j = b; j < e; ++j) {
+                const uint base = base_of_point(dom, dart_point(uint(j)));
+                if (base == last) continue;
+                last = base;
+                if (grid_is_darts(grid_[base])) commit_word(grid_[base]);
             }
         });
     }
@@ -335,6 +359,10 @@ private:
     // cells list_dart_cells lists.
     Words& dart_targets() { return two_radii(plan_.domain.radii) && !darts_on_cells_ ? dart_cells_ : cells_; }
     Darts darts() { return {darts_.data()}; }
+    uvec2 dart_point(uint j) const {
+        const uint r = dart_record(j);
+        return {darts_[r], darts_[r + 1u]};
+    }
     Grid grid() { return {grid_.data()}; }
     Uints scan() { return {scan_.data()}; }
 
@@ -355,9 +383,8 @@ private:
             });
         } else {
             pool_.parallel_for(n, [&](std::size_t b, std::size_t e, unsigned) {
-                for (std::size_t i = b; i < e; ++i)
-                    if (first_in_base_cell(dom, cells(), uint(i)))
-                        flag_dart_cells(args, cells(), scan(), grid(), uint(i));
+                for_each_base_group(dom, cells(), b, e, n, false,
+                                    [&](uint g, uint end) { flag_dart_cells(args, cells(), scan(), grid(), g, end); });
             });
         }
         dart_cells_.resize(exclusive_scan(bases));
@@ -448,10 +475,9 @@ private:
         fit(masks_, n);
         const CellArgs args{dom, 0, 0, 0, 0, 0, 0, 0, 0, n, round_key(plan_.seed, spec.round), side, fanout};
         pool_.parallel_for(n, [&](std::size_t b, std::size_t e, unsigned) {
-            for (std::size_t i = b; i < e; ++i)
-                if (first_in_base_cell(dom, cells(), uint(i)))
-                    refine_cells_of_base(args, cells(), scan(), Uints{masks_.data()}, grid(), uint(i),
-                                         group_end(dom, cells(), uint(i), n));
+            for_each_base_group(dom, cells(), b, e, n, false, [&](uint g, uint end) {
+                refine_cells_of_base(args, cells(), scan(), Uints{masks_.data()}, grid(), g, end);
+            });
         });
         const std::uint64_t kept = exclusive_scan(n);
         fit(next_, kept);
