@@ -11,12 +11,16 @@
 #include "resolve_probe.h"
 #include "shared/sampler.h"
 #include "support.h"
+#include "t_membership_support.h"
 #include "vulkan/buffer.h"
 #include "vulkan/device.h"
 #include "vulkan/kernel.h"
 
 using namespace vrpd;
+using vrpd::test::Config;
+using vrpd::test::describe;
 using vrpd::test::options;
+using vrpd::test::random_config;
 
 namespace {
 
@@ -38,12 +42,6 @@ int reference_sign(std::int64_t a, std::uint64_t l, std::int64_t b, std::uint64_
         REQUIRE(exact == (approx > 0 ? 1 : -1));
     return exact;
 }
-
-struct Config {
-    std::vector<glm::ivec2> disks;  // centres, offsets from the origin
-    glm::ivec2 lo, hi;              // the box, as offsets from the origin (FAR_SIDE: no side)
-    bool in_disk = true;            // the region: the dart's closed disk in the box, or a cell (the box)
-};
 
 // Does the region (the closed disk of radius sqrt(r2) around the origin, within the box; or the
 // box alone) hold a point outside every open disk? Dense grid in doubles (polar for a disk); only
@@ -78,55 +76,10 @@ bool brute_force_reaches(const Config& c, double r2) {
     return false;
 }
 
-std::string describe(const Config& c) {
-    std::string text = "box (" + std::to_string(c.lo.x) + "," + std::to_string(c.lo.y) + ")-(" +
-                       std::to_string(c.hi.x) + "," + std::to_string(c.hi.y) + "), disks";
-    for (const glm::ivec2& d : c.disks) text += " (" + std::to_string(d.x) + "," + std::to_string(d.y) + ")";
-    return text;
-}
-
 // The exact test's answer: T_INSIDE, T_OUTSIDE or T_UNKNOWN.
 shared::uint exact_test(const Config& c, std::uint64_t r2) {
     for (std::size_t i = 0; i < c.disks.size(); ++i) shared::disk_at[i] = c.disks[i];
     return shared::reaches_uncovered(shared::uint(c.disks.size()), r2, c.lo, c.hi, c.in_disk);
-}
-
-// Random configurations as the sampler meets them: disk centres >= Rf apart and >= Rf from the
-// dart, within 2 Rc of it, inside the box. A cell (not in_disk): a square of side up to Rf / sqrt(2)
-// with its corner at the origin, the disks anywhere within 2 Rc of the corner.
-Config random_config(std::mt19937_64& rng, double rc, double rf, bool boxed, bool in_disk = true) {
-    std::uniform_real_distribution<double> u(-1.0, 1.0);
-    Config c;
-    const int far = shared::FAR_SIDE;
-    c.lo = {-far, -far};
-    c.hi = {far, far};
-    if (boxed) {
-        // Each side near the dart (within 1.3 Rc) or far, as at the box's sides and corners.
-        std::uniform_real_distribution<double> side(0.0, 1.3 * rc);
-        auto pick = [&]() { return rng() % 3 == 0 ? far : int(side(rng)); };
-        c.lo = {-pick(), -pick()};
-        c.hi = {pick(), pick()};
-    }
-    if (!in_disk) {
-        std::uniform_real_distribution<double> side(1.0, rf / std::sqrt(2.0));
-        const int s = int(side(rng));
-        c.in_disk = false;
-        c.lo = {0, 0};
-        c.hi = {boxed ? 1 + int(rng() % s) : s, s};  // boxed: a free boundary cuts the cell
-    }
-    const int wanted = 1 + int(rng() % (rng() % 2 ? 8 : 48));
-    for (int tries = 0; tries < 400 && int(c.disks.size()) < wanted; ++tries) {
-        const glm::dvec2 p{2 * rc * u(rng), 2 * rc * u(rng)};
-        const glm::ivec2 q{int(std::lround(p.x)), int(std::lround(p.y))};
-        auto d2 = [](glm::ivec2 a, glm::ivec2 b) { const glm::dvec2 v(a - b);
-            return std::hypot(v.x, v.y); };
-        if (d2(q, {0, 0}) > 2 * rc || (in_disk && d2(q, {0, 0}) < rf)) continue;
-        if (in_disk && (q.x < c.lo.x || q.y < c.lo.y || q.x > c.hi.x || q.y > c.hi.y)) continue;
-        bool apart = true;
-        for (const glm::ivec2& d : c.disks) apart = apart && d2(q, d) >= rf;
-        if (apart) c.disks.push_back(q);
-    }
-    return c;
 }
 
 }  // namespace

@@ -392,17 +392,10 @@ inline bool estimated_crossing_in_box(Doubled p, ivec2 a, ivec2 b, int sigma, iv
 }
 #endif
 
-// Does the region reach a point outside every open disk around disk_at[0, n)? The region is the
-// box lo - hi (offsets from the origin; FAR_SIDE for none), cut, if in_disk, to the closed disk of
-// squared radius r2 around the origin: a dart's reach into U (in_disk), or whether a quadtree
-// cell still holds a point of U (the cell as the box, its corner the origin; every side of it and
-// every disk centre within 2 Rc of that corner). See the method above. T_INSIDE, T_OUTSIDE, or
-// T_UNKNOWN past the step budget. A witness found before the budget runs out is a witness: only
-// "no witness" needs the whole search. It first sorts disk_at[0, n), nearest the origin first:
-// those are the likeliest to cover a vertex near it, and a vertex's search stops at the first
-// disk that covers it.
-VRPD_FN uint reaches_uncovered(uint n, uint64_t r2, ivec2 lo, ivec2 hi, bool in_disk) {
-    t_steps = 0u;
+// Sorts disk_at[0, n), nearest the origin first: those are the likeliest to cover a vertex near
+// it, and a vertex's search stops at the first disk that covers it. Returns whether one of them
+// covers the origin (its open disk holds it).
+VRPD_FN bool sort_disks(uint n, uint64_t r2) {
     for (uint i = 1u; i < n; i++) {
         ivec2 v = disk_at[i];
         uint64_t key = norm2(v);
@@ -410,11 +403,22 @@ VRPD_FN uint reaches_uncovered(uint n, uint64_t r2, ivec2 lo, ivec2 hi, bool in_
         for (; j > 0u && norm2(disk_at[j - 1u]) > key; j--) disk_at[j] = disk_at[j - 1u];
         disk_at[j] = v;
     }
+    return n > 0u && norm2(disk_at[0]) < r2;
+}
+
+// Does the region reach a point outside every open disk around disk_at[0, n)? The region is the
+// box lo - hi (offsets from the origin; FAR_SIDE for none), cut, if in_disk, to the closed disk of
+// squared radius r2 around the origin: a dart's reach into U (in_disk), or whether a quadtree
+// cell still holds a point of U (the cell as the box, its corner the origin; every side of it and
+// every disk centre within 2 Rc of that corner). See the method above. T_INSIDE, T_OUTSIDE, or
+// T_UNKNOWN past the step budget. A witness found before the budget runs out is a witness: only
+// "no witness" needs the whole search. The kernel's test, step by step in a fixed order.
+VRPD_FN uint reaches_uncovered_counted(uint n, uint64_t r2, ivec2 lo, ivec2 hi, bool in_disk) {
+    t_steps = 0u;
+    bool centre_covered = sort_disks(n, r2);
 #ifdef __cplusplus
     estimate_disks(n);
 #endif
-    bool centre_covered = false;
-    for (uint k = 0u; k < n && !centre_covered; k++) centre_covered = norm2(disk_at[k]) < r2;
     if (in_disk && !centre_covered) return T_INSIDE;
     uint sides = near_sides(lo, hi, r2);
     // The dart's circle's crossings with each other circle (both lie on the dart's circle).
@@ -435,5 +439,14 @@ VRPD_FN uint reaches_uncovered(uint n, uint64_t r2, ivec2 lo, ivec2 hi, bool in_
     return t_steps > T_TEST_BUDGET ? T_UNKNOWN : T_OUTSIDE;
 }
 
+#ifndef __cplusplus
+uint reaches_uncovered(uint n, uint64_t r2, ivec2 lo, ivec2 hi, bool in_disk) {
+    return reaches_uncovered_counted(n, r2, lo, hi, in_disk);
+}
+#endif
+
 VRPD_END
+#ifdef __cplusplus
+#include "t_membership_lanes.h"
+#endif
 #endif
