@@ -51,8 +51,10 @@ inline Config random_config(std::mt19937_64& rng, double rc, double rf, bool box
     for (int tries = 0; tries < 400 && int(c.disks.size()) < wanted; ++tries) {
         const glm::dvec2 p{2 * rc * u(rng), 2 * rc * u(rng)};
         const glm::ivec2 q{int(std::lround(p.x)), int(std::lround(p.y))};
-        auto d2 = [](glm::ivec2 a, glm::ivec2 b) { const glm::dvec2 v(a - b);
-            return std::hypot(v.x, v.y); };
+        auto d2 = [](glm::ivec2 a, glm::ivec2 b) {
+            const glm::dvec2 v(a - b);
+            return std::hypot(v.x, v.y);
+        };
         if (d2(q, {0, 0}) > 2 * rc || (in_disk && d2(q, {0, 0}) < rf)) continue;
         if (in_disk && (q.x < c.lo.x || q.y < c.lo.y || q.x > c.hi.x || q.y > c.hi.y)) continue;
         bool apart = true;

@@ -106,9 +106,9 @@ TEST_CASE("T membership: the four-lane test decides ties at a crossing exactly",
         expect(c, shared::T_OUTSIDE, "p one unit outside the box");
         // A quadtree cell [0, h]^2 holding p inside, on its side, or one unit off it.
         const int h = 2 * s;
-        for (const auto& [p, answer] : {std::pair{glm::ivec2(s, s), shared::T_INSIDE},
-                                        std::pair{glm::ivec2(0, s), shared::T_INSIDE},
-                                        std::pair{glm::ivec2(-1, s), shared::T_OUTSIDE}}) {
+        for (const auto& [p, answer] :
+             {std::pair{glm::ivec2(s, s), shared::T_INSIDE}, std::pair{glm::ivec2(0, s), shared::T_INSIDE},
+              std::pair{glm::ivec2(-1, s), shared::T_OUTSIDE}}) {
             c = around(p);
             c.in_disk = false;
             c.lo = {0, 0};

@@ -33,8 +33,8 @@ inline uint first_lanes(uint count) { return count >= 4u ? 15u : (1u << count) -
 
 // Is the crossing P (doubled) of the circles around a and b (sigma) outside every open disk of
 // disk_at[0, n) but skip_a and skip_b? estimated_crossing_uncovered's judgement, four disks a step.
-[[gnu::target("avx2")]] inline bool lanes_crossing_uncovered(const DiskLanes& d, uint n, double px, double py,
-                                                             ivec2 a, ivec2 b, int sigma, uint skip_a, uint skip_b,
+[[gnu::target("avx2")]] inline bool lanes_crossing_uncovered(const DiskLanes& d, uint n, double px, double py, ivec2 a,
+                                                             ivec2 b, int sigma, uint skip_a, uint skip_b,
                                                              uint64_t r2) {
     const __m256d x = _mm256_set1_pd(px), y = _mm256_set1_pd(py), r4 = _mm256_set1_pd(4.0 * double(r2));
     const __m256d one = _mm256_set1_pd(1.0), minus_one = _mm256_set1_pd(-1.0);
