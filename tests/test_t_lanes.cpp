@@ -130,3 +130,79 @@ TEST_CASE("T membership: the four-lane test decides ties at a crossing exactly",
         }
     }
 }
+
+// Each crossing's judgement alone, where the whole test's answer could hide one (a point where
+// circles tie is a vertex of several kinds): the four-lane cover searches against the host's
+// estimated ones (themselves tested against the exact signs), on the twelve circles through p,
+// every centre moved by up to a unit or not.
+TEST_CASE("T membership: the four-lane cover search of each crossing is the kernel's", "[two-radii]") {
+    if (!shared::host_has_avx2()) {
+        WARN("no AVX2 on this processor: reaches_uncovered is the counted test itself");
+        return;
+    }
+    std::mt19937_64 rng(3);
+    const int far = shared::FAR_SIDE;
+    int covered = 0, uncovered = 0, ties = 0;
+    for (const int s : {200, 104855}) {
+        const std::uint64_t r2 = std::uint64_t(25) * std::uint64_t(s) * std::uint64_t(s);
+        const double r4 = 4.0 * double(r2);
+        for (int round = 0; round < 40; ++round) {
+            const glm::ivec2 p(s, 0);
+            std::vector<glm::ivec2> disks;
+            for (const glm::ivec2 d : pythagorean_directions()) disks.push_back(p + s * d);
+            if (round % 2 == 1)
+                for (glm::ivec2& d : disks) d += glm::ivec2(int(rng() % 3) - 1, int(rng() % 3) - 1);
+            const auto n = shared::uint(disks.size());
+            std::copy(disks.begin(), disks.end(), shared::disk_at);
+            shared::estimate_disks(n);
+            const shared::DiskLanes lanes = shared::disk_lanes(n);
+            for (shared::uint i = 0; i < n; ++i) {
+                // The pairs' crossings.
+                for (shared::uint j = i + 1; j < n; ++j) {
+                    const glm::ivec2 a = disks[i], b = disks[j];
+                    const auto l = shared::norm2(b - a);
+                    if (l == 0 || l > 4 * r2) continue;
+                    const shared::CirclePair pair = shared::circle_pair(a, b, r2);
+                    for (const int sigma : {-1, 1}) {
+                        const shared::Doubled at = shared::twice_crossing(pair, sigma);
+                        shared::t_steps = 0;
+                        const bool kernel = shared::crossing_uncovered(a, b, sigma, i, j, n, r2);
+                        const bool four = shared::lanes_crossing_uncovered(lanes, n, at.x, at.y, a, b, sigma, i, j, r2);
+                        INFO("s " << s << " pair " << i << "," << j << " sigma " << sigma);
+                        REQUIRE(four == kernel);
+                        (kernel ? uncovered : covered)++;
+                        for (shared::uint k = 0; k < n; ++k) {
+                            const double ex = at.x - 2.0 * disks[k].x, ey = at.y - 2.0 * disks[k].y;
+                            ties += k != i && k != j && std::abs(ex * ex + ey * ey - r4) <= 1.0;
+                        }
+                    }
+                }
+                // The circle's crossings with lines through p, across and along each axis, as a
+                // box's side (no range along it, outside no dart's disk).
+                for (const bool swap : {false, true}) {
+                    const int side = swap ? p.y : p.x;
+                    const glm::ivec2 c = shared::swizzle(disks[i], swap);
+                    const std::int64_t gap = std::int64_t(side) - c.x;
+                    if (std::uint64_t(gap * gap) > r2) continue;
+                    const std::uint64_t nn = r2 - std::uint64_t(gap * gap);
+                    for (const int tau : {-1, 1}) {
+                        shared::t_steps = 0;
+                        const bool kernel =
+                            shared::side_crossing_uncovered(disks[i], i, side, -far, far, swap, tau, n, r2, false);
+                        const double root = double(tau) * std::sqrt(double(nn));
+                        const bool four =
+                            shared::lanes_side_crossing_uncovered(swap ? lanes.y : lanes.x, swap ? lanes.x : lanes.y, n,
+                                                                  side, c.y, root, tau, nn, i, r2, swap);
+                        INFO("s " << s << " circle " << i << " swap " << swap << " tau " << tau);
+                        REQUIRE(four == kernel);
+                        (kernel ? uncovered : covered)++;
+                    }
+                }
+            }
+        }
+    }
+    // Crossings of both kinds, and estimates within 1 of 0 (the exact signs' cases) by the thousand.
+    CHECK(covered > 1000);
+    CHECK(uncovered > 1000);
+    CHECK(ties > 1000);
+}

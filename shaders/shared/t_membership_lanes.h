@@ -12,7 +12,8 @@
 // disk i's with disks j..j+3 for j > i. Their crossings in the region (the dart's closed disk,
 // and the box's near sides) are judged against four disks at a time, nearest first: covered
 // where an estimate is below -1, uncovered if none is below -1 and none within 1 of 0 is covered
-// exactly. The box's side crossings and corners are the kernel's (boundary_vertex_uncovered).
+// exactly. The disks' circles' crossings with the box's near sides go four circles at a time too
+// (lanes_boundary_uncovered); the dart's own circle's and the corners are the kernel's.
 #ifndef VRPD_T_MEMBERSHIP_LANES_H
 #define VRPD_T_MEMBERSHIP_LANES_H
 
@@ -27,6 +28,19 @@ struct alignas(32) DiskLanes {
     static constexpr uint kLanes = 20u;  // T_LANES_DISKS rounded up to whole vectors
     double x[kLanes], y[kLanes], x2[kLanes], y2[kLanes];
 };
+
+// disk_at[0, n) as lanes.
+inline DiskLanes disk_lanes(uint n) {
+    DiskLanes d;
+    for (uint k = 0u; k < DiskLanes::kLanes; k++) {
+        const bool real = k < n;
+        d.x[k] = real ? double(disk_at[k].x) : 1e20;
+        d.y[k] = real ? double(disk_at[k].y) : 1e20;
+        d.x2[k] = 2.0 * d.x[k];
+        d.y2[k] = 2.0 * d.y[k];
+    }
+    return d;
+}
 
 // Lanes [0, count) of four, as bits.
 inline uint first_lanes(uint count) { return count >= 4u ? 15u : (1u << count) - 1u; }
@@ -111,25 +125,117 @@ inline uint first_lanes(uint count) { return count >= 4u ? 15u : (1u << count) -
     return false;
 }
 
+// Is the crossing (s, v) of the circle around (cu, cv) with the line u = s (v = cv + root, root =
+// tau sqrt(nn)) outside every open disk of disk_at[0, n) but `skip`? side_crossing_uncovered's
+// cover search (u, v: the disks' coordinates across and along the side, the lanes of `du`,
+// `dv`), four disks a step.
+[[gnu::target("avx2")]] inline bool lanes_side_crossing_uncovered(const double* du, const double* dv, uint n, int s,
+                                                                  int64_t cv, double root, int tau, uint64_t nn,
+                                                                  uint skip, uint64_t r2, bool swap) {
+    const __m256d side = _mm256_set1_pd(double(s)), along = _mm256_set1_pd(double(cv));
+    const __m256d offset = _mm256_set1_pd(root), r2d = _mm256_set1_pd(double(r2));
+    const __m256d one = _mm256_set1_pd(1.0), minus_one = _mm256_set1_pd(-1.0);
+    const uint judged = ~(skip < 32u ? 1u << skip : 0u);
+    uint unsure = 0u;
+    for (uint k = 0u; k < n; k += 4u) {
+        const __m256d ku = _mm256_sub_pd(side, _mm256_load_pd(du + k));
+        const __m256d w = _mm256_add_pd(_mm256_sub_pd(along, _mm256_load_pd(dv + k)), offset);
+        const __m256d ku2 = _mm256_mul_pd(ku, ku);
+        const __m256d e = _mm256_sub_pd(_mm256_add_pd(ku2, _mm256_mul_pd(w, w)), r2d);
+        // A disk no nearer the side than Rc covers no point of it (ku^2 >= R2).
+        const uint lanes =
+            (first_lanes(n - k) << k) & judged & (uint(_mm256_movemask_pd(_mm256_cmp_pd(ku2, r2d, _CMP_LT_OQ))) << k);
+        if (((uint(_mm256_movemask_pd(_mm256_cmp_pd(e, minus_one, _CMP_LT_OQ))) << k) & lanes) != 0u) return false;
+        unsure |= (uint(_mm256_movemask_pd(_mm256_cmp_pd(e, one, _CMP_LE_OQ))) << k) & lanes;
+    }
+    const int64_t t = int64_t(tau);
+    for (; unsure != 0u; unsure &= unsure - 1u) {
+        const ivec2 o = swizzle(disk_at[std::countr_zero(unsure)], swap);
+        const int64_t ku = int64_t(s) - int64_t(o.x), kv = cv - int64_t(o.y);
+        if (sign_of_root_sum(ku * ku + kv * kv + int64_t(nn) - int64_t(r2), uint64_t(1), 2 * t * kv, nn) < 0)
+            return false;
+    }
+    return true;
+}
+
+// boundary_vertex_uncovered's answer, the disks' circles' crossings with each side four circles a
+// step: each crossing on the side (and in the dart's disk if in_disk) by the estimates of
+// side_crossing_uncovered (the same doubles), exact within 1 of 0, then judged by
+// lanes_side_crossing_uncovered. The dart's own circle's crossings and the corners are the
+// kernel's.
+[[gnu::target("avx2")]] inline bool lanes_boundary_uncovered(const DiskLanes& d, uint n, uint64_t r2, ivec2 lo,
+                                                             ivec2 hi, bool in_disk) {
+    const __m256d r2d = _mm256_set1_pd(double(r2)), zero = _mm256_setzero_pd();
+    const __m256d one = _mm256_set1_pd(1.0), minus_one = _mm256_set1_pd(-1.0);
+    for (uint side = 0u; side < 4u; side++) {
+        const bool swap = side >= 2u;
+        const int s = (side & 1u) == 0u ? (swap ? lo.y : lo.x) : (swap ? hi.y : hi.x);
+        if (!side_near(s, r2)) continue;
+        const int v0 = swap ? lo.x : lo.y, v1 = swap ? hi.x : hi.y;
+        const double* du = swap ? d.y : d.x;  // across the side
+        const double* dv = swap ? d.x : d.y;  // along it
+        const __m256d su = _mm256_set1_pd(double(s)), s2 = _mm256_set1_pd(double(int64_t(s) * int64_t(s)));
+        const __m256d first = _mm256_set1_pd(double(v0)), last = _mm256_set1_pd(double(v1));
+        for (int tau = -1; tau <= 1; tau += 2) {
+            if (in_disk && side_crossing_uncovered(ivec2(0, 0), 0xFFFFFFFFu, s, v0, v1, swap, tau, n, r2, true))
+                return true;
+            const __m256d sign = _mm256_set1_pd(double(tau));
+            for (uint i = 0u; i < n; i += 4u) {
+                const __m256d cu = _mm256_load_pd(du + i), cv = _mm256_load_pd(dv + i);
+                const __m256d gap = _mm256_sub_pd(su, cu);
+                const __m256d gap2 = _mm256_mul_pd(gap, gap);
+                uint in = uint(_mm256_movemask_pd(_mm256_cmp_pd(gap2, r2d, _CMP_LE_OQ))) & first_lanes(n - i);
+                if (in == 0u) continue;
+                // N = R2 - (s - c.u)^2 >= 0 in the lanes kept; root = tau sqrt(N).
+                const __m256d nn = _mm256_max_pd(_mm256_sub_pd(r2d, gap2), zero);
+                const __m256d root = _mm256_mul_pd(sign, _mm256_sqrt_pd(nn));
+                const __m256d from_first = _mm256_add_pd(_mm256_sub_pd(cv, first), root);
+                const __m256d to_last = _mm256_sub_pd(_mm256_sub_pd(last, cv), root);
+                in &= uint(_mm256_movemask_pd(_mm256_cmp_pd(from_first, minus_one, _CMP_GE_OQ))) &
+                      uint(_mm256_movemask_pd(_mm256_cmp_pd(to_last, minus_one, _CMP_GE_OQ)));
+                uint unsure = uint(_mm256_movemask_pd(_mm256_cmp_pd(from_first, one, _CMP_LE_OQ))) |
+                              uint(_mm256_movemask_pd(_mm256_cmp_pd(to_last, one, _CMP_LE_OQ)));
+                if (in_disk) {
+                    const __m256d v = _mm256_add_pd(cv, root);
+                    const __m256d e = _mm256_sub_pd(_mm256_add_pd(s2, _mm256_mul_pd(v, v)), r2d);
+                    in &= uint(_mm256_movemask_pd(_mm256_cmp_pd(e, one, _CMP_LE_OQ)));
+                    unsure |= uint(_mm256_movemask_pd(_mm256_cmp_pd(e, minus_one, _CMP_GE_OQ)));
+                }
+                if (in == 0u) continue;
+                alignas(32) double roots[4];
+                _mm256_store_pd(roots, root);
+                for (; in != 0u; in &= in - 1u) {
+                    const uint t = uint(std::countr_zero(in)), k = i + t;
+                    const ivec2 c = swizzle(disk_at[k], swap);
+                    const int64_t gap_k = int64_t(s) - int64_t(c.x);
+                    const uint64_t n_k = r2 - uint64_t(gap_k * gap_k);
+                    // An estimate within 1 of 0: the kernel's whole test of the crossing.
+                    if ((unsure & (1u << t)) != 0u) {
+                        if (side_crossing_uncovered(disk_at[k], k, s, v0, v1, swap, tau, n, r2, in_disk)) return true;
+                        continue;
+                    }
+                    if (lanes_side_crossing_uncovered(du, dv, n, s, int64_t(c.y), roots[t], tau, n_k, k, r2, swap))
+                        return true;
+                }
+            }
+        }
+    }
+    return corner_uncovered(lo.x, lo.y, n, r2, in_disk) || corner_uncovered(hi.x, lo.y, n, r2, in_disk) ||
+           corner_uncovered(lo.x, hi.y, n, r2, in_disk) || corner_uncovered(hi.x, hi.y, n, r2, in_disk);
+}
+
 // reaches_uncovered_counted's answer for n <= T_LANES_DISKS disks, each within 2 Rc of the origin.
 [[gnu::target("avx2")]] inline uint reaches_uncovered_lanes(uint n, uint64_t r2, ivec2 lo, ivec2 hi, bool in_disk) {
     t_steps = 0u;  // boundary_vertex_uncovered counts, within the budget here
     const bool centre_covered = sort_disks(n, r2);
     if (in_disk && !centre_covered) return T_INSIDE;
-    DiskLanes d;
-    for (uint k = 0u; k < DiskLanes::kLanes; k++) {
-        const bool real = k < n;
-        d.x[k] = real ? double(disk_at[k].x) : 1e20;
-        d.y[k] = real ? double(disk_at[k].y) : 1e20;
-        d.x2[k] = 2.0 * d.x[k];
-        d.y2[k] = 2.0 * d.y[k];
-    }
+    const DiskLanes d = disk_lanes(n);
     const uint sides = near_sides(lo, hi, r2);
     // The dart's circle's crossings with each other circle (all lie on the dart's circle).
     if (in_disk && lanes_pairs_uncovered(d, n, ivec2(0, 0), n, 0u, r2, lo, hi, false, sides)) return T_INSIDE;
     for (uint i = 0u; i + 1u < n; i++)
         if (lanes_pairs_uncovered(d, n, disk_at[i], i, i + 1u, r2, lo, hi, in_disk, sides)) return T_INSIDE;
-    return boundary_vertex_uncovered(n, r2, lo, hi, in_disk) ? T_INSIDE : T_OUTSIDE;
+    return lanes_boundary_uncovered(d, n, r2, lo, hi, in_disk) ? T_INSIDE : T_OUTSIDE;
 }
 #endif
 
