@@ -34,25 +34,6 @@ constexpr unsigned kArrivalOrderThreads = 2;
 // again, before the resolution is called stuck; each retry needs a dart decided by another thread.
 constexpr uint kMaxRetries = 1u << 20;
 
-// Calls f(e, end) for each group [e, end) of list entries sharing a base cell (the list is in base
-// cell order) whose first entry lies in [b, stop): each entry's base cell is found once or twice,
-// where a test of every entry (first_in_base_cell) and its group's search find it three times or
-// more. `single`: each entry is a base cell of its own (two radii's dart cells), a group each.
-template <class F>
-void for_each_base_group(const Domain& dom, Cells cells, std::size_t b, std::size_t stop, uint n, bool single, F&& f) {
-    if (single) {
-        for (std::size_t i = b; i < stop; ++i) f(uint(i), uint(i + 1));
-        return;
-    }
-    std::size_t i = b;
-    while (i < stop && !first_in_base_cell(dom, cells, uint(i))) ++i;
-    while (i < stop) {
-        const uint end = group_end(dom, cells, uint(i), n);
-        f(uint(i), end);
-        i = end;
-    }
-}
-
 class HostEngine final : public Engine {
 public:
     HostEngine(const Plan& plan, Resolution resolution, unsigned threads)
@@ -119,7 +100,8 @@ public:
 
 private:
     // Runs f, adding its wall time to phase `name` when profiling.
-    template <class F> std::invoke_result_t<F> timed(const char* name, F&& f) {
+    template <class F>
+    std::invoke_result_t<F> timed(const char* name, F&& f) {
         if (!profiling_) return f();
         const auto t0 = std::chrono::steady_clock::now();
         struct Stop {
@@ -170,8 +152,7 @@ private:
         });
         const std::uint64_t total = exclusive_scan(n);
         clear_darts(total);
-        // Only base cells that get darts are marked and thrown into (most two-radii dart cells get
-        // none): a base cell left empty reads as one with no darts.
+        // Only base cells that get darts are marked and thrown into: one left empty reads as dartless.
         pool_.parallel_for(n, [&](std::size_t b, std::size_t e, unsigned) {
             for_each_base_group(dom, cells, b, e, n, single, [&](uint g, uint end) {
                 if (scan_[g] != scan_[end]) mark_dart_range(args, cells, scan(), grid(), g, end);
@@ -192,8 +173,8 @@ private:
     std::uint64_t throw_masked(const RoundSpec& spec) {
         const Domain dom = plan_.domain;
         const uint bases = uint(plan_.base_cells);
-        const CellArgs args{dom, 0, 0, 0, 0, 0, 0, 0, 0, bases, round_key(plan_.seed, spec.round), spec.side,
-                            spec.exp_neg_lambda};
+        const CellArgs args{
+            dom, 0, 0, 0, 0, 0, 0, 0, 0, bases, round_key(plan_.seed, spec.round), spec.side, spec.exp_neg_lambda};
         std::vector<std::uint64_t> first(pool_.chunks(bases) + 1, 0);
         std::atomic<bool> crowded = false;
         pool_.parallel_for(bases, [&](std::size_t b, std::size_t e, unsigned w) {
@@ -236,15 +217,13 @@ private:
             });
             return;
         }
-        // The base cells that got darts, found from the darts (in base cell order): the first dart
-        // of each. Most of the listed cells got none.
+        // The base cells that got darts (most listed cells got none), by their first darts.
         pool_.parallel_for(dart_count_, [&](std::size_t b, std::size_t e, unsigned) {
             uint last = b == 0 ? GRID_EMPTY : base_of_point(dom, dart_point(uint(b - 1)));
             for (std::size_t j = b; j < e; ++j) {
                 const uint base = base_of_point(dom, dart_point(uint(j)));
-                if (base == last) continue;
+                if (base != last && grid_is_darts(grid_[base])) commit_word(grid_[base]);
                 last = base;
-                if (grid_is_darts(grid_[base])) commit_word(grid_[base]);
             }
         });
     }
@@ -320,8 +299,7 @@ private:
             note_peak();
             // A pass of its own: refinement reads the neighbours' words.
             pool_.parallel_for(bases, [&](std::size_t b, std::size_t e, unsigned) {
-                for (std::size_t i = b; i < e; ++i)
-                    grid_[i] = masked_word(grid_[i], masks_[i]);
+                for (std::size_t i = b; i < e; ++i) grid_[i] = masked_word(grid_[i], masks_[i]);
             });
             Counts().swap(masks_);
             return chunk_offsets(first);
@@ -359,10 +337,7 @@ private:
     // cells list_dart_cells lists.
     Words& dart_targets() { return two_radii(plan_.domain.radii) && !darts_on_cells_ ? dart_cells_ : cells_; }
     Darts darts() { return {darts_.data()}; }
-    uvec2 dart_point(uint j) const {
-        const uint r = dart_record(j);
-        return {darts_[r], darts_[r + 1u]};
-    }
+    uvec2 dart_point(uint j) const { return {darts_[dart_record(j)], darts_[dart_record(j) + 1u]}; }
     Grid grid() { return {grid_.data()}; }
     Uints scan() { return {scan_.data()}; }
 
