@@ -100,8 +100,7 @@ public:
 
 private:
     // Runs f, adding its wall time to phase `name` when profiling.
-    template <class F>
-    std::invoke_result_t<F> timed(const char* name, F&& f) {
+    template <class F> std::invoke_result_t<F> timed(const char* name, F&& f) {
         if (!profiling_) return f();
         const auto t0 = std::chrono::steady_clock::now();
         struct Stop {
@@ -173,8 +172,8 @@ private:
     std::uint64_t throw_masked(const RoundSpec& spec) {
         const Domain dom = plan_.domain;
         const uint bases = uint(plan_.base_cells);
-        const CellArgs args{
-            dom, 0, 0, 0, 0, 0, 0, 0, 0, bases, round_key(plan_.seed, spec.round), spec.side, spec.exp_neg_lambda};
+        const CellArgs args{dom, 0, 0, 0, 0, 0, 0, 0, 0, bases, round_key(plan_.seed, spec.round), spec.side,
+                            spec.exp_neg_lambda};
         std::vector<std::uint64_t> first(pool_.chunks(bases) + 1, 0);
         std::atomic<bool> crowded = false;
         pool_.parallel_for(bases, [&](std::size_t b, std::size_t e, unsigned w) {
@@ -299,7 +298,8 @@ private:
             note_peak();
             // A pass of its own: refinement reads the neighbours' words.
             pool_.parallel_for(bases, [&](std::size_t b, std::size_t e, unsigned) {
-                for (std::size_t i = b; i < e; ++i) grid_[i] = masked_word(grid_[i], masks_[i]);
+                for (std::size_t i = b; i < e; ++i)
+                    grid_[i] = masked_word(grid_[i], masks_[i]);
             });
             Counts().swap(masks_);
             return chunk_offsets(first);
