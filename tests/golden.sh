@@ -28,8 +28,8 @@ d2f72688f8287e3bc31e03e249eced828a03c0f1558fb9e12ab24409c2fcc2d3 | --rf 0.01 --r
 39a4f22ca35ba3ef170d9f89ca13589060a3e4d485aabc2a2adc2cb4e417e22f | --rf 0.01 --rc 0.04 --extent 2,1 --seed 4
 aeb0c3ec6bb26cba695373bfc0a4eb894ec33e404d908ec45f2902229d5f0f99 | --rf 0.02 --rc 0.03 --extent 1.5,1 --boundary free --seed 5
 3be2ba203644358cb0c3bf6849a97cdd3e8f0e517e538a371e3c4c76c1b48ccf | --rf 2 --rc 3 --extent 160,90 --seed 6
-b654a9b63d8a73f4387a343d2917c748af1d509737dcd29396969545fc9e5c5b | --radius 0.01 --hierarchy discrete:10 --seed 9
-29b470702e2f08e324d42cc54aaf7516be16036cb6b27cfe62d291cb5298afea | --radius 0.01 --hierarchy discrete:5 --boundary free --extent 1.2,1 --seed 4
+51d1c63d86a54b8f2f8b8221b4307dbab453fbd3f288f861c49c98c7686aa83d | --radius 0.01 --hierarchy discrete:10 --seed 9
+d4a5705704c67a85e1afe053a6b82ff780958e8d146e859ea42ca29720707a27 | --radius 0.01 --hierarchy discrete:5 --boundary free --extent 1.2,1 --seed 4
 321befb78b3c069568e4a8c07695911e7c65533886f8b8008574559c26ac57ea | --sizing 0.01+0.05*x --rule smaller --boundary free --seed 1
 cbbe3632b2e90e9ed39f409da9fa237e54cb2e46bbc992fd5a13b760db72ced6 | --sizing 0.02+0.01*sin(2*pi*x)*cos(2*pi*y) --rule prior --seed 2
 b2be33571f6dfbe20e3364a2b4577af9b19a711afeb21e478de7d181ef8c4e29 | --sizing 0.004+0.02*d --rule bigger --weighting density --seed 3

@@ -25,7 +25,9 @@ struct LevelSchedule {
 
 // The schedule: one radius throws Poisson(0.5) darts per active cell for 2 rounds at level 0,
 // then one round per level; per-cell work (counts, scans, cover tests), not darts, dominates the
-// time. Two radii throw fewer darts per round over more rounds at level 0 (share = (Rf / Rc)^2):
+// time. A run from given samples (each step of a hierarchy) throws one round of 0.7 at level 0:
+// the given samples cover much of the box already, and its darts there are rejected, so the
+// first cover test comes a round sooner. Two radii throw fewer darts per round over more rounds at level 0 (share = (Rf / Rc)^2):
 // a dart goes to a whole base cell, and one landing where T is already empty costs a full T
 // test. Past level 0 their cells wait to split while they outnumber the last round's darts
 // kCrowded times: the cells track U exactly at any size, but a gap of U fills no faster for its
@@ -33,9 +35,10 @@ struct LevelSchedule {
 // they do not split at all. The measurements behind each number are in docs/performance.md.
 constexpr double kCrowded = 8;
 
-LevelSchedule schedule_for(std::uint32_t level, double share) {
+LevelSchedule schedule_for(std::uint32_t level, double share, bool given) {
     if (level > 0) return {0.5, 1};
-    return share < 1.0 ? LevelSchedule{0.6 * share, 4} : LevelSchedule{0.5, 2};
+    if (share < 1.0) return {0.6 * share, 4};
+    return given ? LevelSchedule{0.7, 1} : LevelSchedule{0.5, 2};
 }
 
 constexpr std::uint32_t kMaxRounds = 100000;  // far above any run (a few dozen); a bug guard, not a limit
@@ -89,9 +92,9 @@ namespace {
 
 // Runs rounds on `engine` (started) until no cell of `plan` is active: the sampling is maximal.
 // Rounds are numbered on from `round`, so that the steps of a hierarchy draw other darts.
-// Returns the levels visited.
+// `given`: the run started from given samples. Returns the levels visited.
 std::uint32_t run_to_maximal(Engine& engine, const Plan& plan, std::uint64_t active, std::uint32_t& round,
-                             SamplingStats& stats) {
+                             SamplingStats& stats, bool given) {
     std::uint32_t level = 0;
     const std::uint32_t first_round = round;
     std::uint64_t last_darts = 0;
@@ -99,7 +102,7 @@ std::uint32_t run_to_maximal(Engine& engine, const Plan& plan, std::uint64_t act
     const double share = double(plan.domain.radii.inhibition2) / double(plan.domain.radii.coverage2);
     // The spec of round `number`, the r-th of `level`'s rounds.
     auto spec_at = [&](std::uint32_t level, std::uint32_t r, std::uint32_t number, bool crowded) {
-        const LevelSchedule s = schedule_for(level, share);
+        const LevelSchedule s = schedule_for(level, share, given);
         const bool refine = !crowded && r + 1 == s.rounds && level < plan.deepest_level;
         // Two radii: while active cells fill half the base grid at level 0, listing the base
         // cells near them costs more than the few darts it saves.
@@ -111,7 +114,7 @@ std::uint32_t run_to_maximal(Engine& engine, const Plan& plan, std::uint64_t act
     while (active > 0) {
         if (round - first_round >= kMaxRounds)
             throw Error(fmt::format("internal: not maximal after {} rounds", round - first_round));
-        const std::uint32_t rounds = schedule_for(level, share).rounds;
+        const std::uint32_t rounds = schedule_for(level, share, given).rounds;
         const bool crowded = share < 1.0 && level > 0 && double(active) > kCrowded * double(last_darts);
         const detail::RoundSpec spec = spec_at(level, r, round, crowded);
         // The level and round that come next; a crowded round does not count towards the level's
@@ -195,7 +198,8 @@ Sampling detail::run_plan(const SampleOptions& options, const Plan& plan, Engine
     for (const auto& [t, scale] : hierarchy_steps(options)) {
         const Plan step = steps == 0 ? plan : step_plan(plan, options, scale);
         const std::size_t before = samples.size();
-        const std::uint32_t levels = run_to_maximal(engine, step, engine.start(step, samples), round, result.stats);
+        const std::uint32_t levels =
+            run_to_maximal(engine, step, engine.start(step, samples), round, result.stats, !samples.empty());
         samples = engine.samples();
         if (steps != 0) result.birth.resize(samples.size(), t);
         result.stats.levels = std::max(result.stats.levels, levels);
