@@ -167,6 +167,12 @@ VRPD_FN bool crossing_in_box(ivec2 a, ivec2 b, int sigma, ivec2 lo, ivec2 hi, ui
 
 VRPD_FN ivec2 swizzle(ivec2 p, bool swap) { return swap ? ivec2(p.y, p.x) : p; }
 
+// The sign of |q|^2 - R2 for q = (ku, kv + t sqrt(N)): a side crossing p = (s, c.v + t sqrt(N))
+// (below) against the circle of a centre o, with ku = s - o.u and kv = c.v - o.v.
+VRPD_FN int side_crossing_sign(int64_t ku, int64_t kv, uint64_t nn, uint64_t r2, int64_t t) {
+    return sign_of_root_sum(ku * ku + kv * kv + int64_t(nn) - int64_t(r2), uint64_t(1), 2 * t * kv, nn);
+}
+
 // The crossing (tau = +-1) of the circle around c with the side u = s of the box, in coordinates
 // (u, v) where u is across the side (swap: u is y); the side runs over v in [v0, v1]. Is the
 // crossing p = (s, c.v + tau sqrt(N)), N = R2 - (s - c.u)^2, on the side, in the dart's closed
@@ -183,16 +189,14 @@ bool side_crossing_uncovered(ivec2 centre, uint skip, int s, int v0, int v1, boo
     if (sign_of_root_sum(cv - int64_t(v0), uint64_t(1), t, nn) < 0) return false;
     if (sign_of_root_sum(int64_t(v1) - cv, uint64_t(1), -t, nn) < 0) return false;
     int64_t s64 = int64_t(s);
-    if (in_disk && sign_of_root_sum(s64 * s64 + cv * cv + int64_t(nn) - int64_t(r2), uint64_t(1), 2 * t * cv, nn) > 0)
-        return false;
+    if (in_disk && side_crossing_sign(s64, cv, nn, r2, t) > 0) return false;
     for (uint k = 0u; k < n && t_step(); k++) {
         if (k == skip) continue;
         ivec2 o = swizzle(disk_at[k], swap);
         int64_t ku = s64 - int64_t(o.x);
         if (uint64_t(ku * ku) >= r2) continue;
         int64_t kv = cv - int64_t(o.y);
-        if (sign_of_root_sum(ku * ku + kv * kv + int64_t(nn) - int64_t(r2), uint64_t(1), 2 * t * kv, nn) < 0)
-            return false;
+        if (side_crossing_sign(ku, kv, nn, r2, t) < 0) return false;
     }
     return t_steps <= T_TEST_BUDGET;
 }
@@ -221,9 +225,7 @@ bool side_crossing_uncovered(ivec2 centre, uint skip, int s, int v0, int v1, boo
     const double r2d = double(r2);
     if (in_disk) {
         const double v = double(cv) + root;
-        if (sign(double(s64 * s64) + v * v - r2d, [&] {
-                return sign_of_root_sum(s64 * s64 + cv * cv + int64_t(nn) - int64_t(r2), uint64_t(1), 2 * t * cv, nn);
-            }) > 0)
+        if (sign(double(s64 * s64) + v * v - r2d, [&] { return side_crossing_sign(s64, cv, nn, r2, t); }) > 0)
             return false;
     }
     for (uint k = 0u; k < n && t_step(); k++) {
@@ -233,9 +235,7 @@ bool side_crossing_uncovered(ivec2 centre, uint skip, int s, int v0, int v1, boo
         if (uint64_t(ku * ku) >= r2) continue;
         int64_t kv = cv - int64_t(o.y);
         const double w = double(kv) + root;
-        if (sign(double(ku * ku) + w * w - r2d, [&] {
-                return sign_of_root_sum(ku * ku + kv * kv + int64_t(nn) - int64_t(r2), uint64_t(1), 2 * t * kv, nn);
-            }) < 0)
+        if (sign(double(ku * ku) + w * w - r2d, [&] { return side_crossing_sign(ku, kv, nn, r2, t); }) < 0)
             return false;
     }
     return t_steps <= T_TEST_BUDGET;

@@ -45,23 +45,37 @@ inline DiskLanes disk_lanes(uint n) {
 // Lanes [0, count) of four, as bits.
 inline uint first_lanes(uint count) { return count >= 4u ? 15u : (1u << count) - 1u; }
 
+// The cover searches' step, four disks a step: estimate(k, lanes) gives the estimated signs of the
+// disks k..k+3 (of |p - c|^2 - R2, or four times it), and may clear bits of `lanes` (disk k at bit
+// k: those that may cover p). False once a lane's estimate is below -1: a disk covers p. Else
+// `unsure` holds the lanes within 1 of 0, for the exact test.
+template <class Estimate>
+[[gnu::always_inline, gnu::target("avx2")]] inline bool lanes_none_below(uint n, uint judged, Estimate estimate,
+                                                                         uint& unsure) {
+    const __m256d one = _mm256_set1_pd(1.0), minus_one = _mm256_set1_pd(-1.0);
+    unsure = 0u;
+    for (uint k = 0u; k < n; k += 4u) {
+        uint lanes = (first_lanes(n - k) << k) & judged;
+        const __m256d e = estimate(k, lanes);
+        if (((uint(_mm256_movemask_pd(_mm256_cmp_pd(e, minus_one, _CMP_LT_OQ))) << k) & lanes) != 0u) return false;
+        unsure |= (uint(_mm256_movemask_pd(_mm256_cmp_pd(e, one, _CMP_LE_OQ))) << k) & lanes;
+    }
+    return true;
+}
+
 // Is the crossing P (doubled) of the circles around a and b (sigma) outside every open disk of
 // disk_at[0, n) but skip_a and skip_b? estimated_crossing_uncovered's judgement, four disks a step.
 [[gnu::target("avx2")]] inline bool lanes_crossing_uncovered(const DiskLanes& d, uint n, double px, double py, ivec2 a,
                                                              ivec2 b, int sigma, uint skip_a, uint skip_b,
                                                              uint64_t r2) {
     const __m256d x = _mm256_set1_pd(px), y = _mm256_set1_pd(py), r4 = _mm256_set1_pd(4.0 * double(r2));
-    const __m256d one = _mm256_set1_pd(1.0), minus_one = _mm256_set1_pd(-1.0);
-    const uint judged = ~((1u << skip_a) | (1u << skip_b));
-    uint unsure = 0u;
-    for (uint k = 0u; k < n; k += 4u) {
+    auto estimate = [&](uint k, uint&) __attribute__((always_inline, target("avx2"))) {
         const __m256d ex = _mm256_sub_pd(x, _mm256_load_pd(d.x2 + k));
         const __m256d ey = _mm256_sub_pd(y, _mm256_load_pd(d.y2 + k));
-        const __m256d e = _mm256_sub_pd(_mm256_add_pd(_mm256_mul_pd(ex, ex), _mm256_mul_pd(ey, ey)), r4);
-        const uint lanes = (first_lanes(n - k) << k) & judged;
-        if (((uint(_mm256_movemask_pd(_mm256_cmp_pd(e, minus_one, _CMP_LT_OQ))) << k) & lanes) != 0u) return false;
-        unsure |= (uint(_mm256_movemask_pd(_mm256_cmp_pd(e, one, _CMP_LE_OQ))) << k) & lanes;
-    }
+        return _mm256_sub_pd(_mm256_add_pd(_mm256_mul_pd(ex, ex), _mm256_mul_pd(ey, ey)), r4);
+    };
+    uint unsure;
+    if (!lanes_none_below(n, ~((1u << skip_a) | (1u << skip_b)), estimate, unsure)) return false;
     for (; unsure != 0u; unsure &= unsure - 1u)
         if (exact_crossing_covered(a, b, disk_at[std::countr_zero(unsure)], sigma, r2)) return false;
     return true;
@@ -134,26 +148,19 @@ inline uint first_lanes(uint count) { return count >= 4u ? 15u : (1u << count) -
                                                                   uint skip, uint64_t r2, bool swap) {
     const __m256d side = _mm256_set1_pd(double(s)), along = _mm256_set1_pd(double(cv));
     const __m256d offset = _mm256_set1_pd(root), r2d = _mm256_set1_pd(double(r2));
-    const __m256d one = _mm256_set1_pd(1.0), minus_one = _mm256_set1_pd(-1.0);
-    const uint judged = ~(skip < 32u ? 1u << skip : 0u);
-    uint unsure = 0u;
-    for (uint k = 0u; k < n; k += 4u) {
+    auto estimate = [&](uint k, uint & lanes) __attribute__((always_inline, target("avx2"))) {
         const __m256d ku = _mm256_sub_pd(side, _mm256_load_pd(du + k));
         const __m256d w = _mm256_add_pd(_mm256_sub_pd(along, _mm256_load_pd(dv + k)), offset);
         const __m256d ku2 = _mm256_mul_pd(ku, ku);
-        const __m256d e = _mm256_sub_pd(_mm256_add_pd(ku2, _mm256_mul_pd(w, w)), r2d);
         // A disk no nearer the side than Rc covers no point of it (ku^2 >= R2).
-        const uint lanes =
-            (first_lanes(n - k) << k) & judged & (uint(_mm256_movemask_pd(_mm256_cmp_pd(ku2, r2d, _CMP_LT_OQ))) << k);
-        if (((uint(_mm256_movemask_pd(_mm256_cmp_pd(e, minus_one, _CMP_LT_OQ))) << k) & lanes) != 0u) return false;
-        unsure |= (uint(_mm256_movemask_pd(_mm256_cmp_pd(e, one, _CMP_LE_OQ))) << k) & lanes;
-    }
-    const int64_t t = int64_t(tau);
+        lanes &= uint(_mm256_movemask_pd(_mm256_cmp_pd(ku2, r2d, _CMP_LT_OQ))) << k;
+        return _mm256_sub_pd(_mm256_add_pd(ku2, _mm256_mul_pd(w, w)), r2d);
+    };
+    uint unsure;
+    if (!lanes_none_below(n, ~(skip < 32u ? 1u << skip : 0u), estimate, unsure)) return false;
     for (; unsure != 0u; unsure &= unsure - 1u) {
         const ivec2 o = swizzle(disk_at[std::countr_zero(unsure)], swap);
-        const int64_t ku = int64_t(s) - int64_t(o.x), kv = cv - int64_t(o.y);
-        if (sign_of_root_sum(ku * ku + kv * kv + int64_t(nn) - int64_t(r2), uint64_t(1), 2 * t * kv, nn) < 0)
-            return false;
+        if (side_crossing_sign(int64_t(s) - int64_t(o.x), cv - int64_t(o.y), nn, r2, int64_t(tau)) < 0) return false;
     }
     return true;
 }
