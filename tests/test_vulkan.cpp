@@ -139,9 +139,15 @@ TEST_CASE("a context builds the pipelines its kernels ask for together, at the f
 
 // The prefix sum every list of the engines is built with: one block (SCAN_BLOCK elements) is
 // scanned and totalled by its first pass alone, more take all three (the block sums' scan in
-// one chunk of 64 and in several).
+// one chunk of 64 and in several). Its first pass by subgroup arithmetic where the device has it
+// (lavapipe does), and by shared memory alone.
 TEST_CASE("the device's exclusive prefix sum and its total, in one block and in several", "[gpu][vulkan]") {
     detail::VulkanContext ctx("");
+    const bool subgroups = GENERATE(true, false);
+    INFO("subgroup arithmetic " << subgroups);
+    if (!subgroups) ctx.disable_subgroup_scan();
+    if (subgroups && ctx.device_name().find("llvmpipe") != std::string::npos) CHECK(ctx.subgroup_scan());
+    if (!subgroups) CHECK_FALSE(ctx.subgroup_scan());
     const detail::Buffer counters(ctx, 64, true);
     detail::Primitives primitives(ctx, counters);
     auto* total = static_cast<std::uint32_t*>(counters.mapped());

@@ -137,9 +137,18 @@ VulkanContext::VulkanContext(const VulkanTarget& target) {
         throw Error(fmt::format("VulkanTarget: {} does not have Vulkan 1.2", device_name_));
     queue_family_ = target.queue_family;
     vk_.vkGetPhysicalDeviceMemoryProperties(physical_, &memory_);
+    subgroup_scan_ = query_subgroup_scan();
     device_handle_ = target.device;
     queue_ = target.queue;
     make_command_objects();
+}
+
+bool VulkanContext::query_subgroup_scan() const {
+    VkPhysicalDeviceSubgroupProperties subgroups{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES};
+    VkPhysicalDeviceProperties2 props{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &subgroups};
+    vk_.vkGetPhysicalDeviceProperties2(physical_, &props);
+    return (subgroups.supportedStages & VK_SHADER_STAGE_COMPUTE_BIT) != 0 &&
+           (subgroups.supportedOperations & VK_SUBGROUP_FEATURE_ARITHMETIC_BIT) != 0 && subgroups.subgroupSize <= 64;
 }
 
 void VulkanContext::load_functions(PFN_vkGetInstanceProcAddr get_proc, VkInstance instance) {
@@ -229,6 +238,7 @@ void VulkanContext::open_device(const std::string& requested) {
     queue_family_ = pick->queue_family;
     device_name_ = fmt::format("{} ({}, {})", pick->info.name, pick->info.type, pick->info.driver);
     vk_.vkGetPhysicalDeviceMemoryProperties(physical_, &memory_);
+    subgroup_scan_ = query_subgroup_scan();
 
     float priority = 1.0f;
     VkDeviceQueueCreateInfo qi{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};

@@ -48,6 +48,11 @@ public:
     VkPhysicalDevice physical() const { return physical_; }
     std::uint32_t queue_family() const { return queue_family_; }
     const std::string& device_name() const { return device_name_; }
+    // Whether compute shaders have subgroup arithmetic with subgroups of at most 64 invocations,
+    // which the scans' first pass then uses (primitives.h). Tests turn it off, so that both of
+    // its bodies run.
+    bool subgroup_scan() const { return subgroup_scan_; }
+    void disable_subgroup_scan() { subgroup_scan_ = false; }
     // Throws Error("Vulkan: WHAT failed on DEVICE: VK_...") unless r is VK_SUCCESS.
     void check(VkResult r, const char* what) const;
     std::uint32_t memory_type(std::uint32_t allowed, bool host_visible) const;
@@ -112,10 +117,11 @@ private:
 
     // In creation order, so that destruction runs in reverse: the messenger outlives the device
     // and hears about its destruction.
-    // Helpers of the constructors: the instance-level entry points from get_proc, and the
-    // command pool, command buffer and fence on the device.
+    // Helpers of the constructors: the instance-level entry points from get_proc, the command
+    // pool, command buffer and fence on the device, and subgroup_scan's answer.
     void load_functions(PFN_vkGetInstanceProcAddr get_proc, VkInstance instance);
     void make_command_objects();
+    bool query_subgroup_scan() const;
 
     VulkanFunctions vk_;
     std::mutex messages_mutex_;  // the validation layers may call on_message from build_pending's threads
@@ -125,6 +131,7 @@ private:
     VkPhysicalDevice physical_ = VK_NULL_HANDLE;
     VkPhysicalDeviceMemoryProperties memory_{};
     std::uint32_t queue_family_ = 0;
+    bool subgroup_scan_ = false;
     std::string device_name_;
     OwnedDevice device_;             // empty on an application's device
     VkInstance instance_handle_ = VK_NULL_HANDLE;

@@ -3,6 +3,7 @@
 
 #include "scan_add.h"
 #include "scan_blocks.h"
+#include "scan_blocks_subgroup.h"
 #include "scan_sums.h"
 #include "sort_histogram.h"
 #include "sort_scatter.h"
@@ -15,7 +16,9 @@ using namespace shared;
 Primitives::Primitives(VulkanContext& ctx, const Buffer& counters)
     : ctx_(ctx),
       counters_(counters),
-      VRPD_KERNEL(scan_blocks, ScanArgs, 64),
+      scan_blocks_(ctx_, "scan_blocks",
+                   ctx.subgroup_scan() ? spirv_words(spirv_scan_blocks_subgroup) : spirv_words(spirv_scan_blocks),
+                   sizeof(ScanArgs), 64),
       VRPD_KERNEL(scan_sums, ScanArgs, 64),
       VRPD_KERNEL(scan_add, ScanArgs, WORKGROUP_SIZE),
       VRPD_KERNEL(sort_histogram, SortArgs, 64),

@@ -3,7 +3,8 @@
 // one block, as the lists of a run's late rounds are) and a stable LSD radix sort of points by
 // 32-bit key (8 bits a pass: digit histograms per tile, their scan, a stable scatter; a few points
 // ranked in one workgroup instead). Both record into the context's command buffer; the caller
-// submits.
+// submits. The block scans use subgroup arithmetic where the device has it
+// (VulkanContext::subgroup_scan), with the same result.
 #pragma once
 
 #include <cstdint>
