@@ -1,6 +1,7 @@
 // The Vulkan engine's mask mode (shared/mask_mode.h): at levels 0 to MASK_LEVELS - 1 the
 // active cells are masks in the grid words, and the kernels run over the base cells, or at the
 // last level over the list of those with active sub-cells.
+#include "shared/quadtree.h"
 #include "vulkan/vulkan_engine.h"
 
 namespace vrpd::detail {
@@ -23,8 +24,12 @@ std::uint32_t VulkanEngine::refine_masked(const RoundSpec& spec, std::uint64_t r
     const bool last_level = fanout == 4u && (child_side << (MASK_LEVELS - 1u)) == (1u << plan_.domain.cell_bits);
     ctx_.dispatch(refine_masked_, &a, dispatch_groups(std::uint64_t(n) + 1, WORKGROUP_SIZE));
     ctx_.barrier();  // the new masks (and the active sum) before they reach the words
-    ctx_.dispatch(apply_masks_, &a, dispatch_groups(n, WORKGROUP_SIZE));
-    ctx_.barrier();  // the words (and the counts) before the next round, or the scan
+    // Without a cover test every cell stays (active cells lie on the lattice): the committed
+    // words hold their masks already, and refine_masked only counts them.
+    if (cover_tested(plan_.domain, fanout, child_side)) {
+        ctx_.dispatch(apply_masks_, &a, dispatch_groups(n, WORKGROUP_SIZE));
+        ctx_.barrier();  // the words (and the counts) before the next round, or the scan
+    }
     if (leaves) primitives_.scan(ranks, std::uint64_t(n) + 1, COUNTER_ACTIVE);
     // The next round runs over the same base cells: its darts are counted here (as in round's
     // first submit, into the start of the scratch buffer, which holds n + 1 words), so that it
