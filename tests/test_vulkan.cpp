@@ -174,12 +174,13 @@ TEST_CASE("the device's exclusive prefix sum and its total, in one block and in 
 }
 
 // The sort that puts a round's samples in arrival order: up to SORT_SMALL points ranked in one
-// dispatch, more by the radix passes; both stable.
+// dispatch, more by the radix passes; both stable. 70 000 points take 137 tiles of SCAN_BLOCK,
+// more than one workgroup of the scatter.
 TEST_CASE("the device's sort by key, stable, of a few points and of many", "[gpu][vulkan]") {
     detail::VulkanContext ctx("");
     const detail::Buffer counters(ctx, 64, true);
     detail::Primitives primitives(ctx, counters);
-    for (const std::uint32_t count : {1u, 2u, 100u, 511u, 512u, 513u, 3000u}) {
+    for (const std::uint32_t count : {1u, 2u, 100u, 511u, 512u, 513u, 3000u, 70000u}) {
         INFO("count " << count);
         const detail::Buffer points(ctx, 8 * std::uint64_t(count), true), keys(ctx, 4 * std::uint64_t(count), true),
             tmp(ctx, 12 * std::uint64_t(count), false);

@@ -22,7 +22,7 @@ Primitives::Primitives(VulkanContext& ctx, const Buffer& counters)
       VRPD_KERNEL(scan_sums, ScanArgs, 64),
       VRPD_KERNEL(scan_add, ScanArgs, WORKGROUP_SIZE),
       VRPD_KERNEL(sort_histogram, SortArgs, 64),
-      VRPD_KERNEL(sort_scatter, SortArgs, 1),
+      VRPD_KERNEL(sort_scatter, SortArgs, WORKGROUP_SIZE),
       VRPD_KERNEL(sort_small, SortArgs, 128) {}
 
 void Primitives::reserve_scan(std::uint64_t count) {
@@ -68,7 +68,7 @@ void Primitives::sort(std::uint64_t points, std::uint64_t keys, std::uint64_t tm
         ctx_.dispatch(sort_histogram_, &s, tiles);
         ctx_.barrier();  // digit counts before their scan
         scan(histogram_.address(), bins, total_slot);
-        ctx_.dispatch(sort_scatter_, &s, tiles);
+        ctx_.dispatch(sort_scatter_, &s, dispatch_groups(tiles, WORKGROUP_SIZE));
         ctx_.barrier();  // this pass's output before the next pass reads it
         std::swap(s.src_points, s.dst_points);
         std::swap(s.src_keys, s.dst_keys);
