@@ -20,7 +20,7 @@ Primitives::Primitives(VulkanContext& ctx, const Buffer& counters)
                    ctx.subgroup_scan() ? spirv_words(spirv_scan_blocks_subgroup) : spirv_words(spirv_scan_blocks),
                    sizeof(ScanArgs), 64),
       VRPD_KERNEL(scan_sums, ScanArgs, 64),
-      VRPD_KERNEL(scan_add, ScanArgs, WORKGROUP_SIZE),
+      VRPD_KERNEL(scan_add, ScanArgs, 64),
       VRPD_KERNEL(sort_histogram, SortArgs, 64),
       VRPD_KERNEL(sort_scatter, SortArgs, WORKGROUP_SIZE),
       VRPD_KERNEL(sort_small, SortArgs, 128) {}
@@ -40,7 +40,7 @@ void Primitives::scan(std::uint64_t data, std::uint64_t count, std::uint32_t tot
     if (blocks == 1) return;
     ctx_.dispatch(scan_sums_, &s, 1);
     ctx_.barrier();  // block offsets before they are added
-    ctx_.dispatch(scan_add_, &s, dispatch_groups(count, WORKGROUP_SIZE));
+    ctx_.dispatch(scan_add_, &s, blocks);
     ctx_.barrier();  // the prefix sums before their readers
 }
 
