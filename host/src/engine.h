@@ -20,6 +20,9 @@ struct RoundSpec {
     bool every_free_cell;          // two radii: darts go to every base cell without a sample, not
                                    // only those near active cells (cheaper while U is everywhere)
     bool operator==(const RoundSpec&) const = default;
+    // The refinement's children: four of half the side, or the cell itself.
+    std::uint32_t fanout() const { return refine ? 4u : 1u; }
+    std::uint32_t child_side() const { return refine ? side / 2u : side; }
 };
 
 struct RoundResult {

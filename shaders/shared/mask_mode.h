@@ -58,6 +58,9 @@ VRPD_FN uint masked_dart_count(CellArgs a, uvec2 w, uint b) {
     return count;
 }
 
+// A base cell's word with its new mask of active sub-cells (a sample's word stays).
+VRPD_FN uvec2 masked_word(uvec2 w, uint mask) { return grid_is_sample(w) ? w : uvec2(GRID_EMPTY, mask); }
+
 // Mask mode: an active word with its round's dart count (< 2^16; the engines check), then with
 // the index of its first dart: a packed darts word (domain.h).
 VRPD_FN uvec2 counted_word(uvec2 w, uint count) { return uvec2(w.x, (count << 16u) | (w.y & GRID_MASK_BITS)); }
@@ -66,9 +69,10 @@ VRPD_FN uvec2 numbered_word(uvec2 w, uint first) { return uvec2(GRID_TAG | GRID_
 #ifdef __cplusplus
 // Mask mode, the host's count pass over base cells [b, e): each active word gets its round's dart
 // count (counted_word), masked_dart_count's sum, with the sub-cells (up to 16 a base cell) of
-// kBatch base cells at a time counted together by cell_dart_counts. Returns the range's darts;
-// sets `crowded` if a base cell got more than a word holds.
-inline uint64_t count_masked_range(CellArgs a, uvec2* words, uint b, uint e, bool& crowded) {
+// kBatch base cells at a time counted together by cell_dart_counts. With `masks` (the last
+// refinement's, refine_masked_base's .x), each word first takes its new mask (masked_word).
+// Returns the range's darts; sets `crowded` if a base cell got more than a word holds.
+inline uint64_t count_masked_range(CellArgs a, uvec2* words, const uint* masks, uint b, uint e, bool& crowded) {
     constexpr uint kBatch = 64u;
     std::array<uvec2, kBatch * 16u> corners;
     std::array<uint, kBatch * 16u> counts;
@@ -80,6 +84,7 @@ inline uint64_t count_masked_range(CellArgs a, uvec2* words, uint b, uint e, boo
         uvec2 cell = uvec2(i % a.domain.cells_x, i / a.domain.cells_x);
         for (uint j = i; j < end; j++) {
             uvec2 w = words[j];
+            if (masks != nullptr) words[j] = w = masked_word(w, masks[j]);
             uint m = 0u;
             for (uint mask = masked_active(w) ? w.y & GRID_MASK_BITS : 0u; mask != 0u; mask &= mask - 1u)
                 corners[n + m++] = subcell_corner(cell << a.domain.cell_bits, uint(findLSB(mask)), a.side);
@@ -196,9 +201,6 @@ VRPD_FN uvec2 refine_masked_base(CellArgs a, Grid grid, uint b) {
 
 // The number of sub-cells in a mask of refine_masked_base.
 VRPD_FN uint subcell_count(uvec2 kept) { return uint(bitCount(kept.x) + bitCount(kept.y)); }
-
-// A base cell's word with its new mask of active sub-cells (a sample's word stays).
-VRPD_FN uvec2 masked_word(uvec2 w, uint mask) { return grid_is_sample(w) ? w : uvec2(GRID_EMPTY, mask); }
 
 // Writes the children in `kept` (refine_masked_base, children of side `side`) of base cell b to
 // an explicit active list, from `rank` on, in the explicit list's order.

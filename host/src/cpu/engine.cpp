@@ -82,7 +82,7 @@ public:
         const std::uint64_t total = timed("throw", [&] { return masked_ ? throw_masked(spec) : throw_listed(spec); });
         note_peak();
         timed("resolve", [&] { resolve(); });
-        timed("commit", [&] { commit(); });
+        timed("commit", [&] { commit(spec); });
         if (!in_arrival_order()) timed("emit", [&] { emit(); });
         // The darts are spent: give their memory back before refinement.
         Counts().swap(darts_);
@@ -176,11 +176,13 @@ private:
                             spec.exp_neg_lambda};
         std::vector<std::uint64_t> first(pool_.chunks(bases) + 1, 0);
         std::atomic<bool> crowded = false;
+        const uint* masks = masks_.empty() ? nullptr : masks_.data();  // the last refinement's
         pool_.parallel_for(bases, [&](std::size_t b, std::size_t e, unsigned w) {
             bool many = false;
-            first[w + 1] = count_masked_range(args, grid_.data(), uint(b), uint(e), many);
+            first[w + 1] = count_masked_range(args, grid_.data(), masks, uint(b), uint(e), many);
             if (many) crowded = true;
         });
+        Counts().swap(masks_);
         if (crowded) throw Error("internal: a base cell got more than 65535 darts in one round");
         const std::uint64_t total = chunk_offsets(first);
         clear_darts(total);
@@ -205,11 +207,14 @@ private:
 
     // Each base cell with darts keeps its accepted dart as its sample, or is empty again (in
     // arrival order an accepted dart took its word at once: a darts word left holds none).
-    void commit() {
+    void commit(const RoundSpec& spec) {
         const Domain dom = plan_.domain;
         const bool taken = in_arrival_order();
         auto commit_word = [&](uvec2& w) { w = taken ? empty_after_round(w) : committed_word(darts(), w); };
         if (masked_) {
+            // In arrival order, refinement and the next count pass read a darts word left here as
+            // the empty word this would make of it; the explicit list after the last level cannot.
+            if (taken && !masked_leaves(dom, spec.child_side(), spec.fanout())) return;
             pool_.parallel_for(plan_.base_cells, [&](std::size_t b, std::size_t e, unsigned) {
                 for (std::size_t i = b; i < e; ++i)
                     if (grid_is_darts(grid_[i])) commit_word(grid_[i]);
@@ -270,8 +275,7 @@ private:
     std::uint64_t refine_masked(const RoundSpec& spec) {
         const Domain dom = plan_.domain;
         const uint bases = uint(plan_.base_cells);
-        const uint fanout = spec.refine ? 4u : 1u;
-        const uint side = spec.refine ? spec.side / 2u : spec.side;
+        const uint fanout = spec.fanout(), side = spec.child_side();
         const CellArgs args{dom, 0, 0, 0, 0, 0, 0, 0, 0, bases, round_key(plan_.seed, spec.round), side, fanout};
         std::vector<std::uint64_t> first(pool_.chunks(bases) + 1, 0);
         if (!cover_tested(dom, fanout, side)) {
@@ -296,12 +300,8 @@ private:
                 first[w + 1] = sum;
             });
             note_peak();
-            // A pass of its own: refinement reads the neighbours' words.
-            pool_.parallel_for(bases, [&](std::size_t b, std::size_t e, unsigned) {
-                for (std::size_t i = b; i < e; ++i)
-                    grid_[i] = masked_word(grid_[i], masks_[i]);
-            });
-            Counts().swap(masks_);
+            // The next round's count pass writes them to the words (refinement reads the
+            // neighbours' words, so not this pass).
             return chunk_offsets(first);
         }
         // Each chunk of base cells keeps its nonzero masks, in order, then writes their children.
@@ -442,8 +442,7 @@ private:
     // Keeps or splits the active cells of the list; returns their count.
     std::uint64_t refine(const RoundSpec& spec) {
         const Domain dom = plan_.domain;
-        const uint fanout = spec.refine ? 4u : 1u;
-        const uint side = spec.refine ? spec.side / 2u : spec.side;
+        const uint fanout = spec.fanout(), side = spec.child_side();
         const uint n = uint(cells_.size());
         if (std::size_t(n) * fanout >= GRID_TAG) throw Error("more than 2^31 active cells");
         fit(scan_, std::size_t(n) + 1);

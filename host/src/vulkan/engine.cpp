@@ -178,7 +178,7 @@ RoundResult VulkanEngine::round(const RoundSpec& spec, const RoundSpec* next) {
     // round trips fewer. Larger lists (the first levels) are written at their exact size.
     const bool counted = counted_ && *counted_ == spec;
     counted_.reset();
-    const std::uint64_t bound = std::uint64_t(active_) * (spec.refine ? 4u : 1u);
+    const std::uint64_t bound = std::uint64_t(active_) * spec.fanout();
     const RoundSpec* next_listed = next && !masked && !two ? next : nullptr;
     const bool worst_case = next_listed && bound * sizeof(uvec2) <= ctx_.peak_allocated_bytes() / kWorstCaseShare;
 
@@ -212,7 +212,7 @@ RoundResult VulkanEngine::round(const RoundSpec& spec, const RoundSpec* next) {
     // The darts get a buffer of their own, freed once they are emitted: the next active list
     // is then allocated in their place. When mask mode ends, refine_masked parks half of each
     // base cell's 64-bit mask there too.
-    const bool leaves = masked && masked_leaves(plan_.domain, spec.side / 2, spec.refine ? 4u : 1u);
+    const bool leaves = masked && masked_leaves(plan_.domain, spec.child_side(), spec.fanout());
     darts_ = Buffer(ctx_, std::max<std::uint64_t>(dart_words(darts) * 4, leaves ? std::uint64_t(n) * 4 : 0), false);
     const std::uint64_t ranks = scratch_.address() + at.ranks;
     const std::uint64_t dart_list = darts_.address();
@@ -252,8 +252,7 @@ RoundResult VulkanEngine::round(const RoundSpec& spec, const RoundSpec* next) {
     per_dart.cell_count = darts;
     ctx_.dispatch(emitted_ == 0 ? throw_sited_empty_ : throw_sited_, &per_dart, dispatch_groups(darts, WORKGROUP_SIZE));
     ctx_.barrier();  // darts, grid dart ranges and work list before resolution
-    const std::uint32_t fanout = spec.refine ? 4 : 1;
-    const std::uint32_t child_side = spec.refine ? spec.side / 2 : spec.side;
+    const std::uint32_t fanout = spec.fanout(), child_side = spec.child_side();
     a.param = darts;  // the commit kernels end the flags with a 0 at flags[darts]
     DartArgs d = dart_args(dart_list, darts, std::uint32_t(emitted_));
     d.scan = ranks;
