@@ -81,16 +81,18 @@ inline uint64_t count_masked_range(CellArgs a, uvec2* words, const uint* masks, 
     for (uint i = b; i < e;) {
         uint end = e - i < kBatch ? e : i + kBatch;
         uint n = 0u;
-        uvec2 cell = uvec2(i % a.domain.cells_x, i / a.domain.cells_x);
+        const uint base_side = 1u << a.domain.cell_bits, row_end = a.domain.cells_x << a.domain.cell_bits;
+        uvec2 corner = base_corner(a.domain, i);
         for (uint j = i; j < end; j++) {
             uvec2 w = words[j];
             if (masks != nullptr) words[j] = w = masked_word(w, masks[j]);
             uint m = 0u;
             for (uint mask = masked_active(w) ? w.y & GRID_MASK_BITS : 0u; mask != 0u; mask &= mask - 1u)
-                corners[n + m++] = subcell_corner(cell << a.domain.cell_bits, uint(findLSB(mask)), a.side);
+                corners[n + m++] = subcell_corner(corner, uint(findLSB(mask)), a.side);
             subcells[j - i] = std::uint8_t(m);
             n += m;
-            if (++cell.x == a.domain.cells_x) cell = uvec2(0u, cell.y + 1u);
+            corner.x += base_side;
+            if (corner.x == row_end) corner = uvec2(0u, corner.y + base_side);
         }
         cell_dart_counts(a.round_key, corners.data(), n, a.param, counts.data());
         n = 0u;
