@@ -101,7 +101,8 @@ VRPD_FN bool cover_tested(Domain dom, uint fanout, uint side) {
 // of disks stay, and are split until they are single lattice points, where the test is exact.
 // A child's x and y intervals are shared in pairs: 2 + 2 far offsets per sample rather than 4
 // corner tests.
-// `samples` is gather_cell_samples's count for the base cell (past MAX_CELL_SAMPLES: scan the grid).
+// `samples` is gather_cell_samples's count for the base cell (past MAX_CELL_SAMPLES: the grid is
+// scanned instead).
 //
 // Two radii: a cell is the closed square [corner, corner + side]^2 (continuous: T's test is), and
 // a child that no single disk covers is tested exactly (t_membership.h): it stays iff it still holds
@@ -140,9 +141,7 @@ VRPD_FN uint surviving_children(VRPD_IN(Domain) dom, Grid grid, uvec2 base, uvec
 #endif
         for (uint k = 0u; k < samples && mask != 0u; k++)
             cover_children(dom, b, fanout, cell_sample_at[k], mask, open_corners);
-    }
-#ifndef VRPD_ONE_RADIUS  // one radius: MAX_CELL_SAMPLES holds any neighbourhood (gather_cell_samples)
-    else {
+    } else {
         int reach = cover_reach(dom.radii);
         VRPD_FOR_EACH_NEIGHBOUR(dom, base, reach, dom.radii.coverage2, dx, dy, nb) {
             if (mask == 0u) return 0u;
@@ -150,6 +149,7 @@ VRPD_FN uint surviving_children(VRPD_IN(Domain) dom, Grid grid, uvec2 base, uvec
             if (grid_is_sample(p)) cover_children(dom, b, fanout, sample_offset(dom, dx, dy, p), mask, open_corners);
         }
     }
+#ifndef VRPD_ONE_RADIUS
     for (uint c = 0u; c < fanout && two_radii(dom.radii); c++) {
         if ((mask & (1u << c)) == 0u) continue;
         uint k = 3u * (c >> 1u) + (c & 1u);
@@ -223,7 +223,12 @@ VRPD_FN void refine_cells_of_base(CellArgs a, Cells cells, Uints counts, Uints m
         return refine_cells_inner(a, cells, counts, masks, grid.word + base_index(dom, base),
                                   uvec2(base.x << dom.cell_bits, base.y << dom.cell_bits), first, end);
 #endif
-    uint samples = spent || !cover_tested(dom, a.param, a.side) ? 0u : gather_cell_samples(dom, grid, base);
+    // One radius, one cell (the Vulkan kernel's): its test reads the samples from the grid as it
+    // meets them (MAX_CELL_SAMPLES + 1), as there is no other cell to share a gather, which
+    // llvmpipe keeps in memory.
+    uint samples = spent || !cover_tested(dom, a.param, a.side) ? 0u
+                   : end - first == 1u && !two_radii(dom.radii) ? MAX_CELL_SAMPLES + 1u
+                                                                : gather_cell_samples(dom, grid, base);
     for (uint i = first; i < end; i++) {
         uint mask = spent ? 0u : surviving_children(dom, grid, base, cells.cell[i], a.side, a.param, samples);
         masks.value[i] = mask;
