@@ -1,6 +1,9 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #define VRPD_ONE_RADIUS  // mask mode serves one radius only (shared/domain.h)
+// A base cell's samples are always gathered here: surviving_children's scan of the grid is left
+// out, as llvmpipe runs a branch's code whether a lane takes it or not (shared/radii.h).
+#define VRPD_GATHERED
 #include "common.glsl"
 #include "shared/sampler.h"
 #include "masked.glsl"

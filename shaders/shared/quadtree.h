@@ -141,7 +141,9 @@ VRPD_FN uint surviving_children(VRPD_IN(Domain) dom, Grid grid, uvec2 base, uvec
 #endif
         for (uint k = 0u; k < samples && mask != 0u; k++)
             cover_children(dom, b, fanout, cell_sample_at[k], mask, open_corners);
-    } else {
+    }
+#ifndef VRPD_GATHERED  // a kernel whose tests always gather (refine_masked) leaves the scan out
+    else {
         int reach = cover_reach(dom.radii);
         VRPD_FOR_EACH_NEIGHBOUR(dom, base, reach, dom.radii.coverage2, dx, dy, nb) {
             if (mask == 0u) return 0u;
@@ -149,6 +151,7 @@ VRPD_FN uint surviving_children(VRPD_IN(Domain) dom, Grid grid, uvec2 base, uvec
             if (grid_is_sample(p)) cover_children(dom, b, fanout, sample_offset(dom, dx, dy, p), mask, open_corners);
         }
     }
+#endif
 #ifndef VRPD_ONE_RADIUS
     for (uint c = 0u; c < fanout && two_radii(dom.radii); c++) {
         if ((mask & (1u << c)) == 0u) continue;
