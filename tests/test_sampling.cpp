@@ -4,9 +4,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <numeric>
 #include <random>
 
+#include "cpu/cover_scatter.h"
 #include "engine.h"
 #include "plan.h"
 #include "shared/sampler.h"
@@ -395,6 +397,81 @@ TEST_CASE("refinement drops exactly the children one sample's disk covers", "[sa
         }
         if (!two_radii(d.radii)) CHECK((dropped > 20 && alive > 20));
     }
+}
+
+TEST_CASE("mask mode's refinement by scattered covers keeps the children the gathered test keeps", "[sampling]") {
+    struct ScatterCase {
+        double r;
+        Box box;
+        std::uint32_t max_cell_bits;
+    };
+    // A coarse lattice (max_cell_bits 3 or 4) puts samples at exactly r from children's corners.
+    const ScatterCase cases[] = {{0.02, {1, 1, Boundary::Periodic}, 30},
+                                 {0.013, {1.3, 0.7, Boundary::Free}, 30},
+                                 {0.03, {1, 1, Boundary::Periodic}, 3},
+                                 {0.05, {0.6, 1, Boundary::Free}, 4}};
+    using namespace shared;
+    std::mt19937 rng(11);
+    detail::ThreadPool pool(3);
+    std::uint64_t taken = 0;
+    for (const ScatterCase& c : cases) {
+        const SampleOptions o = options(c.r, 5, Backend::Cpu, c.box);
+        const detail::Plan plan = detail::make_plan(o, c.max_cell_bits);
+        const Sampling full = detail::sample_plan(o, plan);
+        const Domain& d = plan.domain;
+        for (uint level = 1u; level <= 2u; ++level) {
+            INFO("r " << c.r << " box " << c.box.width << "x" << c.box.height << " children of level " << level);
+            // Every third sample removed, so that cells stay uncovered; the other base cells hold
+            // level 0's one cell or random cells of level 1, some as a round's darts word.
+            std::vector<uvec2> grid(plan.base_cells);
+            for (uvec2& w : grid) {
+                const uint mask = level == 1u ? 1u : uint(rng() % 16u);
+                w = rng() % 4u ? uvec2(GRID_EMPTY, mask) : uvec2(GRID_TAG | GRID_PACKED | 7u, 3u << 16u | mask);
+            }
+            for (std::size_t i = 0; i < full.size(); ++i)
+                if (i % 3 != 0) grid[base_of_point(d, full.lattice[i])] = full.lattice[i];
+            // On a coarse lattice, r^2 becomes the commonest squared gap from a sample to a child's
+            // farthest corner in [r^2 / 2, r^2]: many children lie at exactly r (r shrinks, so
+            // the samples stay conflict-free and the reaches hold).
+            Domain dom = d;
+            if (c.max_cell_bits <= 4u) {
+                const int h = (1 << d.cell_bits) >> level, reach = cover_reach(d.radii);
+                const int lo = -reach << level, hi = (reach + 1) << level;
+                std::map<std::uint64_t, int> seen;
+                for (std::size_t i = 1; i < std::min<std::size_t>(full.size(), 400); i += 3) {
+                    const uvec2 at = full.lattice[i] & uvec2((1u << d.cell_bits) - 1u);
+                    for (int jy = lo; jy < hi; ++jy)
+                        for (int jx = lo; jx < hi; ++jx) {
+                            const std::uint64_t g =
+                                far2(int(at.x), jx * h, jx * h + h - 1) + far2(int(at.y), jy * h, jy * h + h - 1);
+                            if (2u * g >= d.radii.coverage2 && g <= d.radii.coverage2) ++seen[g];
+                        }
+                }
+                const auto common = std::max_element(seen.begin(), seen.end(),
+                                                     [](const auto& x, const auto& y) { return x.second < y.second; });
+                REQUIRE(common != seen.end());
+                dom.radii.coverage2 = dom.radii.inhibition2 = common->first;
+            }
+            const CellArgs a{dom, 0, 0, 0, 0, 0, 0, 0, 0, uint(plan.base_cells), 0, (1u << d.cell_bits) >> level, 4u};
+            std::vector<uint> expected(plan.base_cells);
+            std::uint64_t active = 0;
+            for (uint b = 0; b < plan.base_cells; ++b) {
+                expected[b] = refine_masked_base(a, Grid{grid.data()}, b).x;
+                active += uint(bitCount(expected[b]));
+                const uvec2 w = grid[b];
+                if (!grid_is_sample(w))
+                    for (uint m = w.y & 15u; m != 0u; m &= m - 1u)
+                        taken += 4u - uint(bitCount(expected[b] >> (4u * uint(findLSB(m))) & 15u));
+            }
+            for (const bool vector : {true, false}) {
+                INFO("vector bodies " << vector);
+                std::vector<uint> masks(plan.base_cells, 0xDEADu);
+                CHECK(detail::refine_masked_scattered(pool, a, Grid{grid.data()}, masks.data(), vector) == active);
+                REQUIRE(masks == expected);
+            }
+        }
+    }
+    CHECK(taken > 10000);
 }
 
 TEST_CASE("density matches random sequential adsorption within 0.1 %", "[statistics]") {

@@ -12,6 +12,7 @@
 
 #include "engine.h"
 #include "arrival_order.h"
+#include "cover_scatter.h"
 #include "shared/sampler.h"
 #include "serial_oracle.h"
 #include "thread_pool.h"
@@ -290,19 +291,11 @@ private:
             return chunk_offsets(first);
         }
         if (!masked_leaves(dom, side, fanout)) {
-            fit(masks_, bases);
-            pool_.parallel_for(bases, [&](std::size_t b, std::size_t e, unsigned w) {
-                std::uint64_t sum = 0;
-                for (std::size_t i = b; i < e; ++i) {
-                    masks_[i] = refine_masked_base(args, grid(), uint(i)).x;
-                    sum += uint(bitCount(masks_[i]));
-                }
-                first[w + 1] = sum;
-            });
-            note_peak();
-            // The next round's count pass writes them to the words (refinement reads the
+            // The next round's count pass writes the masks to the words (refinement reads the
             // neighbours' words, so not this pass).
-            return chunk_offsets(first);
+            fit(masks_, bases);
+            note_peak();
+            return refine_masked_scattered(pool_, args, grid(), masks_.data());
         }
         // Each chunk of base cells keeps its nonzero masks, in order, then writes their children.
         std::vector<std::vector<std::pair<uint, uvec2>>> kept(pool_.chunks(bases));

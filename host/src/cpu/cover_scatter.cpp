@@ -1,0 +1,251 @@
+#include "cover_scatter.h"
+
+#include <algorithm>
+#include <array>
+
+#include "shared/mask_mode.h"
+
+namespace vrpd::detail {
+using namespace shared;
+
+namespace {
+
+constexpr int kWidth = 2 * int(MAX_REACH) + 1;
+
+// The base cells that take their masks from the scatter, a box of the grid: those whose window
+// neither wraps nor meets a free boundary and that lie whole on the lattice (vector_refinement's
+// cells), so that no child is clipped and every sample that can cover a child lies at a straight
+// offset within cover_reach.
+struct Scattered {
+    int x0 = 0, x1 = -1, y0 = 0, y1 = -1;
+    // None but where cells split (fanout 4).
+    Scattered(const Domain& dom, uint fanout) {
+        if (fanout != 4u || two_radii(dom.radii) || cover_reach(dom.radii) > int(MAX_REACH)) return;
+        if (dom.lattice.periodic != 0u && !straight_inner_cells(dom)) return;
+        const int inner = int(influence_reach(dom.radii));
+        x0 = y0 = inner;
+        x1 = std::min(int(dom.cells_x) - 1 - inner, int(dom.lattice.extent_x >> dom.cell_bits) - 1);
+        y1 = std::min(int(dom.cells_y) - 1 - inner, int(dom.lattice.extent_y >> dom.cell_bits) - 1);
+    }
+    bool any() const { return x0 <= x1 && y0 <= y1; }
+    bool holds(int x, int y) const { return x >= x0 && x <= x1 && y >= y0 && y <= y1; }
+};
+
+// The sub-cells of the next level under the active sub-cells of a 4-bit mask: the children of
+// sub-cell k are sub-cells 4 k to 4 k + 3 (mask_mode.h's numbering).
+constexpr auto kAllChildren = [] {
+    std::array<uint, 16> t{};
+    for (uint m = 0u; m < 16u; m++)
+        for (uint k = 0u; k < 4u; k++)
+            if ((m >> k & 1u) != 0u) t[m] |= 0xFu << (4u * k);
+    return t;
+}();
+
+// Two rows of 4 x 4 children as mask bits, from their bits row by row (bit 4 iy + ix): k's even
+// bits are x's, its odd bits y's (subcell_corner's numbering). Rows 2 and 3 take the same bits 8
+// places up.
+constexpr auto kRowsToMask = [] {
+    std::array<std::uint8_t, 256> t{};
+    for (uint rows = 0u; rows < 256u; rows++)
+        for (uint iy = 0u; iy < 2u; iy++)
+            for (uint ix = 0u; ix < 4u; ix++)
+                if ((rows >> (4u * iy + ix) & 1u) != 0u)
+                    t[rows] |= std::uint8_t(1u << ((ix & 1u) | iy << 1u | (ix & 2u) << 1u));
+    return t;
+}();
+
+// The children of N x N (N = 2 or 4) whose bits row by row are `rows` (bit N iy + ix), as mask bits.
+template <uint N>
+uint children_mask(uint rows) {
+    if (N == 2u) return rows;  // 2 x 2: the mask's own order
+    return kRowsToMask[rows & 255u] | uint(kRowsToMask[rows >> 8u]) << 8u;
+}
+
+// A sample's squared farthest gaps, per axis, to the children's intervals (N a side, side h) of
+// the base cells d - reach cells away, d in [0, 2 reach]; and the d where some child's gap is
+// below the limit, [x0, x1] along x and [y0, y1] along y (none beyond can hold a covered child).
+template <uint N>
+struct Gaps {
+    alignas(32) int64_t x[kWidth][4], y[kWidth][4];  // 4 a row for the vector bodies' loads
+    int x0 = kWidth, x1 = -1, y0 = kWidth, y1 = -1;
+
+    Gaps() = default;
+    Gaps(const Domain& dom, uint h, uvec2 p, int64_t limit) {
+        const int reach = cover_reach(dom.radii), side = 1 << dom.cell_bits;
+        const int px = int(p.x & uint(side - 1)), py = int(p.y & uint(side - 1));
+        for (int d = 0; d <= 2 * reach; ++d) {
+            const int ox = px - (d - reach) * side, oy = py - (d - reach) * side;
+            bool near_x = false, near_y = false;
+            for (uint i = 0u; i < N; ++i) {
+                const int lo = int(i * h), hi = lo + int(h) - 1;
+                x[d][i] = int64_t(far2(ox, lo, hi));
+                y[d][i] = int64_t(far2(oy, lo, hi));
+                near_x = near_x || x[d][i] < limit;
+                near_y = near_y || y[d][i] < limit;
+            }
+            if (near_x) x0 = std::min(x0, d), x1 = d;
+            if (near_y) y0 = std::min(y0, d), y1 = d;
+        }
+    }
+};
+
+// Calls visit(mask, dx, dy) for each scattered base cell (dx - reach, dy - reach) cells from sample
+// p's that Gaps leaves in (`fast`: every base cell within cover_reach of p's is scattered).
+template <uint N, typename Visit>
+[[gnu::always_inline]] inline void each_near_cell(const Domain& dom, const Scattered& box, const Gaps<N>& g, uvec2 p,
+                                                  bool fast, uint* masks, Visit&& visit) {
+    const int reach = cover_reach(dom.radii);
+    const uvec2 s = base_cell_of(dom, p);
+    for (int dy = g.y0; dy <= g.y1; ++dy) {
+        const int y = int(s.y) + dy - reach;
+        uint* row = masks + std::size_t(y) * dom.cells_x;
+        for (int dx = g.x0; dx <= g.x1; ++dx) {
+            const int x = int(s.x) + dx - reach;
+            if (fast || box.holds(x, y)) visit(row[x], dx, dy);
+        }
+    }
+}
+
+// Clears from the masks of the scattered base cells around sample p the children (side h, N a
+// side) that its disk covers wholly: far2's exact corner test, as uncovered_children runs it.
+template <uint N>
+void scatter_sample(const Domain& dom, const Scattered& box, uint h, uvec2 p, bool fast, uint* masks) {
+    const int64_t limit = int64_t(dom.radii.coverage2);
+    const Gaps<N> g(dom, h, p, limit);
+    each_near_cell<N>(dom, box, g, p, fast, masks, [&](uint& mask, int dx, int dy) {
+        uint rows = 0u;
+        for (uint iy = 0u; iy < N; ++iy) {
+            const int64_t room = limit - g.y[dy][iy];
+            for (uint ix = 0u; ix < N; ++ix) rows |= uint(g.x[dx][ix] < room) << (N * iy + ix);
+        }
+        mask &= ~children_mask<N>(rows);
+    });
+}
+
+#ifdef VRPD_HOST_AVX2
+// scatter_sample on processors with AVX2: a base cell's gaps along x and y in one vector, and a
+// row of children's gaps compared with the room a row's y gap leaves at once.
+template <uint N>
+[[gnu::target("avx2")]] void scatter_sample_avx2(const Domain& dom, const Scattered& box, uint h, uvec2 p, bool fast,
+                                                 uint* masks) {
+    const int64_t limit = int64_t(dom.radii.coverage2);
+    const int reach = cover_reach(dom.radii), side = 1 << dom.cell_bits;
+    const int px = int(p.x & uint(side - 1)), py = int(p.y & uint(side - 1));
+    const int step = int(h);
+    // Lanes 0-3: the children's intervals along x, 4-7 along y (with N = 2, lanes 2, 3, 6 and 7
+    // lie past the cell and are not read).
+    const __m256i lo = _mm256_setr_epi32(0, step, 2 * step, 3 * step, 0, step, 2 * step, 3 * step);
+    const __m256i hi = _mm256_add_epi32(lo, _mm256_set1_epi32(step - 1));
+    const __m256i bound = _mm256_set1_epi64x(limit);
+    const int lanes = (1 << N) - 1;
+    Gaps<N> g;
+    for (int d = 0; d <= 2 * reach; ++d) {
+        const int ox = px - (d - reach) * side, oy = py - (d - reach) * side;
+        const __m256i o = _mm256_setr_epi32(ox, ox, ox, ox, oy, oy, oy, oy);
+        const __m256i f = _mm256_max_epi32(_mm256_sub_epi32(o, lo), _mm256_sub_epi32(hi, o));
+        const __m256i odd = _mm256_srli_epi64(f, 32);
+        const __m256i even2 = _mm256_mul_epi32(f, f), odd2 = _mm256_mul_epi32(odd, odd);  // x0 x2 y0 y2, x1 x3 y1 y3
+        const __m256i low = _mm256_unpacklo_epi64(even2, odd2), high = _mm256_unpackhi_epi64(even2, odd2);
+        const __m256i gx = _mm256_permute2x128_si256(low, high, 0x20), gy = _mm256_permute2x128_si256(low, high, 0x31);
+        _mm256_store_si256(reinterpret_cast<__m256i*>(g.x[d]), gx);
+        _mm256_store_si256(reinterpret_cast<__m256i*>(g.y[d]), gy);
+        if ((_mm256_movemask_pd(_mm256_castsi256_pd(_mm256_cmpgt_epi64(bound, gx))) & lanes) != 0)
+            g.x0 = std::min(g.x0, d), g.x1 = d;
+        if ((_mm256_movemask_pd(_mm256_castsi256_pd(_mm256_cmpgt_epi64(bound, gy))) & lanes) != 0)
+            g.y0 = std::min(g.y0, d), g.y1 = d;
+    }
+    const uvec2 s = base_cell_of(dom, p);
+    for (int dy = g.y0; dy <= g.y1; ++dy) {
+        const int y = int(s.y) + dy - reach;
+        uint* row = masks + std::size_t(y) * dom.cells_x;
+        __m256i room[N];
+        for (uint iy = 0u; iy < N; ++iy) room[iy] = _mm256_set1_epi64x(limit - g.y[dy][iy]);
+        for (int dx = g.x0; dx <= g.x1; ++dx) {
+            const int x = int(s.x) + dx - reach;
+            if (!fast && !box.holds(x, y)) continue;
+            const __m256i gx = _mm256_load_si256(reinterpret_cast<const __m256i*>(g.x[dx]));
+            uint rows = 0u;
+            for (uint iy = 0u; iy < N; ++iy)
+                rows |= uint(_mm256_movemask_pd(_mm256_castsi256_pd(_mm256_cmpgt_epi64(room[iy], gx))) & lanes)
+                        << (N * iy);
+            row[x] &= ~children_mask<N>(rows);
+        }
+    }
+}
+#endif
+
+}  // namespace
+
+std::uint64_t refine_masked_scattered(ThreadPool& pool, const CellArgs& a, Grid grid, uint* masks,
+                                      [[maybe_unused]] bool vector_bodies) {
+    const Domain& dom = a.domain;
+    const uint bases = dom.cells_x * dom.cells_y;
+    const Scattered box(dom, a.param);
+    // Every child of an active sub-cell of a scattered base cell, then the samples' covers taken
+    // from them; the other base cells refined as refine_masked_base refines them.
+    pool.parallel_for(bases, [&](std::size_t b, std::size_t e, unsigned) {
+        int x = int(b % dom.cells_x), y = int(b / dom.cells_x);
+        for (std::size_t i = b; i < e; ++i) {
+            const uvec2 w = grid.word[i];
+            if (box.holds(x, y))
+                masks[i] = masked_active(w) ? kAllChildren[w.y & 15u] : 0u;
+            else
+                masks[i] = refine_masked_base(a, grid, uint(i)).x;
+            if (++x == int(dom.cells_x)) x = 0, ++y;
+        }
+    });
+    if (box.any()) {
+        const uint h = a.side, n = (1u << dom.cell_bits) / h;
+        const int reach = cover_reach(dom.radii);
+#ifdef VRPD_HOST_AVX2
+        const bool avx2 = vector_bodies && host_has_avx2();
+#endif
+        // The samples in grid order, so that neighbouring samples meet the same masks in cache, in
+        // bands of rows at least 2 reach high: a sample's writes reach the bands beside its own at
+        // most, so the even bands and then the odd ones run in parallel without sharing a mask.
+        auto scatter_row = [&](std::size_t first) {
+            for (std::size_t i = first; i < first + dom.cells_x; ++i) {
+                const uvec2 p = grid.word[i];
+                if (!grid_is_sample(p)) continue;
+                const uvec2 s = base_cell_of(dom, p);
+                const bool fast =
+                    box.holds(int(s.x) - reach, int(s.y) - reach) && box.holds(int(s.x) + reach, int(s.y) + reach);
+#ifdef VRPD_HOST_AVX2
+                if (avx2) {
+                    if (n == 2u)
+                        scatter_sample_avx2<2>(dom, box, h, p, fast, masks);
+                    else
+                        scatter_sample_avx2<4>(dom, box, h, p, fast, masks);
+                    continue;
+                }
+#endif
+                if (n == 2u)
+                    scatter_sample<2>(dom, box, h, p, fast, masks);
+                else
+                    scatter_sample<4>(dom, box, h, p, fast, masks);
+            }
+        };
+        const uint band = std::max(2u * uint(reach), 8u), bands = (dom.cells_y + band - 1u) / band;
+        for (uint parity = 0u; parity < 2u; ++parity)
+            pool.parallel_for((bands + 1u - parity) / 2u,
+                              [&](std::size_t b, std::size_t e, unsigned) {
+                                  for (std::size_t k = b; k < e; ++k) {
+                                      const uint first = (2u * uint(k) + parity) * band,
+                                                 end = std::min(first + band, dom.cells_y);
+                                      for (uint y = first; y < end; ++y) scatter_row(std::size_t(y) * dom.cells_x);
+                                  }
+                              },
+                              1);
+    }
+    std::vector<std::uint64_t> active(pool.chunks(bases), 0);
+    pool.parallel_for(bases, [&](std::size_t b, std::size_t e, unsigned w) {
+        std::uint64_t sum = 0;
+        for (std::size_t i = b; i < e; ++i) sum += uint(bitCount(masks[i]));
+        active[w] = sum;
+    });
+    std::uint64_t total = 0;
+    for (const std::uint64_t c : active) total += c;
+    return total;
+}
+
+}  // namespace vrpd::detail
