@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <bit>
 #include <thread>
 
 #include "../engine.h"
@@ -147,12 +148,18 @@ std::uint64_t decide_in_arrival_order(const Domain& dom, Grid grid, Darts darts,
                    end = v + 1u == parts ? count : uint(std::uint64_t(count) * (v + 1u) / parts) & ~15u;
         std::vector<Keys>& lists = listed[v];
         for (uint block = begin; block < end; block += 16u) {  // darts.h: 16 records, then their states
+            // Bit 2 i: dart block + i is undecided (state 0); the block's records past `end` are not.
             const uint states = load_state_word(darts, dart_state_word(block));
-            const uint* word = &darts.word[dart_record(block)];
-            for (uint j = block; j < std::min(block + 16u, end); ++j, word += 3)
-                if ((states >> dart_state_shift(j) & 3u) == DART_UNDECIDED && word[2] >> 30 == quarter)
+            uint open = ~(states | states >> 1u) & 0x55555555u;
+            if (end - block < 16u) open &= (1u << (2u * (end - block))) - 1u;
+            const uint* record = &darts.word[dart_record(block)];
+            for (; open != 0u; open &= open - 1u) {
+                const uint i = uint(std::countr_zero(open)) / 2u;
+                const uint* word = record + 3u * i;
+                if (word[2] >> 30 == quarter)
                     lists[whole ? 0u : strips.of_row(word[1] >> dom.cell_bits)].push_back(std::uint64_t(word[2]) << 32 |
-                                                                                          j);
+                                                                                          (block + i));
+            }
         }
     };
     // Strip w's darts of the quarter, in arrival order. A dart within reach of a neighbouring
