@@ -184,14 +184,19 @@ std::uint64_t refine_masked_scattered(ThreadPool& pool, const CellArgs& a, Grid 
     // Every child of an active sub-cell of a scattered base cell, then the samples' covers taken
     // from them; the other base cells refined as refine_masked_base refines them.
     pool.parallel_for(bases, [&](std::size_t b, std::size_t e, unsigned) {
-        int x = int(b % dom.cells_x), y = int(b / dom.cells_x);
-        for (std::size_t i = b; i < e; ++i) {
-            const uvec2 w = grid.word[i];
-            if (box.holds(x, y))
+        // A row's part in [b, e): the box's cells [x0, x1] if the row is the box's, the others
+        // each by refine_masked_base.
+        for (std::size_t i = b; i < e;) {
+            const std::size_t y = i / dom.cells_x, row = y * dom.cells_x, stop = std::min(row + dom.cells_x, e);
+            const bool boxed = box.holds(box.x0, int(y));
+            const std::size_t from = boxed ? std::clamp(row + std::size_t(box.x0), i, stop) : stop,
+                              to = boxed ? std::clamp(row + std::size_t(box.x1) + 1u, i, stop) : stop;
+            for (; i < from; ++i) masks[i] = refine_masked_base(a, grid, uint(i)).x;
+            for (; i < to; ++i) {
+                const uvec2 w = grid.word[i];
                 masks[i] = masked_active(w) ? kAllChildren[w.y & 15u] : 0u;
-            else
-                masks[i] = refine_masked_base(a, grid, uint(i)).x;
-            if (++x == int(dom.cells_x)) x = 0, ++y;
+            }
+            for (; i < stop; ++i) masks[i] = refine_masked_base(a, grid, uint(i)).x;
         }
     });
     if (box.any()) {
