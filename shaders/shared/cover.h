@@ -32,7 +32,10 @@ template <bool kFarthest, int kReach>
     const __m256i from = _mm256_set1_epi64x(int64_t(uint64_t(at.y) << 32 | at.x));
     const __m256i far_side = _mm256_set1_epi64x(int64_t(uint64_t(uint(far.y)) << 32 | uint(far.x)));
     const __m256i limit = _mm256_set1_epi64x(int64_t(limit2));
-    for (int dy = -kReach; dy <= kReach; dy++) {
+    // The centre row first, then the rows either side outwards: a hit, which ends the scan, lies
+    // mostly near the centre.
+    for (int k = 0; k < width; k++) {
+        const int dy = (k & 1) != 0 ? -(k + 1) / 2 : k / 2;
         const auto* row = reinterpret_cast<const long long*>(centre + dy * stride - kReach);
         for (int half = 0; half < (width > 4 ? 2 : 1); half++) {
             const __m256i w = _mm256_maskload_epi64(row + 4 * half, half == 0 ? low : high);
