@@ -98,6 +98,7 @@ template <uint N, typename Visit>
     const uvec2 s = base_cell_of(dom, p);
     for (int dy = g.y0; dy <= g.y1; ++dy) {
         const int y = int(s.y) + dy - reach;
+        if (!fast && (y < box.y0 || y > box.y1)) continue;
         uint* row = masks + std::size_t(y) * dom.cells_x;
         for (int dx = g.x0; dx <= g.x1; ++dx) {
             const int x = int(s.x) + dx - reach;
@@ -157,6 +158,7 @@ template <uint N>
     const uvec2 s = base_cell_of(dom, p);
     for (int dy = g.y0; dy <= g.y1; ++dy) {
         const int y = int(s.y) + dy - reach;
+        if (!fast && (y < box.y0 || y > box.y1)) continue;
         uint* row = masks + std::size_t(y) * dom.cells_x;
         __m256i room[N];
         for (uint iy = 0u; iy < N; ++iy) room[iy] = _mm256_set1_epi64x(limit - g.y[dy][iy]);
