@@ -155,6 +155,7 @@ template <uint N>
         if ((_mm256_movemask_pd(_mm256_castsi256_pd(_mm256_cmpgt_epi64(bound, gy))) & lanes) != 0)
             g.y0 = std::min(g.y0, d), g.y1 = d;
     }
+    // each_near_cell's loop, written out: a lambda's body would not be built for AVX2.
     const uvec2 s = base_cell_of(dom, p);
     for (int dy = g.y0; dy <= g.y1; ++dy) {
         const int y = int(s.y) + dy - reach;
