@@ -72,7 +72,7 @@ template <bool kFarthest>
 // Is point p inhibited (INHIBITION: closer than Rf) or covered (COVERAGE: closer than Rc) by a
 // sample of an earlier round? The samples near base cell `base` are read from the grid; dom is
 // local_domain(base).
-VRPD_FN bool near_sample(Domain dom, Grid grid, uvec2 base, uvec2 p, uint which) {
+VRPD_FN bool near_sample(VRPD_IN(Domain) dom, Grid grid, uvec2 base, uvec2 p, uint which) {
     int reach = radius_reach(dom.radii, which);
 #ifdef VRPD_HOST_AVX2
     if (reach <= int(MAX_REACH) && vector_window(dom, base))
@@ -88,7 +88,7 @@ VRPD_FN bool near_sample(Domain dom, Grid grid, uvec2 base, uvec2 p, uint which)
 
 // Is point p off the domain or inhibited by a sample of an earlier round? Then a dart there is
 // rejected when thrown.
-VRPD_FN bool inhibited(Domain dom, Grid grid, uvec2 base, uvec2 p) {
+VRPD_FN bool inhibited(VRPD_IN(Domain) dom, Grid grid, uvec2 base, uvec2 p) {
     return !in_lattice(dom.lattice, p) || near_sample(dom, grid, base, p, INHIBITION);
 }
 

@@ -113,7 +113,7 @@ inline uint64_t count_masked_range(CellArgs a, uvec2* words, const uint* masks, 
 // Mask mode, the host's throw: writes the darts of base cell b, from `first` on, in the order of
 // its sub-cells, each rejected if it lies in the disk of a sample of an earlier round (as
 // throw_base_cell; no_samples as throw_cell's). Returns how many are still undecided.
-VRPD_FN uint throw_masked_base(CellArgs a, Darts darts, Grid grid, uint b, uint first, bool no_samples) {
+VRPD_FN uint throw_masked_base(VRPD_IN(CellArgs) a, Darts darts, Grid grid, uint b, uint first, bool no_samples) {
     uvec2 w = grid.word[b];
     uvec2 base = uvec2(b % a.domain.cells_x, b / a.domain.cells_x);
     Domain dom = local_domain(a.domain, base);
@@ -177,7 +177,7 @@ VRPD_FN void site_masked_darts(CellArgs a, Darts darts, uvec2 w, uint b, uint fi
 // Mask mode: the surviving children of base cell b's active sub-cells (a.side: the children's
 // side; a.param: 4 children, or 1: the cell itself), sub-cell k's as bits a.param * k + c, up to
 // 16 sub-cells: bits 0-31 in .x and 32-63 in .y, so that level 2's sub-cells may split too.
-VRPD_FN uvec2 refine_masked_base(CellArgs a, Grid grid, uint b) {
+VRPD_FN uvec2 refine_masked_base(VRPD_IN(CellArgs) a, Grid grid, uint b) {
     uvec2 w = grid.word[b];
     uvec2 kept = uvec2(0u, 0u);
     if (grid_is_sample(w) || (w.y & GRID_MASK_BITS) == 0u) return kept;

@@ -12,7 +12,7 @@ VRPD_BEGIN
 
 // Is base cell `cell` at least influence_reach cells from every side of the grid? Then its
 // neighbours' indices are plain offsets from its own: no wrap, no side to fall off.
-VRPD_FN bool inner_cell(Domain dom, uvec2 cell) {
+VRPD_FN bool inner_cell(VRPD_IN(Domain) dom, uvec2 cell) {
     uint r = influence_reach(dom.radii);
     return cell.x >= r && cell.x + r < dom.cells_x && cell.y >= r && cell.y + r < dom.cells_y;
 }
@@ -55,7 +55,7 @@ VRPD_FN int row_reach(Domain dom, int dy, int reach, uint64_t limit2) {
 
 // Do inner cells see a straight domain (local_domain)? On a free boundary, or on a torus at least
 // 2 (reach + 1) cells wide.
-VRPD_FN bool straight_inner_cells(Domain dom) {
+VRPD_FN bool straight_inner_cells(VRPD_IN(Domain) dom) {
     uint r = influence_reach(dom.radii);
     return dom.lattice.periodic == 0u || (dom.cells_x >= 2u * r + 2u && dom.cells_y >= 2u * r + 2u);
 }
@@ -64,9 +64,10 @@ VRPD_FN bool straight_inner_cells(Domain dom) {
 // whose neighbourhood does not wrap sees every relevant offset shorter than half the torus, so
 // straight distances equal torus distances there and the wrap can be skipped. Every predicate
 // gives the same answer with either domain; this one is cheaper.
-VRPD_FN Domain local_domain(Domain dom, uvec2 cell) {
-    if (dom.lattice.periodic != 0u && inner_cell(dom, cell) && straight_inner_cells(dom)) dom.lattice.periodic = 0u;
-    return dom;
+VRPD_FN Domain local_domain(VRPD_IN(Domain) dom, uvec2 cell) {
+    Domain local = dom;
+    if (dom.lattice.periodic != 0u && inner_cell(dom, cell) && straight_inner_cells(dom)) local.lattice.periodic = 0u;
+    return local;
 }
 
 // Visits the base cells (dx, dy) around base cell `cell` within `reach` rows and columns whose

@@ -215,7 +215,8 @@ inline ChildBoxes inner_child_boxes(ivec2 lo, int side, uint fanout) {
 // Vulkan kernel one cell per invocation: with two radii a base cell may hold hundreds of active
 // cells (driver.cpp, kCrowded), and llvmpipe ends a loop once 65 535 iterations have run in one
 // SIMD batch, which a group's T tests in one invocation passed, leaving cells unrefined.
-VRPD_FN void refine_cells_of_base(CellArgs a, Cells cells, Uints counts, Uints masks, Grid grid, uint first, uint end) {
+VRPD_FN void refine_cells_of_base(VRPD_IN(CellArgs) a, Cells cells, Uints counts, Uints masks, Grid grid, uint first,
+                                  uint end) {
     uvec2 base = base_cell_of(a.domain, cells.cell[first]);
     Domain dom = local_domain(a.domain, base);
     // A base cell that holds a sample, or (two radii) that one sample covers, keeps no cell.

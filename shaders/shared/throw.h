@@ -95,7 +95,8 @@ VRPD_FN uint throw_sited(CellArgs a, Darts darts, Grid grid, uint j, bool no_sam
 // of a sample of an earlier round (with two radii, membership in T is left to the resolution,
 // which sees this round's earlier darts as well): the host's throw. Each dart is made, tested and
 // written once. Returns how many are still undecided.
-VRPD_FN uint throw_base_cell(CellArgs a, Cells cells, Uints scan, Darts darts, Grid grid, uint e, uint end_cell) {
+VRPD_FN uint throw_base_cell(VRPD_IN(CellArgs) a, Cells cells, Uints scan, Darts darts, Grid grid, uint e,
+                             uint end_cell) {
     uvec2 base = base_cell_of(a.domain, cells.cell[e]);
     Domain dom = local_domain(a.domain, base);
     uint undecided = 0u;
