@@ -203,10 +203,14 @@ std::uint64_t refine_masked_scattered(ThreadPool& pool, const CellArgs& a, Grid 
         }
     });
     if (box.any()) {
-        const uint h = a.side, n = (1u << dom.cell_bits) / h;
+        const uint h = a.side;
         const int reach = cover_reach(dom.radii);
+        // The body for the children's count a side (2 or 4), chosen once.
+        using Body = void (*)(const Domain&, const Scattered&, uint, uvec2, bool, uint*);
+        const bool quarters = (1u << dom.cell_bits) / h == 4u;
+        Body scatter = quarters ? scatter_sample<4> : scatter_sample<2>;
 #ifdef VRPD_HOST_AVX2
-        const bool avx2 = vector_bodies && host_has_avx2();
+        if (vector_bodies && host_has_avx2()) scatter = quarters ? scatter_sample_avx2<4> : scatter_sample_avx2<2>;
 #endif
         // The samples in grid order, so that neighbouring samples meet the same masks in cache, in
         // bands of rows at least 2 reach high: a sample's writes reach the bands beside its own at
@@ -218,19 +222,7 @@ std::uint64_t refine_masked_scattered(ThreadPool& pool, const CellArgs& a, Grid 
                 const uvec2 s = base_cell_of(dom, p);
                 const bool fast =
                     box.holds(int(s.x) - reach, int(s.y) - reach) && box.holds(int(s.x) + reach, int(s.y) + reach);
-#ifdef VRPD_HOST_AVX2
-                if (avx2) {
-                    if (n == 2u)
-                        scatter_sample_avx2<2>(dom, box, h, p, fast, masks);
-                    else
-                        scatter_sample_avx2<4>(dom, box, h, p, fast, masks);
-                    continue;
-                }
-#endif
-                if (n == 2u)
-                    scatter_sample<2>(dom, box, h, p, fast, masks);
-                else
-                    scatter_sample<4>(dom, box, h, p, fast, masks);
+                scatter(dom, box, h, p, fast, masks);
             }
         };
         const uint band = std::max(2u * uint(reach), 8u), bands = (dom.cells_y + band - 1u) / band;
