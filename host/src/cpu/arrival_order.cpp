@@ -113,21 +113,21 @@ std::uint64_t decide_in_arrival_order(const Domain& dom, Grid grid, Darts darts,
     // The window a dart's judgement reads: Rf's with one radius; with two radii the 2 Rc window
     // that the T test gathers, which about half the darts past the Rf and Rc scans take.
     const int fetched = two_radii(dom.radii) ? int(influence_reach(dom.radii)) : conflict;
+    const bool wide = 2 * fetched > int(64 / sizeof(uvec2));  // a row's window may span three lines
     // Inlined by force: GCC counts a prefetch as no effect, and deletes the calls of a function
     // that only prefetches (its interprocedural analysis finds it pure before inlining).
     auto fetch_rows = [&](uint j) __attribute__((always_inline)) {
         constexpr int kLineWords = 64 / sizeof(uvec2);
         const uint r = dart_record(j);
-        const uvec2 c = base_cell_of(dom, uvec2(darts.word[r], darts.word[r + 1u]));
-        const int first_x = std::max(int(c.x) - fetched, 0);
-        const int span = std::min(int(c.x) + fetched, int(dom.cells_x) - 1) - first_x;
-        const int first_y = std::max(int(c.y) - fetched, 0);
-        const int rows = std::min(int(c.y) + fetched, int(dom.cells_y) - 1) - first_y;
-        const uvec2* row = &grid.word[std::size_t(first_y) * dom.cells_x + std::size_t(first_x)];
-        for (int y = 0; y <= rows; ++y, row += dom.cells_x) {
-            for (int x = kLineWords; x < span; x += kLineWords) __builtin_prefetch(row + x);
-            __builtin_prefetch(row);
-            __builtin_prefetch(row + span);
+        const int cx = int(darts.word[r] >> dom.cell_bits), cy = int(darts.word[r + 1u] >> dom.cell_bits);
+        const int first_x = std::max(cx - fetched, 0), last_x = std::min(cx + fetched, int(dom.cells_x) - 1);
+        const int last_y = std::min(cy + fetched, int(dom.cells_y) - 1);
+        const uvec2* row = &grid.word[std::size_t(std::max(cy - fetched, 0)) * dom.cells_x];
+        for (int y = std::max(cy - fetched, 0); y <= last_y; ++y, row += dom.cells_x) {
+            __builtin_prefetch(row + first_x);
+            if (wide)
+                for (int x = first_x + kLineWords; x < last_x; x += kLineWords) __builtin_prefetch(row + x);
+            __builtin_prefetch(row + last_x);
         }
     };
     // A dart accepted in a strip, by (key, index), for the merge of the strips' emissions.
