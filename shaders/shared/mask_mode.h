@@ -87,8 +87,13 @@ inline uint64_t count_masked_range(CellArgs a, uvec2* words, const uint* masks, 
             uvec2 w = words[j];
             if (masks != nullptr) words[j] = w = masked_word(w, masks[j]);
             uint m = 0u;
-            for (uint mask = masked_active(w) ? w.y & GRID_MASK_BITS : 0u; mask != 0u; mask &= mask - 1u)
-                corners[n + m++] = subcell_corner(corner, uint(findLSB(mask)), a.side);
+            if (a.side == base_side) {  // level 0: an active base cell is its one sub-cell
+                corners[n] = corner;
+                m = masked_active(w) ? 1u : 0u;
+            } else {
+                for (uint mask = masked_active(w) ? w.y & GRID_MASK_BITS : 0u; mask != 0u; mask &= mask - 1u)
+                    corners[n + m++] = subcell_corner(corner, uint(findLSB(mask)), a.side);
+            }
             subcells[j - i] = std::uint8_t(m);
             n += m;
             corner.x += base_side;
