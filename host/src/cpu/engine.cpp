@@ -199,9 +199,11 @@ private:
         });
         const bool no_samples = out_.empty();
         pool_.parallel_for(bases, [&](std::size_t b, std::size_t e, unsigned) {
-            for (std::size_t i = b; i < e; ++i)
-                if (grid_is_darts(grid_[i]))
-                    throw_masked_base(args, darts(), grid(), uint(i), grid_darts(grid_[i]).x, no_samples);
+            for (std::size_t i = b; i < e; ++i) {
+                const uvec2 darts_in = grid_darts(grid_[i]);  // most base cells get none
+                if (grid_is_darts(grid_[i]) && darts_in.x != darts_in.y)
+                    throw_masked_base(args, darts(), grid(), uint(i), darts_in.x, no_samples);
+            }
         });
         return total;
     }
