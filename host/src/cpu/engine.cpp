@@ -200,9 +200,10 @@ private:
         const bool no_samples = out_.empty();
         pool_.parallel_for(bases, [&](std::size_t b, std::size_t e, unsigned) {
             for (std::size_t i = b; i < e; ++i) {
-                const uvec2 darts_in = grid_darts(grid_[i]);  // most base cells get none
-                if (grid_is_darts(grid_[i]) && darts_in.x != darts_in.y)
-                    throw_masked_base(args, darts(), grid(), uint(i), darts_in.x, no_samples);
+                // A numbered word holds its dart count in .y's high 16 bits; most base cells get none.
+                const uvec2 w = grid_[i];
+                if (grid_is_darts(w) && w.y >> 16u != 0u)
+                    throw_masked_base(args, darts(), grid(), uint(i), grid_darts(w).x, no_samples);
             }
         });
         return total;
