@@ -121,9 +121,9 @@ std::uint64_t decide_in_arrival_order(const Domain& dom, Grid grid, Darts darts,
         const uint r = dart_record(j);
         const int cx = int(darts.word[r] >> dom.cell_bits), cy = int(darts.word[r + 1u] >> dom.cell_bits);
         const int first_x = std::max(cx - fetched, 0), last_x = std::min(cx + fetched, int(dom.cells_x) - 1);
-        const int last_y = std::min(cy + fetched, int(dom.cells_y) - 1);
-        const uvec2* row = &grid.word[std::size_t(std::max(cy - fetched, 0)) * dom.cells_x];
-        for (int y = std::max(cy - fetched, 0); y <= last_y; ++y, row += dom.cells_x) {
+        const int first_y = std::max(cy - fetched, 0), last_y = std::min(cy + fetched, int(dom.cells_y) - 1);
+        const uvec2* row = &grid.word[std::size_t(first_y) * dom.cells_x];
+        for (int y = first_y; y <= last_y; ++y, row += dom.cells_x) {
             __builtin_prefetch(row + first_x);
             if (wide)
                 for (int x = first_x + kLineWords; x < last_x; x += kLineWords) __builtin_prefetch(row + x);

@@ -202,7 +202,7 @@ private:
             for (std::size_t i = b; i < e; ++i) {
                 // A numbered word holds its dart count in .y's high 16 bits; most base cells get none.
                 const uvec2 w = grid_[i];
-                if (grid_is_darts(w) && w.y >> 16u != 0u)
+                if (grid_is_darts(w) && (w.y >> 16u) != 0u)
                     throw_masked_base(args, darts(), grid(), uint(i), grid_darts(w).x, no_samples);
             }
         });
