@@ -18,10 +18,12 @@ const uint GRID_MASK_BITS = 0xFFFFu;
 
 VRPD_FN bool grid_is_sample(uvec2 word) { return (word.x & GRID_TAG) == 0u; }
 VRPD_FN bool grid_is_darts(uvec2 word) { return word.x != GRID_EMPTY && (word.x & GRID_TAG) != 0u; }
+// A mask-mode word's dart count (the high 16 bits of .y).
+VRPD_FN uint packed_dart_count(uvec2 word) { return word.y >> 16u; }
 // The darts [first, end) of a darts word.
 VRPD_FN uvec2 grid_darts(uvec2 word) {
     uint first = word.x & ~(GRID_TAG | GRID_PACKED);
-    return uvec2(first, (word.x & GRID_PACKED) != 0u ? first + (word.y >> 16u) : word.y);
+    return uvec2(first, (word.x & GRID_PACKED) != 0u ? first + packed_dart_count(word) : word.y);
 }
 // grid_darts for a word outside mask mode, which two radii never use: [first, .y).
 VRPD_FN uvec2 listed_darts(uvec2 word) { return uvec2(word.x & ~GRID_TAG, word.y); }

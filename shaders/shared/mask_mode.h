@@ -146,7 +146,7 @@ VRPD_FN uint throw_masked_base(VRPD_IN(CellArgs) a, Darts darts, Grid grid, uint
 VRPD_FN void site_masked_darts(CellArgs a, Darts darts, uvec2 w, uint b, uint first) {
     uvec2 corner = base_corner(a.domain, b);
     uint j = first;
-    uint end = first + (w.y >> 16u);
+    uint end = first + packed_dart_count(w);
     for (uint mask = w.y & GRID_MASK_BITS; mask != 0u && j < end; mask &= mask - 1u) {
         uvec2 cc = subcell_corner(corner, uint(findLSB(mask)), a.side);
         uint count = (mask & (mask - 1u)) == 0u ? end - j : dart_count(cell_stream(a.round_key, cc), a.param);

@@ -194,15 +194,14 @@ private:
                 uvec2& word = grid_[i];
                 if (!masked_active(word)) continue;
                 word = numbered_word(word, uint(next));
-                next += word.y >> 16;
+                next += packed_dart_count(word);
             }
         });
         const bool no_samples = out_.empty();
         pool_.parallel_for(bases, [&](std::size_t b, std::size_t e, unsigned) {
             for (std::size_t i = b; i < e; ++i) {
-                // A numbered word holds its dart count in .y's high 16 bits; most base cells get none.
                 const uvec2 w = grid_[i];
-                if (grid_is_darts(w) && (w.y >> 16u) != 0u)
+                if (grid_is_darts(w) && packed_dart_count(w) != 0u)  // most base cells get none
                     throw_masked_base(args, darts(), grid(), uint(i), grid_darts(w).x, no_samples);
             }
         });
