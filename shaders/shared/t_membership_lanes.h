@@ -29,10 +29,12 @@ struct alignas(32) DiskLanes {
     double x[kLanes], y[kLanes], x2[kLanes], y2[kLanes];
 };
 
-// disk_at[0, n) as lanes.
+// disk_at[0, n) as lanes, padded up to the last vector a scan reads: a pair's load may start at
+// any disk before n, so it reads up to lane n + 2. The lanes past that are never read.
 inline DiskLanes disk_lanes(uint n) {
     DiskLanes d;
-    for (uint k = 0u; k < DiskLanes::kLanes; k++) {
+    const uint filled = std::min(DiskLanes::kLanes, (n + 6u) & ~3u);
+    for (uint k = 0u; k < filled; k++) {
         const bool real = k < n;
         d.x[k] = real ? double(disk_at[k].x) : 1e20;
         d.y[k] = real ? double(disk_at[k].y) : 1e20;
@@ -231,10 +233,29 @@ template <class Estimate>
            corner_uncovered(lo.x, hi.y, n, r2, in_disk) || corner_uncovered(hi.x, hi.y, n, r2, in_disk);
 }
 
-// reaches_uncovered_counted's answer for n <= T_LANES_DISKS disks, each within 2 Rc of the origin.
-[[gnu::target("avx2")]] inline uint reaches_uncovered_lanes(uint n, uint64_t r2, ivec2 lo, ivec2 hi, bool in_disk) {
+// sort_disks for n <= T_LANES_DISKS disks whose squared distances from the origin are key[0, n):
+// the same stable order, each distance computed once. Sorts key with them.
+inline bool sort_keyed_disks(uint n, uint64_t* key, uint64_t r2) {
+    for (uint i = 1u; i < n; i++) {
+        const ivec2 v = disk_at[i];
+        const uint64_t k = key[i];
+        uint j = i;
+        for (; j > 0u && key[j - 1u] > k; j--) {
+            disk_at[j] = disk_at[j - 1u];
+            key[j] = key[j - 1u];
+        }
+        disk_at[j] = v;
+        key[j] = k;
+    }
+    return n > 0u && key[0] < r2;
+}
+
+// reaches_uncovered_counted's answer for n <= T_LANES_DISKS disks, each within 2 Rc of the origin,
+// key[k] disk k's squared distance from it.
+[[gnu::target("avx2")]] inline uint reaches_uncovered_lanes(uint n, uint64_t* key, uint64_t r2, ivec2 lo, ivec2 hi,
+                                                            bool in_disk) {
     t_steps = 0u;  // boundary_vertex_uncovered counts, within the budget here
-    const bool centre_covered = sort_disks(n, r2);
+    const bool centre_covered = sort_keyed_disks(n, key, r2);
     if (in_disk && !centre_covered) return T_INSIDE;
     const DiskLanes d = disk_lanes(n);
     const uint sides = near_sides(lo, hi, r2);
@@ -251,9 +272,13 @@ template <class Estimate>
 inline uint reaches_uncovered(uint n, uint64_t r2, ivec2 lo, ivec2 hi, bool in_disk) {
 #ifdef VRPD_HOST_AVX2
     if (n <= T_LANES_DISKS && host_has_avx2()) {
+        uint64_t key[T_LANES_DISKS];
         bool near = true;
-        for (uint k = 0u; k < n; k++) near = near && norm2(disk_at[k]) <= uint64_t(4) * r2;
-        if (near) return reaches_uncovered_lanes(n, r2, lo, hi, in_disk);
+        for (uint k = 0u; k < n; k++) {
+            key[k] = norm2(disk_at[k]);
+            near = near && key[k] <= uint64_t(4) * r2;
+        }
+        if (near) return reaches_uncovered_lanes(n, key, r2, lo, hi, in_disk);
     }
 #endif
     return reaches_uncovered_counted(n, r2, lo, hi, in_disk);
