@@ -14,28 +14,73 @@ VRPD_BEGIN
 // every base cell that holds no sample and lies within Rc of them. Each point of T is free, so
 // its base cell holds no sample, and within Rc of U, which lies in the active cells: the flagged
 // cells cover T, and darts uniform over them, kept iff in T (exact test), are uniform over T.
+// The gap along one axis from the group's bounding box [lo, hi] (lattice units from its base
+// cell's corner, base cells of side `side`) to the base cell k cells away: no point of the two is
+// nearer. It grows with |k|.
+VRPD_FN int64_t dart_cell_gap(int k, int side, uint lo, uint hi) {
+    return k > 0 ? int64_t(k * side - int(hi)) : (k < 0 ? int64_t(int(lo) - (k + 1) * side + 1) : int64_t(0));
+}
+
+// The bounding box of the active cells [e, end_cell) of one base cell, in lattice units from the
+// base cell's corner: [lo, hi], each cell a closed square (surviving_children's cells).
+VRPD_FN void dart_group_box(CellArgs a, Cells cells, uint e, uint end_cell, uvec2 origin, VRPD_OUT(uvec2) lo,
+                            VRPD_OUT(uvec2) hi) {
+    int side = 1 << a.domain.cell_bits;
+    lo = uvec2(uint(side), uint(side));
+    hi = uvec2(0u, 0u);
+    for (uint i = e; i < end_cell; i++) {
+        uvec2 c = cells.cell[i] - origin;
+        lo = min(lo, c);
+        hi = max(hi, c + uvec2(a.side, a.side));
+    }
+}
+
 VRPD_FN void flag_dart_cells(CellArgs a, Cells cells, Uints flags, Grid grid, uint e, uint end_cell) {
     Domain dom = a.domain;
     uvec2 base = base_cell_of(dom, cells.cell[e]);
     int side = 1 << dom.cell_bits;
-    uvec2 origin = uvec2(base.x << dom.cell_bits, base.y << dom.cell_bits);
-    // The group's bounding box, in lattice units from the base cell's corner: [lo, hi].
-    uvec2 lo = uvec2(uint(side), uint(side));
-    uvec2 hi = uvec2(0u, 0u);
-    for (uint i = e; i < end_cell; i++) {
-        uvec2 c = cells.cell[i] - origin;
-        lo = min(lo, c);
-        hi = max(hi, c + uvec2(a.side, a.side));  // the closed square: surviving_children's cells
-    }
+    uvec2 lo;
+    uvec2 hi;
+    dart_group_box(a, cells, e, end_cell, uvec2(base.x << dom.cell_bits, base.y << dom.cell_bits), lo, hi);
     int reach = cover_reach(dom.radii);
     VRPD_FOR_EACH_NEIGHBOUR(dom, base, reach, dom.radii.coverage2 + uint64_t(1), dx, dy, nb) {
-        int64_t gx =
-            dx > 0 ? int64_t(dx * side - int(hi.x)) : (dx < 0 ? int64_t(int(lo.x) - (dx + 1) * side + 1) : int64_t(0));
-        int64_t gy =
-            dy > 0 ? int64_t(dy * side - int(hi.y)) : (dy < 0 ? int64_t(int(lo.y) - (dy + 1) * side + 1) : int64_t(0));
+        int64_t gx = dart_cell_gap(dx, side, lo.x, hi.x);
+        int64_t gy = dart_cell_gap(dy, side, lo.y, hi.y);
         if (reaches(dom.radii, uint64_t(gx * gx + gy * gy)) && !grid_is_sample(grid.word[nb])) set_flag(flags, nb);
     }
 }
+
+#ifdef __cplusplus
+// The host's flag_dart_cells. Where the base cell's neighbourhood is plain offsets (inner_cell),
+// the gap grows with |dx| either side of a row's centre column, so the cells a row flags are one
+// run of columns: its ends are found from the scan's own ends inward, and the cells between take
+// no test. `rows[|dy|]` holds the scan's row_reach for row dy (one table a round).
+inline void flag_dart_runs(const CellArgs& a, const int* rows, Cells cells, Uints flags, Grid grid, uint e,
+                           uint end_cell) {
+    const Domain& dom = a.domain;
+    const uvec2 base = base_cell_of(dom, cells.cell[e]);
+    if (!inner_cell(dom, base)) return flag_dart_cells(a, cells, flags, grid, e, end_cell);
+    const int side = 1 << dom.cell_bits, reach = cover_reach(dom.radii);
+    uvec2 lo, hi;
+    dart_group_box(a, cells, e, end_cell, uvec2(base.x << dom.cell_bits, base.y << dom.cell_bits), lo, hi);
+    const int centre = int(base_index(dom, base));
+    for (int dy = -reach; dy <= reach; dy++) {
+        const int64_t gy = dart_cell_gap(dy, side, lo.y, hi.y);
+        const int width = rows[dy < 0 ? -dy : dy];
+        if (width < 0 || !reaches(dom.radii, uint64_t(gy * gy))) continue;  // not even the centre column
+        const auto reached = [&](int dx) {
+            const int64_t gx = dart_cell_gap(dx, side, lo.x, hi.x);
+            return reaches(dom.radii, uint64_t(gx * gx + gy * gy));
+        };
+        int right = width, left = width;
+        while (right > 0 && !reached(right)) right--;
+        while (left > 0 && !reached(-left)) left--;
+        const int row = centre + dy * int(dom.cells_x);
+        for (int nb = row - left; nb <= row + right; nb++)
+            if (!grid_is_sample(grid.word[nb])) set_flag(flags, uint(nb));
+    }
+}
+#endif
 
 // Two radii, while U is still nearly everywhere: every base cell without a sample gets darts (a
 // superset of the flagged cells, so still a superset of T, and cheaper to find).
