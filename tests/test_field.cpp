@@ -231,7 +231,8 @@ TEST_CASE("a constant field under every rule is the uniform sampling at that rad
     }
 }
 
-TEST_CASE("Eq. 12: an early prefix follows 1/r^2 along a ramp with density weighting, the area without", "[field]") {
+TEST_CASE("Eq. 12: an early prefix follows 1/r^2 along a ramp with density weighting, the area without",
+          "[field][statistics]") {
     // Ramps r = a (1 + 9 x) on a free unit box, counted in 10 columns of x. Density weighting:
     // the first 4 % of 12 samplings at a = 0.004 (about 4 400 samples each); their disks cover
     // the same share of every column, so the law is 1/r^2 throughout. Uniform weighting: the
