@@ -99,9 +99,12 @@ VRPD_FN bool inhibited(VRPD_IN(Domain) dom, Grid grid, uvec2 base, uvec2 p) {
 // in the order VRPD_FOR_EACH_NEIGHBOUR visits them (rows, then columns); returns their count, or
 // `most` + 1 once more than `most` are found. Lanes as window_holds_within reads them; a sample
 // in a cell the rows' reaches leave out lies at least sqrt(limit2) from the centre cell.
-template <bool kBox>
-[[gnu::target("avx2")]] inline uint window_gather_within(const uvec2* centre, int stride, int reach, uvec2 at,
-                                                         uint64_t limit2, ivec2* out, uint most, ivec2 box = ivec2(0)) {
+// kReach > 0 is the reach as a template parameter, so that the rows' loads unroll; 0 takes
+// `reach`.
+template <bool kBox, int kReach>
+[[gnu::target("avx2")]] inline uint window_gather_within_at(const uvec2* centre, int stride, int any_reach, uvec2 at,
+                                                            uint64_t limit2, ivec2* out, uint most, ivec2 box) {
+    const int reach = kReach > 0 ? kReach : any_reach;
     const int width = 2 * reach + 1, last = (width - 1) & ~3;  // the last load's first word
     const __m256i all = _mm256_set1_epi64x(-1);
     const __m256i tail = _mm256_cmpgt_epi64(_mm256_set1_epi64x(width - last), _mm256_setr_epi64x(0, 1, 2, 3));
@@ -134,6 +137,22 @@ template <bool kBox>
         }
     }
     return n;
+}
+template <bool kBox>
+[[gnu::target("avx2")]] inline uint window_gather_within(const uvec2* centre, int stride, int reach, uvec2 at,
+                                                         uint64_t limit2, ivec2* out, uint most, ivec2 box = ivec2(0)) {
+    switch (reach) {
+        case 3:
+            return window_gather_within_at<kBox, 3>(centre, stride, reach, at, limit2, out, most, box);
+        case 4:
+            return window_gather_within_at<kBox, 4>(centre, stride, reach, at, limit2, out, most, box);
+        case 5:
+            return window_gather_within_at<kBox, 5>(centre, stride, reach, at, limit2, out, most, box);
+        case 6:
+            return window_gather_within_at<kBox, 6>(centre, stride, reach, at, limit2, out, most, box);
+        default:
+            return window_gather_within_at<kBox, 0>(centre, stride, reach, at, limit2, out, most, box);
+    }
 }
 #endif
 
