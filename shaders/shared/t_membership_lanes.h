@@ -44,8 +44,10 @@ inline DiskLanes disk_lanes(uint n) {
     return d;
 }
 
-// Lanes [0, count) of four, as bits.
-inline uint first_lanes(uint count) { return count >= 4u ? 15u : (1u << count) - 1u; }
+// The disks [0, n) as bits (n <= T_LANES_DISKS), and the lanes of those among k..k+3, bit 0 for
+// disk k.
+inline uint disk_bits(uint n) { return (1u << n) - 1u; }
+inline uint lanes_from(uint bits, uint k) { return (bits >> k) & 15u; }
 
 // The cover searches' step, four disks a step: estimate(k, lanes) gives the estimated signs of the
 // disks k..k+3 (of |p - c|^2 - R2, or four times it), and may clear bits of `lanes` (disk k at bit
@@ -56,8 +58,9 @@ template <class Estimate>
                                                                          uint& unsure) {
     const __m256d one = _mm256_set1_pd(1.0), minus_one = _mm256_set1_pd(-1.0);
     unsure = 0u;
+    judged &= disk_bits(n);
     for (uint k = 0u; k < n; k += 4u) {
-        uint lanes = (first_lanes(n - k) << k) & judged;
+        uint lanes = (15u << k) & judged;
         const __m256d e = estimate(k, lanes);
         if (((uint(_mm256_movemask_pd(_mm256_cmp_pd(e, minus_one, _CMP_LT_OQ))) << k) & lanes) != 0u) return false;
         unsure |= (uint(_mm256_movemask_pd(_mm256_cmp_pd(e, one, _CMP_LE_OQ))) << k) & lanes;
@@ -89,6 +92,7 @@ template <class Estimate>
 // `sides` (near_sides) holds sides of it.
 [[gnu::target("avx2")]] inline bool lanes_pairs_uncovered(const DiskLanes& d, uint n, ivec2 a, uint skip_a, uint j,
                                                           uint64_t r2, ivec2 lo, ivec2 hi, bool in_disk, uint sides) {
+    const uint real = disk_bits(n);
     const __m256d ax = _mm256_set1_pd(double(a.x)), ay = _mm256_set1_pd(double(a.y));
     const __m256d r4 = _mm256_set1_pd(4.0 * double(r2)), zero = _mm256_setzero_pd();
     const __m256d one = _mm256_set1_pd(1.0), minus_one = _mm256_set1_pd(-1.0);
@@ -101,7 +105,7 @@ template <class Estimate>
         const __m256d l = _mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy));
         const uint valid = uint(_mm256_movemask_pd(
                                _mm256_and_pd(_mm256_cmp_pd(l, zero, _CMP_GT_OQ), _mm256_cmp_pd(l, r4, _CMP_LE_OQ)))) &
-                           first_lanes(n - j);
+                           lanes_from(real, j);
         if (valid == 0u) continue;
         // circle_pair's sqrt(M / L), and twice_crossing's P = a + b + sigma sqrt(M / L) perp(b - a).
         const __m256d scale = _mm256_sqrt_pd(_mm256_div_pd(_mm256_sub_pd(r4, l), l));
@@ -174,6 +178,7 @@ template <class Estimate>
 // kernel's.
 [[gnu::target("avx2")]] inline bool lanes_boundary_uncovered(const DiskLanes& d, uint n, uint64_t r2, ivec2 lo,
                                                              ivec2 hi, bool in_disk) {
+    const uint real = disk_bits(n);
     const __m256d r2d = _mm256_set1_pd(double(r2)), zero = _mm256_setzero_pd();
     const __m256d one = _mm256_set1_pd(1.0), minus_one = _mm256_set1_pd(-1.0);
     for (uint side = 0u; side < 4u; side++) {
@@ -193,7 +198,7 @@ template <class Estimate>
                 const __m256d cu = _mm256_load_pd(du + i), cv = _mm256_load_pd(dv + i);
                 const __m256d gap = _mm256_sub_pd(su, cu);
                 const __m256d gap2 = _mm256_mul_pd(gap, gap);
-                uint in = uint(_mm256_movemask_pd(_mm256_cmp_pd(gap2, r2d, _CMP_LE_OQ))) & first_lanes(n - i);
+                uint in = uint(_mm256_movemask_pd(_mm256_cmp_pd(gap2, r2d, _CMP_LE_OQ))) & lanes_from(real, i);
                 if (in == 0u) continue;
                 // N = R2 - (s - c.u)^2 >= 0 in the lanes kept; root = tau sqrt(N).
                 const __m256d nn = _mm256_max_pd(_mm256_sub_pd(r2d, gap2), zero);
