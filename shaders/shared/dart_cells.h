@@ -6,6 +6,9 @@
 #include "active_cells.h"
 #include "kernels.h"
 #include "neighbourhood.h"
+#ifdef __cplusplus
+#include <vector>
+#endif
 
 VRPD_BEGIN
 
@@ -35,6 +38,10 @@ VRPD_FN void dart_group_box(CellArgs a, Cells cells, uint e, uint end_cell, uvec
     }
 }
 
+// The squared radius of flag_dart_cells's scan: the cells some point of which lies within Rc
+// of the base cell (reaches: gap^2 <= Rc^2).
+VRPD_FN uint64_t dart_scan_limit2(Radii r) { return r.coverage2 + uint64_t(1); }
+
 VRPD_FN void flag_dart_cells(CellArgs a, Cells cells, Uints flags, Grid grid, uint e, uint end_cell) {
     Domain dom = a.domain;
     uvec2 base = base_cell_of(dom, cells.cell[e]);
@@ -43,7 +50,7 @@ VRPD_FN void flag_dart_cells(CellArgs a, Cells cells, Uints flags, Grid grid, ui
     uvec2 hi;
     dart_group_box(a, cells, e, end_cell, uvec2(base.x << dom.cell_bits, base.y << dom.cell_bits), lo, hi);
     int reach = cover_reach(dom.radii);
-    VRPD_FOR_EACH_NEIGHBOUR(dom, base, reach, dom.radii.coverage2 + uint64_t(1), dx, dy, nb) {
+    VRPD_FOR_EACH_NEIGHBOUR(dom, base, reach, dart_scan_limit2(dom.radii), dx, dy, nb) {
         int64_t gx = dart_cell_gap(dx, side, lo.x, hi.x);
         int64_t gy = dart_cell_gap(dy, side, lo.y, hi.y);
         if (reaches(dom.radii, uint64_t(gx * gx + gy * gy)) && !grid_is_sample(grid.word[nb])) set_flag(flags, nb);
@@ -51,10 +58,18 @@ VRPD_FN void flag_dart_cells(CellArgs a, Cells cells, Uints flags, Grid grid, ui
 }
 
 #ifdef __cplusplus
+// flag_dart_cells's scan's row_reach for rows |dy| = 0 to cover_reach, for flag_dart_runs.
+inline std::vector<int> dart_scan_rows(const Domain& dom) {
+    const int reach = cover_reach(dom.radii);
+    std::vector<int> rows(std::size_t(reach) + 1);
+    for (int dy = 0; dy <= reach; ++dy) rows[dy] = computed_row_reach(dom, dy, reach, dart_scan_limit2(dom.radii));
+    return rows;
+}
+
 // The host's flag_dart_cells. Where the base cell's neighbourhood is plain offsets (inner_cell),
 // the gap grows with |dx| either side of a row's centre column, so the cells a row flags are one
 // run of columns: its ends are found from the scan's own ends inward, and the cells between take
-// no test. `rows[|dy|]` holds the scan's row_reach for row dy (one table a round).
+// no test. `rows` is dart_scan_rows's table (one a round).
 inline void flag_dart_runs(const CellArgs& a, const int* rows, Cells cells, Uints flags, Grid grid, uint e,
                            uint end_cell) {
     const Domain& dom = a.domain;

@@ -352,9 +352,7 @@ private:
                 for (std::size_t i = b; i < e; ++i) flag_free_cell(grid(), scan(), uint(i));
             });
         } else {
-            const int reach = cover_reach(dom.radii);
-            std::vector<int> rows(std::size_t(reach) + 1);
-            for (int dy = 0; dy <= reach; ++dy) rows[dy] = computed_row_reach(dom, dy, reach, dom.radii.coverage2 + 1);
+            const std::vector<int> rows = dart_scan_rows(dom);
             pool_.parallel_for(n, [&](std::size_t b, std::size_t e, unsigned) {
                 for_each_base_group(dom, cells(), b, e, n, false, [&](uint g, uint end) {
                     flag_dart_runs(args, rows.data(), cells(), scan(), grid(), g, end);
