@@ -24,6 +24,10 @@ VRPD_FN int64_t dart_cell_gap(int k, int side, uint lo, uint hi) {
     return k > 0 ? int64_t(k * side - int(hi)) : (k < 0 ? int64_t(int(lo) - (k + 1) * side + 1) : int64_t(0));
 }
 
+// Does a base cell whose gaps from the group are gx and gy (dart_cell_gap) get flagged by
+// distance: is some point of it within Rc of the group?
+VRPD_FN bool dart_gaps_reach(Radii r, int64_t gx, int64_t gy) { return reaches(r, uint64_t(gx * gx + gy * gy)); }
+
 // The bounding box of the active cells [e, end_cell) of one base cell, in lattice units from the
 // base cell's corner: [lo, hi], each cell a closed square (surviving_children's cells).
 VRPD_FN void dart_group_box(CellArgs a, Cells cells, uint e, uint end_cell, uvec2 origin, VRPD_OUT(uvec2) lo,
@@ -51,9 +55,9 @@ VRPD_FN void flag_dart_cells(CellArgs a, Cells cells, Uints flags, Grid grid, ui
     dart_group_box(a, cells, e, end_cell, uvec2(base.x << dom.cell_bits, base.y << dom.cell_bits), lo, hi);
     int reach = cover_reach(dom.radii);
     VRPD_FOR_EACH_NEIGHBOUR(dom, base, reach, dart_scan_limit2(dom.radii), dx, dy, nb) {
-        int64_t gx = dart_cell_gap(dx, side, lo.x, hi.x);
-        int64_t gy = dart_cell_gap(dy, side, lo.y, hi.y);
-        if (reaches(dom.radii, uint64_t(gx * gx + gy * gy)) && !grid_is_sample(grid.word[nb])) set_flag(flags, nb);
+        if (dart_gaps_reach(dom.radii, dart_cell_gap(dx, side, lo.x, hi.x), dart_cell_gap(dy, side, lo.y, hi.y)) &&
+            !grid_is_sample(grid.word[nb]))
+            set_flag(flags, nb);
     }
 }
 
@@ -82,10 +86,9 @@ inline void flag_dart_runs(const CellArgs& a, const int* rows, Cells cells, Uint
     for (int dy = -reach; dy <= reach; dy++) {
         const int64_t gy = dart_cell_gap(dy, side, lo.y, hi.y);
         const int width = rows[dy < 0 ? -dy : dy];
-        if (width < 0 || !reaches(dom.radii, uint64_t(gy * gy))) continue;  // not even the centre column
+        if (width < 0 || !dart_gaps_reach(dom.radii, 0, gy)) continue;  // not even the centre column
         const auto reached = [&](int dx) {
-            const int64_t gx = dart_cell_gap(dx, side, lo.x, hi.x);
-            return reaches(dom.radii, uint64_t(gx * gx + gy * gy));
+            return dart_gaps_reach(dom.radii, dart_cell_gap(dx, side, lo.x, hi.x), gy);
         };
         int right = width, left = width;
         while (right > 0 && !reached(right)) right--;
