@@ -4,12 +4,13 @@
 // cell lies within Rf of it, and one elsewhere meets it in the same scans of nearby samples that
 // judge a dart against earlier rounds (two radii: its T test sees it as the textbook's list of
 // accepted darts would, in the same place). The parallel resolution instead reads every dart of
-// the round near each undecided one (resolve.h). Arrival order is random in space, so the loop
-// fetches the record of the dart 16 ahead, with its state word for writing (the atomic or that
-// sets a state stalls the loop on a miss), and the grid rows around the dart 8 ahead (with two
-// radii, the rows of its T test's window). On several threads each takes a strip of base-cell
-// rows, waiting at its borders for the neighbouring strips' earlier darts (decide_strip), and
-// the strips' accepted darts are merged by arrival.
+// the round near each undecided one (resolve.h). The decisions live in the grid words and the
+// emission alone: nothing after the round reads the darts' states, so none is written (each
+// would be a locked or at a random place, into a word that 15 other darts share). Arrival order
+// is random in space, so the loop fetches the record of the dart 16 ahead and the grid rows
+// around the dart 8 ahead (with two radii, the rows of its T test's window). On several threads
+// each takes a strip of base-cell rows, waiting at its borders for the neighbouring strips'
+// earlier darts (decide_strip), and the strips' accepted darts are merged by arrival.
 #include "arrival_order.h"
 
 #include <algorithm>
@@ -198,14 +199,9 @@ std::uint64_t decide_in_arrival_order(const Domain& dom, Grid grid, Darts darts,
             return true;
         };
         for (std::size_t k = 0; k < n; ++k) {
-            if (k + 16 < n) {
-                const uint ahead = uint(order[k + 16]);
-                __builtin_prefetch(&darts.word[dart_record(ahead)]);
-                __builtin_prefetch(&darts.word[dart_state_word(ahead)], 1);
-            }
+            if (k + 16 < n) __builtin_prefetch(&darts.word[dart_record(uint(order[k + 16]))]);
             if (k + 8 < n) fetch_rows(uint(order[k + 8]));
-            const uint d = uint(order[k]);
-            const uint r = dart_record(d);
+            const uint r = dart_record(uint(order[k]));
             const uvec2 p(darts.word[r], darts.word[r + 1u]);
             const uvec2 cell = base_cell_of(dom, p);
             if (!whole) {
@@ -228,7 +224,6 @@ std::uint64_t decide_in_arrival_order(const Domain& dom, Grid grid, Darts darts,
                                                                         : DART_ACCEPTED;
             }
             if (state == DART_TOO_COMPLEX) throw Error(kTooComplex);
-            set_dart_state(darts, d, state);
             if (state != DART_REJECTED) {
                 grid.word[base_index(dom, cell)] = p;
                 if (whole)

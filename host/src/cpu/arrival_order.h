@@ -15,10 +15,11 @@ namespace vrpd::detail {
 // takes its base cell's grid word as its sample at once, so a dart is judged by the samples near
 // it (earlier rounds' and this round's so far): rejected iff one lies within Rf or, with two
 // radii, it is outside T given them. Appends the accepted darts to `out` in arrival order, the
-// round's emission. The pool's threads each take a strip of base-cell rows where the grid has
-// room for them and the round has `strip_darts` darts a thread (Plan::strip_darts; see
-// arrival_order.cpp); the states are those of one thread. Throws Error where
-// a T test passes its bounds. Returns the bytes its lists held.
+// round's emission; the darts' states stay as the throw left them, since nothing after reads
+// them (HostEngine::commit empties the darts' words). The pool's threads each take a strip of
+// base-cell rows where the grid has room for them and the round has `strip_darts` darts a
+// thread (Plan::strip_darts; see arrival_order.cpp); the decisions are those of one thread.
+// Throws Error where a T test passes its bounds. Returns the bytes its lists held.
 std::uint64_t decide_in_arrival_order(const shared::Domain& dom, shared::Grid grid, shared::Darts darts,
                                       shared::uint count, std::vector<shared::uvec2>& out, ThreadPool& pool,
                                       shared::uint strip_darts);
