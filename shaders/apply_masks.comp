@@ -5,21 +5,37 @@
 #include "masked.glsl"
 layout(local_size_x_id = 0) in;
 // Mask mode, per base cell without a sample: its word takes its new mask of active sub-cells. A
-// pass of its own: refine_masked reads the neighbours' words. At the last mask-mode level, a base
-// cell with surviving children parks their 64-bit mask in its word until scatter_masked, and
-// masks[i] becomes their count, for the scan that ranks them in the explicit list.
+// pass of its own: refine_masked reads the neighbours' words. Where the refinement is scattered
+// (refine_masked), the masks' sub-cells are counted here, once scatter_covers has cleared the
+// covered ones. At the last mask-mode level, a base cell with surviving children parks their
+// 64-bit mask in its word until scatter_masked, and masks[i] becomes their count, for the scan
+// that ranks them in the explicit list.
 layout(push_constant) uniform Push { CellArgs a; };
+shared uint group_active;  // the workgroup's sub-cells, added once to COUNTER_ACTIVE
 
 void main() {
     uint i = work_item();
-    if (i >= a.cell_count) return;
-    uint b = masked_base(a, i);
-    if (masked_leaves(a.domain, a.side, a.param)) {
-        uvec2 kept = uvec2(a.masks.value[i], a.work.value[i]);
-        uint n = subcell_count(kept);
-        if (n != 0u) a.grid.word[b] = kept;
-        a.masks.value[i] = n;
-    } else {
-        a.grid.word[b] = masked_word(a.grid.word[b], a.masks.value[i]);
+    bool counting = scattered_refinement(a);  // the same in every invocation
+    if (counting) {
+        if (gl_LocalInvocationIndex == 0u) group_active = 0u;
+        barrier();
+    }
+    if (i < a.cell_count) {
+        uint b = masked_base(a, i);
+        if (masked_leaves(a.domain, a.side, a.param)) {
+            uvec2 kept = uvec2(a.masks.value[i], a.work.value[i]);
+            uint n = subcell_count(kept);
+            if (n != 0u) a.grid.word[b] = kept;
+            a.masks.value[i] = n;
+        } else {
+            uint mask = a.masks.value[i];
+            a.grid.word[b] = masked_word(a.grid.word[b], mask);
+            if (counting && mask != 0u) atomicAdd(group_active, uint(bitCount(mask)));
+        }
+    }
+    if (counting) {
+        barrier();
+        if (gl_LocalInvocationIndex == 0u && group_active != 0u)
+            atomicAdd(a.counters.value[COUNTER_ACTIVE], group_active);
     }
 }

@@ -10,3 +10,10 @@ uint masked_base(CellArgs a, uint i) {
     uint64_t list = uint64_t(a.cells);
     return list == 0ul ? i : Uints(list).value[i];
 }
+
+// Whether a refinement scatters the samples' covers (scatter_box: into 4 or 16 sub-cells) rather
+// than each base cell gathering its samples: over every base cell, not a list, whose indices
+// the masks then share with the grid.
+bool scattered_refinement(CellArgs a) {
+    return uint64_t(a.cells) == 0ul && box_any(scatter_box(a.domain, a.side, a.param));
+}

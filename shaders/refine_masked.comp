@@ -9,23 +9,43 @@
 #include "masked.glsl"
 layout(local_size_x_id = 0) in;
 // Mask mode, per base cell: the mask of its surviving children (or cells) goes to masks[i], and
-// their number to counters[COUNTER_ACTIVE]. At the last mask-mode level (masked_leaves) the 64-bit
-// mask goes to masks[i] and work[i] (low and high halves), for apply_masks. Invocation
-// cell_count writes the trailing 0 that the scan of the counts needs.
+// their number to counters[COUNTER_ACTIVE]. Where the refinement is scattered (over every base
+// cell, into 4 or 16 sub-cells: scatter_box), a boxed base cell's mask holds every child of its
+// active sub-cells, for scatter_covers to clear the covered ones, and apply_masks counts them all.
+// At the last mask-mode level (masked_leaves) the 64-bit mask goes to masks[i] and work[i] (low
+// and high halves), for apply_masks. Invocation cell_count writes the trailing 0 that the scan
+// of the counts needs.
 layout(push_constant) uniform Push { CellArgs a; };
+shared uint group_active;  // the workgroup's children, added once to COUNTER_ACTIVE
 
 void main() {
     uint i = work_item();
+    // Counted here unless scattered (apply_masks counts) or at the last level (the scan counts);
+    // the same in every invocation.
+    bool counting = !scattered_refinement(a) && !masked_leaves(a.domain, a.side, a.param);
+    if (counting) {
+        if (gl_LocalInvocationIndex == 0u) group_active = 0u;
+        barrier();
+    }
     if (i < a.cell_count) {
-        uvec2 kept = refine_masked_base(a, a.grid, masked_base(a, i));
-        a.masks.value[i] = kept.x;
-        if (masked_leaves(a.domain, a.side, a.param)) {
-            a.work.value[i] = kept.y;
+        uint b = masked_base(a, i);
+        if (!counting && !masked_leaves(a.domain, a.side, a.param) &&
+            box_holds(scatter_box(a.domain, a.side, a.param), int(b % a.domain.cells_x), int(b / a.domain.cells_x))) {
+            a.masks.value[i] = all_children(a.grid.word[b]);
         } else {
-            uint n = uint(bitCount(kept.x));
-            if (n != 0u) atomicAdd(a.counters.value[COUNTER_ACTIVE], n);
+            uvec2 kept = refine_masked_base(a, a.grid, b);
+            a.masks.value[i] = kept.x;
+            if (masked_leaves(a.domain, a.side, a.param))
+                a.work.value[i] = kept.y;
+            else if (counting && kept.x != 0u)
+                atomicAdd(group_active, uint(bitCount(kept.x)));
         }
     } else if (i == a.cell_count) {
         a.masks.value[i] = 0u;
+    }
+    if (counting) {
+        barrier();
+        if (gl_LocalInvocationIndex == 0u && group_active != 0u)
+            atomicAdd(a.counters.value[COUNTER_ACTIVE], group_active);
     }
 }

@@ -18,6 +18,8 @@ layout(buffer_reference, std430, buffer_reference_align = 8) buffer Points { uve
 void set_flag(Uints flags, uint i) { flags.value[i] = 1u; }
 uint load_state_word(Darts darts, uint w) { return darts.word[w]; }
 void or_state_word(Darts darts, uint w, uint bits) { atomicOr(darts.word[w], bits); }
+// Clears bits of mask i: many invocations may clear bits of one mask at once.
+void and_mask(Uints masks, uint i, uint bits) { atomicAnd(masks.value[i], bits); }
 #else
 #include <atomic>
 namespace vrpd::shared {
@@ -40,6 +42,9 @@ inline uint load_state_word(Darts darts, uint w) {
 inline void or_state_word(Darts darts, uint w, uint bits) {
     std::atomic_ref<uint>(darts.word[w]).fetch_or(bits, std::memory_order_relaxed);
 }
+// The host's scattered refinement gives each thread bands of rows that no other thread's
+// samples reach (cover_scatter.cpp), so a mask has one writer at a time.
+inline void and_mask(Uints masks, uint i, uint bits) { masks.value[i] &= bits; }
 }  // namespace vrpd::shared
 #endif
 

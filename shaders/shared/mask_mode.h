@@ -206,6 +206,91 @@ VRPD_FN uvec2 refine_masked_base(VRPD_IN(CellArgs) a, Grid grid, uint b) {
     return kept;
 }
 
+// Mask mode's scattered refinement, one radius, where cells split into 4 or 16 sub-cells (not
+// the last mask level's): a sample clears the children its disk covers from the masks of the
+// base cells around it, instead of each base cell gathering the samples around it. The first
+// refinement keeps about three active base cells a sample, so a pass over the samples does a
+// fraction of the gathers' work; the masks are refine_masked_base's, bit for bit. It serves the
+// base cells of a box of the grid (none where x0 > x1): those whose window neither wraps nor
+// meets a free boundary and that lie whole on the lattice, so that no child is clipped and every
+// sample that can cover a child lies at a straight offset within cover_reach.
+struct ScatterBox {
+    int x0;
+    int y0;
+    int x1;
+    int y1;
+};
+
+VRPD_FN ScatterBox scatter_box(Domain dom, uint side, uint fanout) {
+    ScatterBox none = ScatterBox(0, 0, -1, -1);
+    if (fanout != 4u || masked_leaves(dom, side, fanout) || two_radii(dom.radii) ||
+        cover_reach(dom.radii) > int(MAX_REACH) || (dom.lattice.periodic != 0u && !straight_inner_cells(dom)))
+        return none;
+    int inner = int(influence_reach(dom.radii));
+    return ScatterBox(inner, inner, min(int(dom.cells_x) - 1 - inner, int(dom.lattice.extent_x >> dom.cell_bits) - 1),
+                      min(int(dom.cells_y) - 1 - inner, int(dom.lattice.extent_y >> dom.cell_bits) - 1));
+}
+
+VRPD_FN bool box_holds(ScatterBox box, int x, int y) {
+    return x >= box.x0 && x <= box.x1 && y >= box.y0 && y <= box.y1;
+}
+VRPD_FN bool box_any(ScatterBox box) { return box.x0 <= box.x1 && box.y0 <= box.y1; }
+
+// A boxed base cell's mask before the samples' covers: every child of its active sub-cells (the
+// children of sub-cell k are sub-cells 4 k to 4 k + 3; at level 0 the base cell is sub-cell 0).
+VRPD_FN uint all_children(uvec2 w) {
+    uint children = 0u;
+    for (uint mask = masked_active(w) ? w.y & GRID_MASK_BITS : 0u; mask != 0u; mask &= mask - 1u)
+        children |= 15u << (4u * uint(findLSB(mask)));
+    return children;
+}
+
+// The children of one row of a base cell (x gaps gx0 to gx3, far2's, for columns 0 to 3) that a
+// disk at y gap gy covers wholly, as mask bits for row 0: column ix is bit (ix & 1) | (ix & 2) << 1
+// (subcell_corner's numbering: sub-cell k's even bits are x's, its odd bits y's).
+VRPD_FN uint row_covered(Radii r, uint64_t gy, uint64_t gx0, uint64_t gx1, uint64_t gx2, uint64_t gx3) {
+    return (covers(r, gy + gx0) ? 1u : 0u) | (covers(r, gy + gx1) ? 2u : 0u) | (covers(r, gy + gx2) ? 16u : 0u) |
+           (covers(r, gy + gx3) ? 32u : 0u);
+}
+
+// Clears from the masks of the boxed base cells around sample p the children (side `side`, 2 or 4
+// a side) that its disk covers wholly: the exact corner test of cover_children, a child's
+// farthest point strictly within Rc, from the gaps along each axis to the children's rows and
+// columns (far2's). Row iy's bits lie (iy & 1) << 1 | (iy & 2) << 2 up (row_covered). Rows and
+// columns past the children (2 a side) get the gap Rc², which covers nothing. Plain variables,
+// not arrays: llvmpipe keeps a lane's arrays in memory.
+VRPD_FN void scatter_cover(Domain dom, ScatterBox box, uint side, uvec2 p, Uints masks) {
+    int reach = cover_reach(dom.radii);
+    int base_side = 1 << dom.cell_bits;
+    bool four = uint(base_side) / side == 4u;
+    int h = int(side);
+    uint64_t none = dom.radii.coverage2;
+    uvec2 s = base_cell_of(dom, p);
+    int px = int(p.x & uint(base_side - 1)), py = int(p.y & uint(base_side - 1));
+    for (int dy = -reach; dy <= reach; dy++) {
+        int y = int(s.y) + dy;
+        if (y < box.y0 || y > box.y1) continue;
+        int oy = py - dy * base_side;
+        uint64_t gy0 = far2(oy, 0, h - 1), gy1 = far2(oy, h, 2 * h - 1);
+        uint64_t gy2 = four ? far2(oy, 2 * h, 3 * h - 1) : none, gy3 = four ? far2(oy, 3 * h, 4 * h - 1) : none;
+        uint64_t gy = min(min(gy0, gy1), min(gy2, gy3));
+        if (!covers(dom.radii, gy)) continue;
+        for (int dx = -reach; dx <= reach; dx++) {
+            int x = int(s.x) + dx;
+            if (x < box.x0 || x > box.x1) continue;
+            int ox = px - dx * base_side;
+            uint64_t gx0 = far2(ox, 0, h - 1), gx1 = far2(ox, h, 2 * h - 1);
+            uint64_t gx2 = four ? far2(ox, 2 * h, 3 * h - 1) : none, gx3 = four ? far2(ox, 3 * h, 4 * h - 1) : none;
+            if (!covers(dom.radii, gy + min(min(gx0, gx1), min(gx2, gx3)))) continue;
+            uint covered = row_covered(dom.radii, gy0, gx0, gx1, gx2, gx3) |
+                           row_covered(dom.radii, gy1, gx0, gx1, gx2, gx3) << 2u |
+                           row_covered(dom.radii, gy2, gx0, gx1, gx2, gx3) << 8u |
+                           row_covered(dom.radii, gy3, gx0, gx1, gx2, gx3) << 10u;
+            if (covered != 0u) and_mask(masks, uint(y) * dom.cells_x + uint(x), ~covered);
+        }
+    }
+}
+
 // The number of sub-cells in a mask of refine_masked_base.
 VRPD_FN uint subcell_count(uvec2 kept) { return uint(bitCount(kept.x) + bitCount(kept.y)); }
 

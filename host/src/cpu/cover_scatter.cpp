@@ -10,36 +10,8 @@ using namespace shared;
 
 namespace {
 
+#ifdef VRPD_HOST_AVX2
 constexpr int kWidth = 2 * int(MAX_REACH) + 1;
-
-// The base cells that take their masks from the scatter, a box of the grid: those whose window
-// neither wraps nor meets a free boundary and that lie whole on the lattice (vector_refinement's
-// cells), so that no child is clipped and every sample that can cover a child lies at a straight
-// offset within cover_reach.
-struct Scattered {
-    int x0 = 0, x1 = -1, y0 = 0, y1 = -1;
-    // None but where cells split (fanout 4).
-    Scattered(const Domain& dom, uint fanout) {
-        if (fanout != 4u || two_radii(dom.radii) || cover_reach(dom.radii) > int(MAX_REACH)) return;
-        if (dom.lattice.periodic != 0u && !straight_inner_cells(dom)) return;
-        const int inner = int(influence_reach(dom.radii));
-        x0 = y0 = inner;
-        x1 = std::min(int(dom.cells_x) - 1 - inner, int(dom.lattice.extent_x >> dom.cell_bits) - 1);
-        y1 = std::min(int(dom.cells_y) - 1 - inner, int(dom.lattice.extent_y >> dom.cell_bits) - 1);
-    }
-    bool any() const { return x0 <= x1 && y0 <= y1; }
-    bool holds(int x, int y) const { return x >= x0 && x <= x1 && y >= y0 && y <= y1; }
-};
-
-// The sub-cells of the next level under the active sub-cells of a 4-bit mask: the children of
-// sub-cell k are sub-cells 4 k to 4 k + 3 (mask_mode.h's numbering).
-constexpr auto kAllChildren = [] {
-    std::array<uint, 16> t{};
-    for (uint m = 0u; m < 16u; m++)
-        for (uint k = 0u; k < 4u; k++)
-            if ((m >> k & 1u) != 0u) t[m] |= 0xFu << (4u * k);
-    return t;
-}();
 
 // Two rows of 4 x 4 children as mask bits, from their bits row by row (bit 4 iy + ix): k's even
 // bits are x's, its odd bits y's (subcell_corner's numbering). Rows 2 and 3 take the same bits 8
@@ -68,66 +40,12 @@ template <uint N>
 struct Gaps {
     alignas(32) int64_t x[kWidth][4], y[kWidth][4];  // 4 a row for the vector bodies' loads
     int x0 = kWidth, x1 = -1, y0 = kWidth, y1 = -1;
-
-    Gaps() = default;
-    Gaps(const Domain& dom, uint h, uvec2 p, int64_t limit) {
-        const int reach = cover_reach(dom.radii), side = 1 << dom.cell_bits;
-        const int px = int(p.x & uint(side - 1)), py = int(p.y & uint(side - 1));
-        for (int d = 0; d <= 2 * reach; ++d) {
-            const int ox = px - (d - reach) * side, oy = py - (d - reach) * side;
-            bool near_x = false, near_y = false;
-            for (uint i = 0u; i < N; ++i) {
-                const int lo = int(i * h), hi = lo + int(h) - 1;
-                x[d][i] = int64_t(far2(ox, lo, hi));
-                y[d][i] = int64_t(far2(oy, lo, hi));
-                near_x = near_x || x[d][i] < limit;
-                near_y = near_y || y[d][i] < limit;
-            }
-            if (near_x) x0 = std::min(x0, d), x1 = d;
-            if (near_y) y0 = std::min(y0, d), y1 = d;
-        }
-    }
 };
 
-// Calls visit(mask, dx, dy) for each scattered base cell (dx - reach, dy - reach) cells from sample
-// p's that Gaps leaves in (`fast`: every base cell within cover_reach of p's is scattered).
-template <uint N, typename Visit>
-[[gnu::always_inline]] inline void each_near_cell(const Domain& dom, const Scattered& box, const Gaps<N>& g, uvec2 p,
-                                                  bool fast, uint* masks, Visit&& visit) {
-    const int reach = cover_reach(dom.radii);
-    const uvec2 s = base_cell_of(dom, p);
-    for (int dy = g.y0; dy <= g.y1; ++dy) {
-        const int y = int(s.y) + dy - reach;
-        if (!fast && (y < box.y0 || y > box.y1)) continue;
-        uint* row = masks + std::size_t(y) * dom.cells_x;
-        for (int dx = g.x0; dx <= g.x1; ++dx) {
-            const int x = int(s.x) + dx - reach;
-            if (fast || box.holds(x, y)) visit(row[x], dx, dy);
-        }
-    }
-}
-
-// Clears from the masks of the scattered base cells around sample p the children (side h, N a
-// side) that its disk covers wholly: far2's exact corner test, as uncovered_children runs it.
-template <uint N>
-void scatter_sample(const Domain& dom, const Scattered& box, uint h, uvec2 p, bool fast, uint* masks) {
-    const int64_t limit = int64_t(dom.radii.coverage2);
-    const Gaps<N> g(dom, h, p, limit);
-    each_near_cell<N>(dom, box, g, p, fast, masks, [&](uint& mask, int dx, int dy) {
-        uint rows = 0u;
-        for (uint iy = 0u; iy < N; ++iy) {
-            const int64_t room = limit - g.y[dy][iy];
-            for (uint ix = 0u; ix < N; ++ix) rows |= uint(g.x[dx][ix] < room) << (N * iy + ix);
-        }
-        mask &= ~children_mask<N>(rows);
-    });
-}
-
-#ifdef VRPD_HOST_AVX2
 // scatter_sample on processors with AVX2: a base cell's gaps along x and y in one vector, and a
 // row of children's gaps compared with the room a row's y gap leaves at once.
 template <uint N>
-[[gnu::target("avx2")]] void scatter_sample_avx2(const Domain& dom, const Scattered& box, uint h, uvec2 p, bool fast,
+[[gnu::target("avx2")]] void scatter_sample_avx2(const Domain& dom, const ScatterBox& box, uint h, uvec2 p, bool fast,
                                                  uint* masks) {
     const int64_t limit = int64_t(dom.radii.coverage2);
     const int reach = cover_reach(dom.radii), side = 1 << dom.cell_bits;
@@ -165,7 +83,7 @@ template <uint N>
         for (uint iy = 0u; iy < N; ++iy) room[iy] = _mm256_set1_epi64x(limit - g.y[dy][iy]);
         for (int dx = g.x0; dx <= g.x1; ++dx) {
             const int x = int(s.x) + dx - reach;
-            if (!fast && !box.holds(x, y)) continue;
+            if (!fast && !box_holds(box, x, y)) continue;
             const __m256i gx = _mm256_load_si256(reinterpret_cast<const __m256i*>(g.x[dx]));
             uint rows = 0u;
             for (uint iy = 0u; iy < N; ++iy)
@@ -183,7 +101,7 @@ std::uint64_t refine_masked_scattered(ThreadPool& pool, const CellArgs& a, Grid 
                                       [[maybe_unused]] bool vector_bodies) {
     const Domain& dom = a.domain;
     const uint bases = dom.cells_x * dom.cells_y;
-    const Scattered box(dom, a.param);
+    const ScatterBox box = scatter_box(dom, a.side, a.param);
     // Every child of an active sub-cell of a scattered base cell, then the samples' covers taken
     // from them; the other base cells refined as refine_masked_base refines them.
     pool.parallel_for(bases, [&](std::size_t b, std::size_t e, unsigned) {
@@ -191,25 +109,25 @@ std::uint64_t refine_masked_scattered(ThreadPool& pool, const CellArgs& a, Grid 
         // each by refine_masked_base.
         for (std::size_t i = b; i < e;) {
             const std::size_t y = i / dom.cells_x, row = y * dom.cells_x, stop = std::min(row + dom.cells_x, e);
-            const bool boxed = box.holds(box.x0, int(y));
+            const bool boxed = box_holds(box, box.x0, int(y));
             const std::size_t from = boxed ? std::clamp(row + std::size_t(box.x0), i, stop) : stop,
                               to = boxed ? std::clamp(row + std::size_t(box.x1) + 1u, i, stop) : stop;
             for (; i < from; ++i) masks[i] = refine_masked_base(a, grid, uint(i)).x;
-            for (; i < to; ++i) {
-                const uvec2 w = grid.word[i];
-                masks[i] = masked_active(w) ? kAllChildren[w.y & 15u] : 0u;
-            }
+            for (; i < to; ++i) masks[i] = all_children(grid.word[i]);
             for (; i < stop; ++i) masks[i] = refine_masked_base(a, grid, uint(i)).x;
         }
     });
-    if (box.any()) {
+    if (box_any(box)) {
         const uint h = a.side;
         const int reach = cover_reach(dom.radii);
-        // The body for the children's count a side (2 or 4), chosen once.
-        using Body = void (*)(const Domain&, const Scattered&, uint, uvec2, bool, uint*);
-        const bool quarters = (1u << dom.cell_bits) / h == 4u;
-        Body scatter = quarters ? scatter_sample<4> : scatter_sample<2>;
+        // The body, chosen once: the kernels' (scatter_cover), or with AVX2 the one for the
+        // children's count a side (2 or 4).
+        using Body = void (*)(const Domain&, const ScatterBox&, uint, uvec2, bool, uint*);
+        Body scatter = [](const Domain& d, const ScatterBox& b, uint side, uvec2 p, bool, uint* m) {
+            scatter_cover(d, b, side, p, Uints{m});
+        };
 #ifdef VRPD_HOST_AVX2
+        const bool quarters = (1u << dom.cell_bits) / h == 4u;
         if (vector_bodies && host_has_avx2()) scatter = quarters ? scatter_sample_avx2<4> : scatter_sample_avx2<2>;
 #endif
         // The samples in grid order, so that neighbouring samples meet the same masks in cache, in
@@ -220,8 +138,8 @@ std::uint64_t refine_masked_scattered(ThreadPool& pool, const CellArgs& a, Grid 
                 const uvec2 p = grid.word[i];
                 if (!grid_is_sample(p)) continue;
                 const uvec2 s = base_cell_of(dom, p);
-                const bool fast =
-                    box.holds(int(s.x) - reach, int(s.y) - reach) && box.holds(int(s.x) + reach, int(s.y) + reach);
+                const bool fast = box_holds(box, int(s.x) - reach, int(s.y) - reach) &&
+                                  box_holds(box, int(s.x) + reach, int(s.y) + reach);
                 scatter(dom, box, h, p, fast, masks);
             }
         };

@@ -28,6 +28,7 @@
 #include "resolve_darts.h"
 #include "resolve_darts_one.h"
 #include "scatter_cells.h"
+#include "scatter_covers.h"
 #include "scatter_masked.h"
 #include "throw_sited.h"
 #include "throw_sited_empty.h"
@@ -74,6 +75,7 @@ VulkanEngine::VulkanEngine(const Plan& plan, const std::string& selector, const 
       VRPD_KERNEL(throw_sited_empty, CellArgs, WORKGROUP_SIZE),
       VRPD_KERNEL(commit_masked, CellArgs, WORKGROUP_SIZE),
       VRPD_KERNEL(refine_masked, CellArgs, WORKGROUP_SIZE),
+      VRPD_KERNEL(scatter_covers, CellArgs, WORKGROUP_SIZE),
       VRPD_KERNEL(apply_masks, CellArgs, WORKGROUP_SIZE),
       VRPD_KERNEL(scatter_masked, CellArgs, WORKGROUP_SIZE),
       VRPD_KERNEL(flag_masked, CellArgs, WORKGROUP_SIZE),

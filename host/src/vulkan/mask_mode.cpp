@@ -1,6 +1,7 @@
 // The Vulkan engine's mask mode (shared/mask_mode.h): at levels 0 to MASK_LEVELS - 1 the
 // active cells are masks in the grid words, and the kernels run over the base cells, or at the
 // last level over the list of those with active sub-cells.
+#include "shared/mask_mode.h"
 #include "shared/quadtree.h"
 #include "vulkan/vulkan_engine.h"
 
@@ -24,6 +25,16 @@ std::uint32_t VulkanEngine::refine_masked(const RoundSpec& spec, std::uint64_t r
     const bool last_level = fanout == 4u && (child_side << (MASK_LEVELS - 1u)) == (1u << plan_.domain.cell_bits);
     ctx_.dispatch(refine_masked_, &a, dispatch_groups(std::uint64_t(n) + 1, WORKGROUP_SIZE));
     ctx_.barrier();  // the new masks (and the active sum) before they reach the words
+    // Over every base cell into 4 or 16 sub-cells, the samples clear the covered children from
+    // the boxed cells' masks (refine_masked.comp); apply_masks then counts the sub-cells. The
+    // samples, emitted_ and this round's, number at most the n base cells.
+    if (targets == 0 && box_any(scatter_box(plan_.domain, child_side, fanout))) {
+        CellArgs s = a;
+        s.cells = samples_.address();
+        s.cell_count = std::uint32_t(emitted_);
+        ctx_.dispatch(scatter_covers_, &s, dispatch_groups(n, WORKGROUP_SIZE));
+        ctx_.barrier();  // the masks before apply_masks reads them
+    }
     // Without a cover test every cell stays (active cells lie on the lattice): the committed
     // words hold their masks already, and refine_masked only counts them.
     if (cover_tested(plan_.domain, fanout, child_side)) {

@@ -123,7 +123,7 @@ private:
     Kernel init_cells_, place_samples_, flag_dart_cells_, flag_free_cells_, list_dart_cells_, count_darts_,
         mark_ranges_, apply_decisions_, throw_sited_, work_args_, resolve_darts_, commit_cells_, emit_samples_,
         refine_cells_, scatter_cells_, count_masked_, mark_masked_, throw_sited_empty_, commit_masked_, refine_masked_,
-        apply_masks_, scatter_masked_, flag_masked_, list_masked_;
+        scatter_covers_, apply_masks_, scatter_masked_, flag_masked_, list_masked_;
     std::uint64_t emitted_ = 0;
     std::uint32_t active_ = 0;
     // Mask mode (shared/mask_mode.h) at levels 0 to MASK_LEVELS - 1, with one radius: no active list there.
