@@ -10,16 +10,21 @@
 
 VRPD_BEGIN
 
-// Is base cell `cell` at least influence_reach cells from every side of the grid? Then its
-// neighbours' indices are plain offsets from its own: no wrap, no side to fall off.
-VRPD_FN bool inner_cell(VRPD_IN(Domain) dom, uvec2 cell) {
-    uint r = influence_reach(dom.radii);
+// Is base cell `cell` at least `reach` cells from every side of the grid? Then a scan within that
+// reach meets no side: its neighbours' indices are plain offsets, whatever the domain's wrap.
+VRPD_FN bool inside_by(VRPD_IN(Domain) dom, uvec2 cell, int reach) {
+    uint r = uint(reach);
     return cell.x >= r && cell.x + r < dom.cells_x && cell.y >= r && cell.y + r < dom.cells_y;
 }
 
-// The index of base cell (cx + dx, cy + dy) for a cell near a side of the grid (inner cells
-// use plain offsets), or GRID_EMPTY when it falls off a free boundary. make_plan guarantees
-// influence_reach <= cells per side, so one wrap step suffices on a torus.
+// An inner cell is inside by influence_reach, the widest scan's: every scan of it is plain.
+VRPD_FN bool inner_cell(VRPD_IN(Domain) dom, uvec2 cell) {
+    return inside_by(dom, cell, int(influence_reach(dom.radii)));
+}
+
+// The index of base cell (cx + dx, cy + dy) for a cell near a side of the grid (cells inside by
+// the scan's reach use plain offsets), or GRID_EMPTY when it falls off a free boundary.
+// make_plan guarantees influence_reach <= cells per side, so one wrap step suffices on a torus.
 VRPD_COLD_FN uint wrapped_neighbour_index(Domain dom, uvec2 cell, int dx, int dy) {
     int x = int(cell.x) + dx;
     int y = int(cell.y) + dy;
@@ -75,16 +80,17 @@ VRPD_FN Domain local_domain(VRPD_IN(Domain) dom, uvec2 cell) {
 // (an int: base cells number fewer than 2^31). The body follows as a block; `continue` goes to the
 // next cell, `return` ends the scan. GLSL has neither closures nor function pointers: a loop
 // macro keeps the scan written once while every compiler sees two plain nested loops (the
-// inner-cell test and the centre's index ride in the outer loop's declaration, each row's first
-// index in the inner one's, so an inner cell's neighbour costs one add and no off-grid test).
-#define VRPD_FOR_EACH_NEIGHBOUR(dom, cell, reach, limit2, dx, dy, nb)                                           \
-    for (int dy = -(reach), nb = 0, vrpd_inner = inner_cell(dom, cell) ? 1 : 0,                                 \
-             vrpd_centre = int(base_index(dom, cell));                                                          \
-         dy <= (reach); dy++)                                                                                   \
-        for (int dx = -row_reach(dom, dy, reach, limit2), vrpd_row_end = -dx,                                    \
-                 vrpd_row = vrpd_centre + dy * int(dom.cells_x);                                                \
-             dx <= vrpd_row_end; dx++)                                                                          \
-            if (vrpd_inner != 0 ? ((nb = vrpd_row + dx), true)                                                  \
+// test of the cell's distance from the sides and the centre's index ride in the outer loop's
+// declaration, each row's first index in the inner one's, so the neighbour of a cell inside by
+// the reach costs one add and no off-grid test).
+#define VRPD_FOR_EACH_NEIGHBOUR(dom, cell, reach, limit2, dx, dy, nb)                 \
+    for (int dy = -(reach), nb = 0, vrpd_inner = inside_by(dom, cell, reach) ? 1 : 0, \
+             vrpd_centre = int(base_index(dom, cell));                                \
+         dy <= (reach); dy++)                                                         \
+        for (int dx = -row_reach(dom, dy, reach, limit2), vrpd_row_end = -dx,         \
+                 vrpd_row = vrpd_centre + dy * int(dom.cells_x);                      \
+             dx <= vrpd_row_end; dx++)                                                \
+            if (vrpd_inner != 0 ? ((nb = vrpd_row + dx), true)                        \
                                 : (nb = int(wrapped_neighbour_index(dom, cell, dx, dy))) != int(GRID_EMPTY))
 
 // This round's darts [first, end) in a grid word, or an empty range if it holds none.
