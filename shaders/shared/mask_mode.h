@@ -236,13 +236,12 @@ VRPD_FN bool box_holds(ScatterBox box, int x, int y) {
 }
 VRPD_FN bool box_any(ScatterBox box) { return box.x0 <= box.x1 && box.y0 <= box.y1; }
 
-// A boxed base cell's mask before the samples' covers: every child of its active sub-cells (the
-// children of sub-cell k are sub-cells 4 k to 4 k + 3; at level 0 the base cell is sub-cell 0).
+// A boxed base cell's mask before the samples' covers: every child of its active sub-cells, at
+// most level 1's four (the children of sub-cell k are sub-cells 4 k to 4 k + 3; at level 0 the
+// base cell is sub-cell 0): bit k moves to bit 4 k, and times 15 fills its four.
 VRPD_FN uint all_children(uvec2 w) {
-    uint children = 0u;
-    for (uint mask = masked_active(w) ? w.y & GRID_MASK_BITS : 0u; mask != 0u; mask &= mask - 1u)
-        children |= 15u << (4u * uint(findLSB(mask)));
-    return children;
+    uint m = masked_active(w) ? w.y & 15u : 0u;
+    return ((m & 1u) | (m & 2u) << 3u | (m & 4u) << 6u | (m & 8u) << 9u) * 15u;
 }
 
 // The children of one row of a base cell (x gaps gx0 to gx3, far2's, for columns 0 to 3) that a
