@@ -25,7 +25,7 @@ VRPD_FN bool inner_cell(VRPD_IN(Domain) dom, uvec2 cell) {
 // The index of base cell (cx + dx, cy + dy) for a cell near a side of the grid (cells inside by
 // the scan's reach use plain offsets), or GRID_EMPTY when it falls off a free boundary.
 // make_plan guarantees influence_reach <= cells per side, so one wrap step suffices on a torus.
-VRPD_COLD_FN uint wrapped_neighbour_index(Domain dom, uvec2 cell, int dx, int dy) {
+VRPD_FN uint wrapped_neighbour_index(Domain dom, uvec2 cell, int dx, int dy) {
     int x = int(cell.x) + dx;
     int y = int(cell.y) + dy;
     int w = int(dom.cells_x);
