@@ -52,6 +52,7 @@ public:
         // Reserving the expected count avoids the vector doubling past the end (more samples grow it).
         out_.reserve(std::max<std::uint64_t>(expected_samples(plan_), initial.size()));
         out_.assign(initial.begin(), initial.end());
+        Counts().swap(flags_);  // a run that failed may have left flags set
         // Each base cell: empty, with (mask mode) its one level-0 cell active.
         const std::size_t bases = plan_.base_cells;
         Words(bases).swap(grid_);
@@ -129,7 +130,7 @@ private:
     void note_peak(std::uint64_t extra = 0) {
         const std::uint64_t held = capacity_bytes(grid_) + capacity_bytes(cells_) + capacity_bytes(next_) +
                                    capacity_bytes(dart_cells_) + capacity_bytes(darts_) + capacity_bytes(scan_) +
-                                   capacity_bytes(masks_) + capacity_bytes(out_) + extra;
+                                   capacity_bytes(flags_) + capacity_bytes(masks_) + capacity_bytes(out_) + extra;
         peak_ = std::max(peak_, held);
     }
 
@@ -345,23 +346,41 @@ private:
         const Domain dom = plan_.domain;
         const uint n = uint(cells_.size());
         const uint bases = uint(plan_.base_cells);
-        scan_.assign(std::size_t(bases) + 1, 0);
+        if (flags_.size() != bases) {  // zeroed once: the listing clears each flag it takes
+            Counts(bases).swap(flags_);
+            pool_.parallel_for(bases, [&](std::size_t b, std::size_t e, unsigned) {
+                std::fill(flags_.begin() + b, flags_.begin() + e, 0u);
+            });
+        }
+        const Uints flags{flags_.data()};
         const CellArgs args{dom, 0, 0, 0, 0, 0, 0, 0, 0, n, round_key(plan_.seed, spec.round), spec.side, 0};
         if (spec.every_free_cell) {
             pool_.parallel_for(bases, [&](std::size_t b, std::size_t e, unsigned) {
-                for (std::size_t i = b; i < e; ++i) flag_free_cell(grid(), scan(), uint(i));
+                for (std::size_t i = b; i < e; ++i) flag_free_cell(grid(), flags, uint(i));
             });
         } else {
             const std::vector<int> rows = dart_scan_rows(dom);
             pool_.parallel_for(n, [&](std::size_t b, std::size_t e, unsigned) {
                 for_each_base_group(dom, cells(), b, e, n, false, [&](uint g, uint end) {
-                    flag_dart_runs(args, rows.data(), cells(), scan(), grid(), g, end);
+                    flag_dart_runs(args, rows.data(), cells(), flags, grid(), g, end);
                 });
             });
         }
-        dart_cells_.resize(exclusive_scan(bases));
-        pool_.parallel_for(bases, [&](std::size_t b, std::size_t e, unsigned) {
-            for (std::size_t i = b; i < e; ++i) list_dart_cell(dom, scan(), Cells{dart_cells_.data()}, uint(i));
+        // Each chunk of base cells counts its flags, then lists its flagged cells in base cell
+        // order from the sum of the counts before it, clearing their flags.
+        std::vector<std::uint64_t> first(pool_.chunks(bases) + 1, 0);
+        pool_.parallel_for(bases, [&](std::size_t b, std::size_t e, unsigned w) {
+            first[w + 1] =
+                std::uint64_t(std::count_if(flags_.begin() + b, flags_.begin() + e, [](uint f) { return f != 0u; }));
+        });
+        dart_cells_.resize(chunk_offsets(first));
+        pool_.parallel_for(bases, [&](std::size_t b, std::size_t e, unsigned w) {
+            std::uint64_t at = first[w];
+            for (std::size_t i = b; i < e; ++i)
+                if (flags_[i] != 0u) {
+                    dart_cells_[at++] = base_corner(dom, uint(i));
+                    flags_[i] = 0u;
+                }
         });
     }
 
@@ -482,6 +501,7 @@ private:
     Counts darts_;                   // this round's darts, stored as darts.h says
     std::uint64_t dart_count_ = 0;
     Counts scan_;
+    Counts flags_;  // two radii: the base cells flagged for darts this round, else 0 (list_dart_cells)
     Counts masks_;
     std::vector<uvec2> out_;  // samples in acceptance order
     std::uint64_t peak_ = 0;  // see note_peak
