@@ -244,47 +244,55 @@ VRPD_FN uint all_children(uvec2 w) {
     return ((m & 1u) | (m & 2u) << 3u | (m & 4u) << 6u | (m & 8u) << 9u) * 15u;
 }
 
-// The children of one row of a base cell (x gaps gx0 to gx3, far2's, for columns 0 to 3) that a
-// disk at y gap gy covers wholly, as mask bits for row 0: column ix is bit (ix & 1) | (ix & 2) << 1
-// (subcell_corner's numbering: sub-cell k's even bits are x's, its odd bits y's).
-VRPD_FN uint row_covered(Radii r, uint64_t gy, uint64_t gx0, uint64_t gx1, uint64_t gx2, uint64_t gx3) {
-    return (covers(r, gy + gx0) ? 1u : 0u) | (covers(r, gy + gx1) ? 2u : 0u) | (covers(r, gy + gx2) ? 16u : 0u) |
-           (covers(r, gy + gx3) ? 32u : 0u);
+// far2's gaps from offset o to the rows (or columns) of a base cell's children of side h, 2 or 4
+// a side (`four`); past the children the gap `none` (Rc²), which covers nothing. Plain fields,
+// not an array: llvmpipe keeps a lane's arrays in memory.
+struct ChildGaps {
+    uint64_t g0;
+    uint64_t g1;
+    uint64_t g2;
+    uint64_t g3;
+};
+
+VRPD_FN ChildGaps child_gaps(int o, int h, bool four, uint64_t none) {
+    return ChildGaps(far2(o, 0, h - 1), far2(o, h, 2 * h - 1), four ? far2(o, 2 * h, 3 * h - 1) : none,
+                     four ? far2(o, 3 * h, 4 * h - 1) : none);
+}
+
+VRPD_FN uint64_t least_gap(ChildGaps g) { return min(min(g.g0, g.g1), min(g.g2, g.g3)); }
+
+// The children of one row of a base cell (x gaps gx) that a disk at y gap gy covers wholly, as
+// mask bits for row 0: column ix is bit (ix & 1) | (ix & 2) << 1 (subcell_corner's numbering:
+// sub-cell k's even bits are x's, its odd bits y's).
+VRPD_FN uint row_covered(Radii r, uint64_t gy, ChildGaps gx) {
+    return (covers(r, gy + gx.g0) ? 1u : 0u) | (covers(r, gy + gx.g1) ? 2u : 0u) | (covers(r, gy + gx.g2) ? 16u : 0u) |
+           (covers(r, gy + gx.g3) ? 32u : 0u);
 }
 
 // Clears from the masks of the boxed base cells around sample p the children (side `side`, 2 or 4
 // a side) that its disk covers wholly: the exact corner test of cover_children, a child's
 // farthest point strictly within Rc, from the gaps along each axis to the children's rows and
-// columns (far2's). Row iy's bits lie (iy & 1) << 1 | (iy & 2) << 2 up (row_covered). Rows and
-// columns past the children (2 a side) get the gap Rc², which covers nothing. Plain variables,
-// not arrays: llvmpipe keeps a lane's arrays in memory.
+// columns. Row iy's bits lie (iy & 1) << 1 | (iy & 2) << 2 up (row_covered).
 VRPD_FN void scatter_cover(Domain dom, ScatterBox box, uint side, uvec2 p, Uints masks) {
     int reach = cover_reach(dom.radii);
     int base_side = 1 << dom.cell_bits;
     bool four = uint(base_side) / side == 4u;
     int h = int(side);
-    uint64_t none = dom.radii.coverage2;
     uvec2 s = base_cell_of(dom, p);
     int px = int(p.x & uint(base_side - 1)), py = int(p.y & uint(base_side - 1));
     for (int dy = -reach; dy <= reach; dy++) {
         int y = int(s.y) + dy;
         if (y < box.y0 || y > box.y1) continue;
-        int oy = py - dy * base_side;
-        uint64_t gy0 = far2(oy, 0, h - 1), gy1 = far2(oy, h, 2 * h - 1);
-        uint64_t gy2 = four ? far2(oy, 2 * h, 3 * h - 1) : none, gy3 = four ? far2(oy, 3 * h, 4 * h - 1) : none;
-        uint64_t gy = min(min(gy0, gy1), min(gy2, gy3));
-        if (!covers(dom.radii, gy)) continue;
+        ChildGaps gy = child_gaps(py - dy * base_side, h, four, dom.radii.coverage2);
+        uint64_t nearest_y = least_gap(gy);
+        if (!covers(dom.radii, nearest_y)) continue;
         for (int dx = -reach; dx <= reach; dx++) {
             int x = int(s.x) + dx;
             if (x < box.x0 || x > box.x1) continue;
-            int ox = px - dx * base_side;
-            uint64_t gx0 = far2(ox, 0, h - 1), gx1 = far2(ox, h, 2 * h - 1);
-            uint64_t gx2 = four ? far2(ox, 2 * h, 3 * h - 1) : none, gx3 = four ? far2(ox, 3 * h, 4 * h - 1) : none;
-            if (!covers(dom.radii, gy + min(min(gx0, gx1), min(gx2, gx3)))) continue;
-            uint covered = row_covered(dom.radii, gy0, gx0, gx1, gx2, gx3) |
-                           row_covered(dom.radii, gy1, gx0, gx1, gx2, gx3) << 2u |
-                           row_covered(dom.radii, gy2, gx0, gx1, gx2, gx3) << 8u |
-                           row_covered(dom.radii, gy3, gx0, gx1, gx2, gx3) << 10u;
+            ChildGaps gx = child_gaps(px - dx * base_side, h, four, dom.radii.coverage2);
+            if (!covers(dom.radii, nearest_y + least_gap(gx))) continue;
+            uint covered = row_covered(dom.radii, gy.g0, gx) | row_covered(dom.radii, gy.g1, gx) << 2u |
+                           row_covered(dom.radii, gy.g2, gx) << 8u | row_covered(dom.radii, gy.g3, gx) << 10u;
             if (covered != 0u) and_mask(masks, uint(y) * dom.cells_x + uint(x), ~covered);
         }
     }
