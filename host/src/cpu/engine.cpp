@@ -13,6 +13,7 @@
 #include "engine.h"
 #include "arrival_order.h"
 #include "cover_scatter.h"
+#include "dart_flags.h"
 #include "shared/sampler.h"
 #include "serial_oracle.h"
 #include "thread_pool.h"
@@ -52,7 +53,7 @@ public:
         // Reserving the expected count avoids the vector doubling past the end (more samples grow it).
         out_.reserve(std::max<std::uint64_t>(expected_samples(plan_), initial.size()));
         out_.assign(initial.begin(), initial.end());
-        Counts().swap(flags_);  // a run that failed may have left flags set
+        flags_.release();
         // Each base cell: empty, with (mask mode) its one level-0 cell active.
         const std::size_t bases = plan_.base_cells;
         Words(bases).swap(grid_);
@@ -130,7 +131,7 @@ private:
     void note_peak(std::uint64_t extra = 0) {
         const std::uint64_t held = capacity_bytes(grid_) + capacity_bytes(cells_) + capacity_bytes(next_) +
                                    capacity_bytes(dart_cells_) + capacity_bytes(darts_) + capacity_bytes(scan_) +
-                                   capacity_bytes(flags_) + capacity_bytes(masks_) + capacity_bytes(out_) + extra;
+                                   flags_.bytes() + capacity_bytes(masks_) + capacity_bytes(out_) + extra;
         peak_ = std::max(peak_, held);
     }
 
@@ -346,13 +347,7 @@ private:
         const Domain dom = plan_.domain;
         const uint n = uint(cells_.size());
         const uint bases = uint(plan_.base_cells);
-        if (flags_.size() != bases) {  // zeroed once: the listing clears each flag it takes
-            Counts(bases).swap(flags_);
-            pool_.parallel_for(bases, [&](std::size_t b, std::size_t e, unsigned) {
-                std::fill(flags_.begin() + b, flags_.begin() + e, 0u);
-            });
-        }
-        const Uints flags{flags_.data()};
+        const Uints flags = flags_.zeroed(pool_, bases);
         const CellArgs args{dom, 0, 0, 0, 0, 0, 0, 0, 0, n, round_key(plan_.seed, spec.round), spec.side, 0};
         if (spec.every_free_cell) {
             pool_.parallel_for(bases, [&](std::size_t b, std::size_t e, unsigned) {
@@ -366,23 +361,7 @@ private:
                 });
             });
         }
-        // Each chunk of base cells counts its flags, then lists its flagged cells in base cell
-        // order from the sum of the counts before it, clearing their flags.
-        std::vector<std::uint64_t> first(pool_.chunks(bases) + 1, 0);
-        pool_.parallel_for(bases, [&](std::size_t b, std::size_t e, unsigned w) {
-            uint count = 0;  // a plain sum, which the compiler vectorises
-            for (std::size_t i = b; i < e; ++i) count += flags_[i] != 0u ? 1u : 0u;
-            first[w + 1] = count;
-        });
-        dart_cells_.resize(chunk_offsets(first));
-        pool_.parallel_for(bases, [&](std::size_t b, std::size_t e, unsigned w) {
-            std::uint64_t at = first[w];
-            for (std::size_t i = b; i < e; ++i)
-                if (flags_[i] != 0u) {
-                    dart_cells_[at++] = base_corner(dom, uint(i));
-                    flags_[i] = 0u;
-                }
-        });
+        flags_.list(pool_, dom, dart_cells_);
     }
 
     // Exclusive prefix sum of scan_[0, n) in place; scan_[n] becomes the total. Unrolled: with two
@@ -502,7 +481,7 @@ private:
     Counts darts_;                   // this round's darts, stored as darts.h says
     std::uint64_t dart_count_ = 0;
     Counts scan_;
-    Counts flags_;  // two radii: the base cells flagged for darts this round, else 0 (list_dart_cells)
+    DartFlags flags_;  // two radii: the base cells that get darts this round
     Counts masks_;
     std::vector<uvec2> out_;  // samples in acceptance order
     std::uint64_t peak_ = 0;  // see note_peak
