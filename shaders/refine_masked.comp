@@ -20,22 +20,24 @@ shared uint group_active;  // the workgroup's children, added once to COUNTER_AC
 
 void main() {
     uint i = work_item();
-    // Counted here unless scattered (apply_masks counts) or at the last level (the scan counts);
-    // the same in every invocation.
-    bool counting = !scattered_refinement(a) && !masked_leaves(a.domain, a.side, a.param);
+    // The same in every invocation. Counted here unless scattered (apply_masks counts) or at the
+    // last level (the scan counts).
+    bool scattered = scattered_refinement(a);
+    bool leaves = masked_leaves(a.domain, a.side, a.param);
+    bool counting = !scattered && !leaves;
     if (counting) {
         if (gl_LocalInvocationIndex == 0u) group_active = 0u;
         barrier();
     }
     if (i < a.cell_count) {
         uint b = masked_base(a, i);
-        if (!counting && !masked_leaves(a.domain, a.side, a.param) &&
-            box_holds(scatter_box(a.domain, a.side, a.param), int(b % a.domain.cells_x), int(b / a.domain.cells_x))) {
+        if (scattered && box_holds(scatter_box(a.domain, a.side, a.param), int(b % a.domain.cells_x),
+                                   int(b / a.domain.cells_x))) {
             a.masks.value[i] = all_children(a.grid.word[b]);
         } else {
             uvec2 kept = refine_masked_base(a, a.grid, b);
             a.masks.value[i] = kept.x;
-            if (masked_leaves(a.domain, a.side, a.param))
+            if (leaves)
                 a.work.value[i] = kept.y;
             else if (counting && kept.x != 0u)
                 atomicAdd(group_active, uint(bitCount(kept.x)));

@@ -298,6 +298,91 @@ VRPD_FN void scatter_cover(Domain dom, ScatterBox box, uint side, uvec2 p, Uints
     }
 }
 
+#ifdef VRPD_HOST_AVX2
+inline constexpr int kScatterWidth = 2 * int(MAX_REACH) + 1;
+
+// Two rows of 4 x 4 children as mask bits, from their bits row by row (bit 4 iy + ix): k's even
+// bits are x's, its odd bits y's (subcell_corner's numbering). Rows 2 and 3 take the same bits 8
+// places up.
+inline constexpr auto kRowsToMask = [] {
+    std::array<std::uint8_t, 256> t{};
+    for (uint rows = 0u; rows < 256u; rows++)
+        for (uint iy = 0u; iy < 2u; iy++)
+            for (uint ix = 0u; ix < 4u; ix++)
+                if ((rows >> (4u * iy + ix) & 1u) != 0u)
+                    t[rows] |= std::uint8_t(1u << ((ix & 1u) | iy << 1u | (ix & 2u) << 1u));
+    return t;
+}();
+
+// The children of N x N (N = 2 or 4) whose bits row by row are `rows` (bit N iy + ix), as mask bits.
+template <uint N>
+inline uint children_mask(uint rows) {
+    if (N == 2u) return rows;  // 2 x 2: the mask's own order
+    return kRowsToMask[rows & 255u] | uint(kRowsToMask[rows >> 8u]) << 8u;
+}
+
+// A sample's squared farthest gaps, per axis, to the children's intervals (N a side, side h) of
+// the base cells d - reach cells away, d in [0, 2 reach]; and the d where some child's gap is
+// below the limit, [x0, x1] along x and [y0, y1] along y (none beyond can hold a covered child).
+template <uint N>
+struct ScatterGaps {
+    alignas(32) int64_t x[kScatterWidth][4], y[kScatterWidth][4];  // 4 a row for the vector bodies' loads
+    int x0 = kScatterWidth, x1 = -1, y0 = kScatterWidth, y1 = -1;
+};
+
+// The host's scatter_cover on processors with AVX2: a base cell's gaps along x and y in one vector, and a
+// row of children's gaps compared with the room a row's y gap leaves at once.
+template <uint N>
+[[gnu::target("avx2")]] inline void scatter_cover_avx2(const Domain& dom, const ScatterBox& box, uint h, uvec2 p,
+                                                       bool fast, uint* masks) {
+    const int64_t limit = int64_t(dom.radii.coverage2);
+    const int reach = cover_reach(dom.radii), side = 1 << dom.cell_bits;
+    const int px = int(p.x & uint(side - 1)), py = int(p.y & uint(side - 1));
+    const int step = int(h);
+    // Lanes 0-3: the children's intervals along x, 4-7 along y (with N = 2, lanes 2, 3, 6 and 7
+    // lie past the cell and are not read).
+    const __m256i lo = _mm256_setr_epi32(0, step, 2 * step, 3 * step, 0, step, 2 * step, 3 * step);
+    const __m256i hi = _mm256_add_epi32(lo, _mm256_set1_epi32(step - 1));
+    const __m256i bound = _mm256_set1_epi64x(limit);
+    const int lanes = (1 << N) - 1;
+    ScatterGaps<N> g;
+    for (int d = 0; d <= 2 * reach; ++d) {
+        const int ox = px - (d - reach) * side, oy = py - (d - reach) * side;
+        const __m256i o = _mm256_setr_epi32(ox, ox, ox, ox, oy, oy, oy, oy);
+        const __m256i f = _mm256_max_epi32(_mm256_sub_epi32(o, lo), _mm256_sub_epi32(hi, o));
+        const __m256i odd = _mm256_srli_epi64(f, 32);
+        const __m256i even2 = _mm256_mul_epi32(f, f), odd2 = _mm256_mul_epi32(odd, odd);  // x0 x2 y0 y2, x1 x3 y1 y3
+        const __m256i low = _mm256_unpacklo_epi64(even2, odd2), high = _mm256_unpackhi_epi64(even2, odd2);
+        const __m256i gx = _mm256_permute2x128_si256(low, high, 0x20), gy = _mm256_permute2x128_si256(low, high, 0x31);
+        _mm256_store_si256(reinterpret_cast<__m256i*>(g.x[d]), gx);
+        _mm256_store_si256(reinterpret_cast<__m256i*>(g.y[d]), gy);
+        if ((_mm256_movemask_pd(_mm256_castsi256_pd(_mm256_cmpgt_epi64(bound, gx))) & lanes) != 0)
+            g.x0 = std::min(g.x0, d), g.x1 = d;
+        if ((_mm256_movemask_pd(_mm256_castsi256_pd(_mm256_cmpgt_epi64(bound, gy))) & lanes) != 0)
+            g.y0 = std::min(g.y0, d), g.y1 = d;
+    }
+    // each_near_cell's loop, written out: a lambda's body would not be built for AVX2.
+    const uvec2 s = base_cell_of(dom, p);
+    for (int dy = g.y0; dy <= g.y1; ++dy) {
+        const int y = int(s.y) + dy - reach;
+        if (!fast && (y < box.y0 || y > box.y1)) continue;
+        uint* row = masks + std::size_t(y) * dom.cells_x;
+        __m256i room[N];
+        for (uint iy = 0u; iy < N; ++iy) room[iy] = _mm256_set1_epi64x(limit - g.y[dy][iy]);
+        for (int dx = g.x0; dx <= g.x1; ++dx) {
+            const int x = int(s.x) + dx - reach;
+            if (!fast && !box_holds(box, x, y)) continue;
+            const __m256i gx = _mm256_load_si256(reinterpret_cast<const __m256i*>(g.x[dx]));
+            uint rows = 0u;
+            for (uint iy = 0u; iy < N; ++iy)
+                rows |= uint(_mm256_movemask_pd(_mm256_castsi256_pd(_mm256_cmpgt_epi64(room[iy], gx))) & lanes)
+                        << (N * iy);
+            row[x] &= ~children_mask<N>(rows);
+        }
+    }
+}
+#endif
+
 // The number of sub-cells in a mask of refine_masked_base.
 VRPD_FN uint subcell_count(uvec2 kept) { return uint(bitCount(kept.x) + bitCount(kept.y)); }
 
