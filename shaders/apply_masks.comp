@@ -11,15 +11,11 @@ layout(local_size_x_id = 0) in;
 // 64-bit mask in its word until scatter_masked, and masks[i] becomes their count, for the scan
 // that ranks them in the explicit list.
 layout(push_constant) uniform Push { CellArgs a; };
-shared uint group_active;  // the workgroup's sub-cells, added once to COUNTER_ACTIVE
 
 void main() {
     uint i = work_item();
     bool counting = scattered_refinement(a);  // the same in every invocation
-    if (counting) {
-        if (gl_LocalInvocationIndex == 0u) group_active = 0u;
-        barrier();
-    }
+    group_active_begin(counting);
     if (i < a.cell_count) {
         uint b = masked_base(a, i);
         if (masked_leaves(a.domain, a.side, a.param)) {
@@ -30,12 +26,8 @@ void main() {
         } else {
             uint mask = a.masks.value[i];
             a.grid.word[b] = masked_word(a.grid.word[b], mask);
-            if (counting && mask != 0u) atomicAdd(group_active, uint(bitCount(mask)));
+            if (counting) group_active_add(mask);
         }
     }
-    if (counting) {
-        barrier();
-        if (gl_LocalInvocationIndex == 0u && group_active != 0u)
-            atomicAdd(a.counters.value[COUNTER_ACTIVE], group_active);
-    }
+    group_active_end(a, counting);
 }

@@ -17,3 +17,21 @@ uint masked_base(CellArgs a, uint i) {
 bool scattered_refinement(CellArgs a) {
     return uint64_t(a.cells) == 0ul && box_any(scatter_box(a.domain, a.side, a.param));
 }
+
+// A workgroup's count of active sub-cells (refine_masked, apply_masks), added once to
+// COUNTER_ACTIVE: a global atomic an invocation contends on llvmpipe. Every invocation calls
+// begin and end with the same `counting`, as they hold barriers.
+shared uint group_active;
+void group_active_begin(bool counting) {
+    if (!counting) return;
+    if (gl_LocalInvocationIndex == 0u) group_active = 0u;
+    barrier();
+}
+void group_active_add(uint mask) {
+    if (mask != 0u) atomicAdd(group_active, uint(bitCount(mask)));
+}
+void group_active_end(CellArgs a, bool counting) {
+    if (!counting) return;
+    barrier();
+    if (gl_LocalInvocationIndex == 0u && group_active != 0u) atomicAdd(a.counters.value[COUNTER_ACTIVE], group_active);
+}

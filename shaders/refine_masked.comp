@@ -16,7 +16,6 @@ layout(local_size_x_id = 0) in;
 // and high halves), for apply_masks. Invocation cell_count writes the trailing 0 that the scan
 // of the counts needs.
 layout(push_constant) uniform Push { CellArgs a; };
-shared uint group_active;  // the workgroup's children, added once to COUNTER_ACTIVE
 
 void main() {
     uint i = work_item();
@@ -25,10 +24,7 @@ void main() {
     bool scattered = scattered_refinement(a);
     bool leaves = masked_leaves(a.domain, a.side, a.param);
     bool counting = !scattered && !leaves;
-    if (counting) {
-        if (gl_LocalInvocationIndex == 0u) group_active = 0u;
-        barrier();
-    }
+    group_active_begin(counting);
     if (i < a.cell_count) {
         uint b = masked_base(a, i);
         if (scattered && box_holds(scatter_box(a.domain, a.side, a.param), int(b % a.domain.cells_x),
@@ -39,15 +35,11 @@ void main() {
             a.masks.value[i] = kept.x;
             if (leaves)
                 a.work.value[i] = kept.y;
-            else if (counting && kept.x != 0u)
-                atomicAdd(group_active, uint(bitCount(kept.x)));
+            else if (counting)
+                group_active_add(kept.x);
         }
     } else if (i == a.cell_count) {
         a.masks.value[i] = 0u;
     }
-    if (counting) {
-        barrier();
-        if (gl_LocalInvocationIndex == 0u && group_active != 0u)
-            atomicAdd(a.counters.value[COUNTER_ACTIVE], group_active);
-    }
+    group_active_end(a, counting);
 }

@@ -261,18 +261,22 @@ VRPD_FN ChildGaps child_gaps(int o, int h, bool four, uint64_t none) {
 
 VRPD_FN uint64_t least_gap(ChildGaps g) { return min(min(g.g0, g.g1), min(g.g2, g.g3)); }
 
-// The children of one row of a base cell (x gaps gx) that a disk at y gap gy covers wholly, as
-// mask bits for row 0: column ix is bit (ix & 1) | (ix & 2) << 1 (subcell_corner's numbering:
-// sub-cell k's even bits are x's, its odd bits y's).
+// A base cell's children given row by row, column ix of row iy at bit 4 iy + ix, as mask bits:
+// sub-cell k's even bits are x's and its odd bits y's (subcell_corner's numbering).
+VRPD_FN uint children_of_rows(uint rows) {
+    return (rows & 0x0303u) | (rows & 0x0C0Cu) << 2u | (rows & 0x3030u) >> 2u | (rows & 0xC0C0u);
+}
+
+// The columns of a row of children (y gap gy) that a disk at x gaps gx covers wholly, bit ix.
 VRPD_FN uint row_covered(Radii r, uint64_t gy, ChildGaps gx) {
-    return (covers(r, gy + gx.g0) ? 1u : 0u) | (covers(r, gy + gx.g1) ? 2u : 0u) | (covers(r, gy + gx.g2) ? 16u : 0u) |
-           (covers(r, gy + gx.g3) ? 32u : 0u);
+    return (covers(r, gy + gx.g0) ? 1u : 0u) | (covers(r, gy + gx.g1) ? 2u : 0u) | (covers(r, gy + gx.g2) ? 4u : 0u) |
+           (covers(r, gy + gx.g3) ? 8u : 0u);
 }
 
 // Clears from the masks of the boxed base cells around sample p the children (side `side`, 2 or 4
 // a side) that its disk covers wholly: the exact corner test of cover_children, a child's
 // farthest point strictly within Rc, from the gaps along each axis to the children's rows and
-// columns. Row iy's bits lie (iy & 1) << 1 | (iy & 2) << 2 up (row_covered).
+// columns.
 VRPD_FN void scatter_cover(Domain dom, ScatterBox box, uint side, uvec2 p, Uints masks) {
     int reach = cover_reach(dom.radii);
     int base_side = 1 << dom.cell_bits;
@@ -291,8 +295,9 @@ VRPD_FN void scatter_cover(Domain dom, ScatterBox box, uint side, uvec2 p, Uints
             if (x < box.x0 || x > box.x1) continue;
             ChildGaps gx = child_gaps(px - dx * base_side, h, four, dom.radii.coverage2);
             if (!covers(dom.radii, nearest_y + least_gap(gx))) continue;
-            uint covered = row_covered(dom.radii, gy.g0, gx) | row_covered(dom.radii, gy.g1, gx) << 2u |
-                           row_covered(dom.radii, gy.g2, gx) << 8u | row_covered(dom.radii, gy.g3, gx) << 10u;
+            uint covered =
+                children_of_rows(row_covered(dom.radii, gy.g0, gx) | row_covered(dom.radii, gy.g1, gx) << 4u |
+                                 row_covered(dom.radii, gy.g2, gx) << 8u | row_covered(dom.radii, gy.g3, gx) << 12u);
             if (covered != 0u) and_mask(masks, uint(y) * dom.cells_x + uint(x), ~covered);
         }
     }
@@ -301,37 +306,17 @@ VRPD_FN void scatter_cover(Domain dom, ScatterBox box, uint side, uvec2 p, Uints
 #ifdef VRPD_HOST_AVX2
 inline constexpr int kScatterWidth = 2 * int(MAX_REACH) + 1;
 
-// Two rows of 4 x 4 children as mask bits, from their bits row by row (bit 4 iy + ix): k's even
-// bits are x's, its odd bits y's (subcell_corner's numbering). Rows 2 and 3 take the same bits 8
-// places up.
-inline constexpr auto kRowsToMask = [] {
-    std::array<std::uint8_t, 256> t{};
-    for (uint rows = 0u; rows < 256u; rows++)
-        for (uint iy = 0u; iy < 2u; iy++)
-            for (uint ix = 0u; ix < 4u; ix++)
-                if ((rows >> (4u * iy + ix) & 1u) != 0u)
-                    t[rows] |= std::uint8_t(1u << ((ix & 1u) | iy << 1u | (ix & 2u) << 1u));
-    return t;
-}();
-
-// The children of N x N (N = 2 or 4) whose bits row by row are `rows` (bit N iy + ix), as mask bits.
-template <uint N>
-inline uint children_mask(uint rows) {
-    if (N == 2u) return rows;  // 2 x 2: the mask's own order
-    return kRowsToMask[rows & 255u] | uint(kRowsToMask[rows >> 8u]) << 8u;
-}
-
 // A sample's squared farthest gaps, per axis, to the children's intervals (N a side, side h) of
 // the base cells d - reach cells away, d in [0, 2 reach]; and the d where some child's gap is
 // below the limit, [x0, x1] along x and [y0, y1] along y (none beyond can hold a covered child).
 template <uint N>
 struct ScatterGaps {
-    alignas(32) int64_t x[kScatterWidth][4], y[kScatterWidth][4];  // 4 a row for the vector bodies' loads
+    alignas(32) int64_t x[kScatterWidth][4], y[kScatterWidth][4];  // 4 a row for the vector loads
     int x0 = kScatterWidth, x1 = -1, y0 = kScatterWidth, y1 = -1;
 };
 
-// The host's scatter_cover on processors with AVX2: a base cell's gaps along x and y in one vector, and a
-// row of children's gaps compared with the room a row's y gap leaves at once.
+// The host's scatter_cover on processors with AVX2: a base cell's gaps along x and y in one
+// vector, and a row of children's gaps compared with the room a row's y gap leaves at once.
 template <uint N>
 [[gnu::target("avx2")]] inline void scatter_cover_avx2(const Domain& dom, const ScatterBox& box, uint h, uvec2 p,
                                                        bool fast, uint* masks) {
@@ -361,7 +346,7 @@ template <uint N>
         if ((_mm256_movemask_pd(_mm256_castsi256_pd(_mm256_cmpgt_epi64(bound, gy))) & lanes) != 0)
             g.y0 = std::min(g.y0, d), g.y1 = d;
     }
-    // each_near_cell's loop, written out: a lambda's body would not be built for AVX2.
+    // The base cells within the gaps' ranges, the box's alone unless `fast` (all of them are).
     const uvec2 s = base_cell_of(dom, p);
     for (int dy = g.y0; dy <= g.y1; ++dy) {
         const int y = int(s.y) + dy - reach;
@@ -376,8 +361,9 @@ template <uint N>
             uint rows = 0u;
             for (uint iy = 0u; iy < N; ++iy)
                 rows |= uint(_mm256_movemask_pd(_mm256_castsi256_pd(_mm256_cmpgt_epi64(room[iy], gx))) & lanes)
-                        << (N * iy);
-            row[x] &= ~children_mask<N>(rows);
+                        << (4u * iy);
+            const uint covered = children_of_rows(rows);
+            row[x] &= ~covered;
         }
     }
 }
