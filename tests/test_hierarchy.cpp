@@ -115,6 +115,37 @@ TEST_CASE("from given samples: they come first, then a maximal completion", "[hi
     CHECK(rep.maximal);
 }
 
+// Given samples packed hexagonally at just over Rf fill more than half the base cells (whose side
+// is just under Rf/sqrt(2)), so the first round throws only near the active cells, from a list of
+// the free base cells, not into every free base cell without one: both ways, gpu = cpu = serial,
+// the given samples first and the completion maximal.
+TEST_CASE("two radii from given samples filling most base cells: gpu = cpu = serial", "[two-radii][gpu]") {
+    const double rf = 0.02, rc = 0.03;
+    const int columns = 49, rows = 56;  // spacing 1/49 across, 1/56 between rows: 0.0206 diagonally
+    std::vector<glm::dvec2> hexagonal;
+    for (int j = 0; j < rows; ++j)
+        for (int i = 0; i < columns; ++i) hexagonal.push_back({(i + 0.5 * (j % 2)) / columns, double(j) / rows});
+    for (std::size_t given : {hexagonal.size(), hexagonal.size() / 4}) {
+        INFO(given << " given samples");
+        auto run = [&](Backend b, unsigned threads = 0) {
+            SampleOptions o = test::options(rf, 3, b);
+            o.coverage = rc;
+            o.threads = threads;
+            o.initial.assign(hexagonal.begin(), hexagonal.begin() + std::ptrdiff_t(given));
+            return sample(o);
+        };
+        const Sampling serial = run(Backend::Serial);
+        REQUIRE(serial.size() >= given);
+        CHECK(run(Backend::Cpu, 1).lattice == serial.lattice);
+        CHECK(run(Backend::Cpu, 2).lattice == serial.lattice);
+        CHECK(run(Backend::Cpu, 3).lattice == serial.lattice);
+        CHECK(run(Backend::Gpu).lattice == serial.lattice);
+        const Report rep = verify(test::points_of(serial), {rf, rc, 2 * serial.quantum}, Box{});
+        CHECK(rep.conflicts == 0);
+        CHECK(rep.maximal);
+    }
+}
+
 TEST_CASE("hierarchy and given samples: bad options refused with the reason", "[hierarchy]") {
     auto refused = [](SampleOptions o, const char* why) {
         INFO(why);

@@ -14,6 +14,7 @@
 #include "arrival_order.h"
 #include "cover_scatter.h"
 #include "dart_flags.h"
+#include "free_bases.h"
 #include "parallel_resolution.h"
 #include "shared/sampler.h"
 #include "serial_oracle.h"
@@ -60,20 +61,13 @@ public:
         });
         for (const uvec2& p : initial) place_sample(d, grid(), p);
         if (masked_) return bases;  // a sample's word holds no active mask
-        // The list leaves out the base cells that hold a sample, as mask mode does: a round's
-        // darts word would replace the sample's. Each chunk of base cells counts its free ones,
-        // then lists them from the sum of the counts before it.
-        std::vector<std::uint64_t> first(pool_.chunks(bases) + 1, 0);
-        pool_.parallel_for(bases, [&](std::size_t b, std::size_t e, unsigned w) {
-            first[w + 1] = std::uint64_t(
-                std::count_if(grid_.begin() + b, grid_.begin() + e, [](uvec2 v) { return !grid_is_sample(v); }));
-        });
-        Words(chunk_offsets(first)).swap(cells_);
-        pool_.parallel_for(bases, [&](std::size_t b, std::size_t e, unsigned w) {
-            std::uint64_t next = first[w];
-            for (std::size_t i = b; i < e; ++i)
-                if (!grid_is_sample(grid_[i])) cells_[next++] = base_corner(d, uint(i));
-        });
+        // Two radii (cpu): the free base cells stay unlisted until the first refinement
+        // (free_bases.h). The serial oracle lists them, leaving out the base cells that hold a
+        // sample, as mask mode does: a round's darts word would replace the sample's.
+        Words().swap(cells_);
+        free_bases_ = resolution_ != Resolution::Serial;
+        if (free_bases_) return free_base_offsets(pool_, grid_.data(), bases).back();
+        list_free_bases(pool_, d, grid_.data(), bases, cells_);
         cells_free_bases_ = true;
         return cells_.size();
     }
@@ -124,6 +118,11 @@ private:
         });
     }
 
+    // A kernel's arguments for `count` cells of side `side` in round `spec` (param: the kernel's).
+    CellArgs cell_args(const RoundSpec& spec, std::uint64_t count, uint side, uint param) const {
+        return {plan_.domain, 0, 0, 0, 0, 0, 0, 0, 0, uint(count), round_key(plan_.seed, spec.round), side, param};
+    }
+
     // Records the memory held by the engine's arrays now, plus `extra` bytes held elsewhere.
     void note_peak(std::uint64_t extra = 0) {
         const std::uint64_t held = capacity_bytes(grid_) + capacity_bytes(cells_) + capacity_bytes(next_) +
@@ -136,6 +135,16 @@ private:
     // radii), throws them, and returns their count.
     std::uint64_t throw_listed(const RoundSpec& spec) {
         const Domain dom = plan_.domain;
+        if (free_bases_ && spec.every_free_cell) {
+            const CellArgs args = cell_args(spec, plan_.base_cells, spec.side, spec.exp_neg_lambda);
+            clear_darts(mark_free_base_darts(pool_, args, grid_.data()));
+            throw_free_base_darts(pool_, args, grid(), darts(), out_.empty());
+            return dart_count_;
+        }
+        if (free_bases_) {  // a round from given samples that cover most base cells
+            list_free_bases(pool_, dom, grid_.data(), plan_.base_cells, cells_);
+            free_bases_ = false;
+        }
         if (two_radii(dom.radii)) list_dart_cells(spec);
         Words& targets = dart_targets();
         const uint n = uint(targets.size());
@@ -170,10 +179,8 @@ private:
     // Mask mode: counts each base cell's darts into its word, numbers them chunk by chunk in base
     // cell order (the explicit list's order), throws them, and returns their count.
     std::uint64_t throw_masked(const RoundSpec& spec) {
-        const Domain dom = plan_.domain;
         const uint bases = uint(plan_.base_cells);
-        const CellArgs args{dom, 0, 0, 0, 0, 0, 0, 0, 0, bases, round_key(plan_.seed, spec.round), spec.side,
-                            spec.exp_neg_lambda};
+        const CellArgs args = cell_args(spec, bases, spec.side, spec.exp_neg_lambda);
         std::vector<std::uint64_t> first(pool_.chunks(bases) + 1, 0);
         std::atomic<bool> crowded = false;
         const uint* masks = masks_.empty() ? nullptr : masks_.data();  // the last refinement's
@@ -278,7 +285,7 @@ private:
         const Domain dom = plan_.domain;
         const uint bases = uint(plan_.base_cells);
         const uint fanout = spec.fanout(), side = spec.child_side();
-        const CellArgs args{dom, 0, 0, 0, 0, 0, 0, 0, 0, bases, round_key(plan_.seed, spec.round), side, fanout};
+        const CellArgs args = cell_args(spec, bases, side, fanout);
         std::vector<std::uint64_t> first(pool_.chunks(bases) + 1, 0);
         if (!cover_tested(dom, fanout, side)) {
             // Every cell stays (surviving_children: active cells lie on the lattice), so the words
@@ -345,7 +352,7 @@ private:
         const uint n = uint(cells_.size());
         const uint bases = uint(plan_.base_cells);
         const Uints flags = flags_.zeroed(pool_, bases);
-        const CellArgs args{dom, 0, 0, 0, 0, 0, 0, 0, 0, n, round_key(plan_.seed, spec.round), spec.side, 0};
+        const CellArgs args = cell_args(spec, n, spec.side, 0);
         if (spec.every_free_cell) {
             pool_.parallel_for(bases, [&](std::size_t b, std::size_t e, unsigned) {
                 for (std::size_t i = b; i < e; ++i) flag_free_cell(grid(), flags, uint(i));
@@ -397,11 +404,16 @@ private:
     std::uint64_t refine(const RoundSpec& spec) {
         const Domain dom = plan_.domain;
         const uint fanout = spec.fanout(), side = spec.child_side();
+        if (free_bases_) {
+            note_peak(refine_free_bases(pool_, cell_args(spec, plan_.base_cells, side, fanout), grid(), cells_));
+            free_bases_ = false;
+            return cells_.size();
+        }
         const uint n = uint(cells_.size());
         if (std::size_t(n) * fanout >= GRID_TAG) throw Error("more than 2^31 active cells");
         fit(scan_, std::size_t(n) + 1);
         fit(masks_, n);
-        const CellArgs args{dom, 0, 0, 0, 0, 0, 0, 0, 0, n, round_key(plan_.seed, spec.round), side, fanout};
+        const CellArgs args = cell_args(spec, n, side, fanout);
         pool_.parallel_for(n, [&](std::size_t b, std::size_t e, unsigned) {
             for_each_base_group(dom, cells(), b, e, n, false, [&](uint g, uint end) {
                 refine_cells_of_base(args, cells(), scan(), Uints{masks_.data()}, grid(), g, end);
@@ -433,6 +445,7 @@ private:
     Words next_;
     Words dart_cells_;               // two radii: the base cells that get darts this round
     bool cells_free_bases_ = false;  // cells_ is start's list of the base cells without a sample
+    bool free_bases_ = false;        // two radii: the active cells are the free base cells, unlisted
     bool darts_on_cells_ = false;    // two radii: this round's darts go to cells_ (dart_targets)
     Counts darts_;                   // this round's darts, stored as darts.h says
     std::uint64_t dart_count_ = 0;
