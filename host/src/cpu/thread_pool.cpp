@@ -12,6 +12,23 @@ namespace {
 std::pair<std::size_t, std::size_t> chunk(std::size_t n, unsigned parts, unsigned i) {
     return {n * i / parts, n * (i + 1) / parts};
 }
+
+// A round's loops follow each other within microseconds, and a sleeping thread takes tens of them
+// to wake: a worker watches for the next job, and the caller for the workers' end, this many
+// pauses (tens of microseconds) before sleeping.
+constexpr unsigned kWatchPauses = 2048;
+
+// Pauses until done() or kWatchPauses have passed; whether done() held.
+template <class Done>
+bool watch(Done done) {
+    for (unsigned i = 0; i < kWatchPauses; ++i) {
+        if (done()) return true;
+#if defined(__x86_64__) || defined(__i386__)
+        __builtin_ia32_pause();
+#endif
+    }
+    return done();
+}
 }  // namespace
 
 ThreadPool::ThreadPool(unsigned threads) {
@@ -92,6 +109,7 @@ void ThreadPool::dispatch(std::size_t n, std::size_t chunks, bool per_thread,
     }
     wake_.notify_all();
     run_chunks(0);
+    watch([this] { return pending_.load(std::memory_order_acquire) == 0; });
     std::unique_lock lock(mutex_);
     done_.wait(lock, [this] { return pending_ == 0; });  // no chunk may outlive the data it uses
     job_ = nullptr;
@@ -101,6 +119,7 @@ void ThreadPool::dispatch(std::size_t n, std::size_t chunks, bool per_thread,
 void ThreadPool::work(unsigned id) {
     std::size_t seen = 0;
     for (;;) {
+        watch([&] { return generation_.load(std::memory_order_acquire) != seen; });
         {
             std::unique_lock lock(mutex_);
             wake_.wait(lock, [&] { return stop_ || generation_ != seen; });

@@ -70,8 +70,10 @@ private:
     std::size_t job_size_ = 0, job_chunks_ = 0;
     bool job_per_thread_ = false;
     std::atomic<std::size_t> next_chunk_{0};
-    std::size_t generation_ = 0;
-    unsigned pending_ = 0;
+    // Written under mutex_; atomic so that a thread watching for a new job or for the workers'
+    // end can read them without it.
+    std::atomic<std::size_t> generation_{0};
+    std::atomic<unsigned> pending_{0};
     bool stop_ = false;
     std::exception_ptr error_;  // the first exception of the current job
 };
