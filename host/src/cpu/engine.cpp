@@ -135,13 +135,13 @@ private:
     // radii), throws them, and returns their count.
     std::uint64_t throw_listed(const RoundSpec& spec) {
         const Domain dom = plan_.domain;
-        if (free_bases_ && spec.every_free_cell) {
-            const CellArgs args = cell_args(spec, plan_.base_cells, spec.side, spec.exp_neg_lambda);
+        if (free_bases_ && spec.every_free_cell) {  // two radii's dart cells are base cells
+            const CellArgs args = cell_args(spec, plan_.base_cells, 1u << dom.cell_bits, spec.exp_neg_lambda);
             clear_darts(mark_free_base_darts(pool_, args, grid_.data()));
             throw_free_base_darts(pool_, args, grid(), darts(), out_.empty());
             return dart_count_;
         }
-        if (free_bases_) {  // a round from given samples that cover most base cells
+        if (free_bases_) {  // a first round near the active cells: given samples fill most base cells
             list_free_bases(pool_, dom, grid_.data(), plan_.base_cells, cells_);
             free_bases_ = false;
         }
