@@ -18,10 +18,11 @@ VRPD_BEGIN
 // (Jacobi): no invocation reads a state another one is writing.
 // `none_accepted`: no dart of the round is accepted yet (the Vulkan engine's first pass), so the
 // first earlier undecided dart in conflict leaves d undecided: no accepted one can follow it
-// (what stopping there saves: docs/performance.md).
+// (what stopping there saves: docs/performance.md). With two radii such a pass leaves the T tests
+// of a dart with an undecided dart before it within Rc to the passes after it.
 VRPD_FN uint resolve_dart(Domain global, Grid grid, Darts darts, uint d, bool none_accepted) {
 #ifndef VRPD_ONE_RADIUS  // glslang does not fold two_radii(): only the guard keeps T's code out of SPIR-V
-    if (two_radii(global.radii)) return resolve_dart_two_radii(global, grid, darts, d);
+    if (two_radii(global.radii)) return resolve_dart_two_radii(global, grid, darts, d, none_accepted);
 #endif
     DartSite s = dart_site(global, darts, d);
     bool waiting = false;

@@ -129,7 +129,8 @@ VRPD_FN uint state_given_accepted(Domain dom, Grid grid, Darts darts, uint d, uv
 // One step of the exact parallel resolution (resolve_dart) with two radii. A dart is accepted iff it is free and in T
 // given the samples and the darts accepted before it. Both only shrink as earlier darts are accepted, so: rejected as
 // soon as the accepted ones exclude it; accepted once it is free of, and in T despite, all the undecided too.
-VRPD_FN uint resolve_dart_two_radii(Domain global, Grid grid, Darts darts, uint d) {
+// `none_accepted`: resolve_dart's.
+VRPD_FN uint resolve_dart_two_radii(Domain global, Grid grid, Darts darts, uint d, bool none_accepted) {
     DartSite s = dart_site(global, darts, d);
     Domain dom = s.dom;
     uvec2 p = s.p;
@@ -140,6 +141,10 @@ VRPD_FN uint resolve_dart_two_radii(Domain global, Grid grid, Darts darts, uint 
     if ((near & NEAR_ACCEPTED_RF) != 0u) return DART_REJECTED;
     if ((near & (NEAR_ACCEPTED_RC | NEAR_UNDECIDED_RC)) == 0u) return DART_ACCEPTED;
     if ((near & NEAR_UNDECIDED_RF) != 0u) return DART_UNDECIDED;
+    // A round's first pass (no dart of it accepted yet): a dart with an undecided dart before it
+    // within Rc waits, its gather and T tests left to a pass that knows the accepted darts. The
+    // earliest undecided dart has none, so each pass still decides one.
+    if (none_accepted && (near & NEAR_UNDECIDED_RC) != 0u) return DART_UNDECIDED;
     bool conflict;
     uint undecided;
     bool undecided_conflict;
