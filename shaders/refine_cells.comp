@@ -9,6 +9,7 @@
 layout(local_size_x_id = 0) in;
 layout(push_constant) uniform Push { CellArgs a; };
 
+#ifdef VRPD_ONE_RADIUS
 void main() {
     uint e = work_item();
     if (e < a.cell_count) {
@@ -17,3 +18,33 @@ void main() {
         a.scan.value[e] = 0u;
     }
 }
+#else
+// Two radii: most cells lie in spent base cells (base_spent), which a few reads tell, and the
+// rest run T tests. A workgroup first lists its cells that are not spent in shared memory, then
+// its first invocations test them, so that a SIMD batch of lanes (llvmpipe's 8, a GPU's warp)
+// runs the tests for the cells it holds rather than for any one of its lanes' cells.
+shared uint pending[WORKGROUP_SIZE];
+shared uint pending_count;
+
+void main() {
+    uint e = work_item();
+    if (gl_LocalInvocationID.x == 0u) pending_count = 0u;
+    barrier();
+    if (e < a.cell_count) {
+        uvec2 base = base_cell_of(a.domain, a.cells.cell[e]);
+        if (base_spent(local_domain(a.domain, base), a.grid, base)) {
+            a.masks.value[e] = 0u;
+            a.scan.value[e] = 0u;
+        } else {
+            pending[atomicAdd(pending_count, 1u)] = e;
+        }
+    } else if (e == a.cell_count) {
+        a.scan.value[e] = 0u;
+    }
+    barrier();
+    if (gl_LocalInvocationID.x < pending_count) {
+        uint p = pending[gl_LocalInvocationID.x];
+        refine_unspent_cell(a, a.cells, a.scan, a.masks, a.grid, p);
+    }
+}
+#endif

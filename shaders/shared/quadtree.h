@@ -215,13 +215,16 @@ inline ChildBoxes inner_child_boxes(ivec2 lo, int side, uint fanout) {
 // Vulkan kernel one cell per invocation: with two radii a base cell may hold hundreds of active
 // cells (driver.cpp, kCrowded), and llvmpipe ends a loop once 65 535 iterations have run in one
 // SIMD batch, which a group's T tests in one invocation passed, leaving cells unrefined.
+// A base cell that holds a sample, or (two radii) that one sample covers, keeps no cell.
+VRPD_FN bool base_spent(Domain dom, Grid grid, uvec2 base) {
+    return grid_is_sample(grid.word[base_index(dom, base)]) || (two_radii(dom.radii) && base_covered(dom, grid, base));
+}
+
 VRPD_FN void refine_cells_of_base(VRPD_IN(CellArgs) a, Cells cells, Uints counts, Uints masks, Grid grid, uint first,
                                   uint end) {
     uvec2 base = base_cell_of(a.domain, cells.cell[first]);
     Domain dom = local_domain(a.domain, base);
-    // A base cell that holds a sample, or (two radii) that one sample covers, keeps no cell.
-    bool spent =
-        grid_is_sample(grid.word[base_index(dom, base)]) || (two_radii(dom.radii) && base_covered(dom, grid, base));
+    bool spent = base_spent(dom, grid, base);
     // Most spent groups are one cell (two radii's first refinement: one a base cell); written
     // here, its two words are two stores, where the loop below becomes two calls of memset.
     if (spent && end - first == 1u) {
@@ -245,6 +248,17 @@ VRPD_FN void refine_cells_of_base(VRPD_IN(CellArgs) a, Cells cells, Uints counts
         masks.value[i] = mask;
         counts.value[i] = uint(bitCount(mask));
     }
+}
+
+// Two radii: refine_cells_of_base for the one cell e, whose base cell is not spent (base_spent),
+// as the two-radii kernel tests such cells.
+VRPD_FN void refine_unspent_cell(VRPD_IN(CellArgs) a, Cells cells, Uints counts, Uints masks, Grid grid, uint e) {
+    uvec2 base = base_cell_of(a.domain, cells.cell[e]);
+    Domain dom = local_domain(a.domain, base);
+    uint samples = cover_tested(dom, a.param, a.side) ? gather_cell_samples(dom, grid, base) : 0u;
+    uint mask = surviving_children(dom, grid, base, cells.cell[e], a.side, a.param, samples);
+    masks.value[e] = mask;
+    counts.value[e] = uint(bitCount(mask));
 }
 
 // Writes the surviving children of active cell i to the next active list, from its rank on.
