@@ -20,31 +20,24 @@ void main() {
 }
 #else
 // Two radii: most cells lie in spent base cells (base_spent), which a few reads tell, and the
-// rest run T tests. A workgroup first lists its cells that are not spent in shared memory, then
-// its first invocations test them, so that a SIMD batch of lanes (llvmpipe's 8, a GPU's warp)
-// runs the tests for the cells it holds rather than for any one of its lanes' cells.
-shared uint pending[WORKGROUP_SIZE];
-shared uint pending_count;
+// rest run T tests, a workgroup's together (workgroup_list.glsl).
+#include "workgroup_list.glsl"
 
 void main() {
     uint e = work_item();
-    if (gl_LocalInvocationID.x == 0u) pending_count = 0u;
-    barrier();
+    list_begin();
     if (e < a.cell_count) {
         uvec2 base = base_cell_of(a.domain, a.cells.cell[e]);
         if (base_spent(local_domain(a.domain, base), a.grid, base)) {
             a.masks.value[e] = 0u;
             a.scan.value[e] = 0u;
         } else {
-            pending[atomicAdd(pending_count, 1u)] = e;
+            list_add(e);
         }
     } else if (e == a.cell_count) {
         a.scan.value[e] = 0u;
     }
-    barrier();
-    if (gl_LocalInvocationID.x < pending_count) {
-        uint p = pending[gl_LocalInvocationID.x];
-        refine_unspent_cell(a, a.cells, a.scan, a.masks, a.grid, p);
-    }
+    uint p;
+    if (list_take(p)) refine_unspent_cell(a, a.cells, a.scan, a.masks, a.grid, p);
 }
 #endif

@@ -19,12 +19,9 @@ void main() {
     if (state == DART_UNDECIDED) a.work_out.value[atomicAdd(a.counters.value[a.work_out_slot + 3u], 1u)] = d;
 }
 #else
-// Two radii: the census settles most darts in a few reads, and the rest take gathers and T tests.
-// A workgroup first lists its darts that the census leaves in shared memory, then its first
-// invocations test them, so that a SIMD batch of lanes (llvmpipe's 8, a GPU's warp) runs the tests
-// for the darts it holds rather than for any one of its lanes' darts.
-shared uint pending[WORKGROUP_SIZE];
-shared uint pending_count;
+// Two radii: the census settles most darts in a few reads, and the rest take gathers and T tests,
+// a workgroup's together (workgroup_list.glsl).
+#include "workgroup_list.glsl"
 
 // Work-list slot i (dart d) takes its decision; an undecided dart goes to the next work list.
 void decide(uint i, uint d, uint state) {
@@ -34,20 +31,18 @@ void decide(uint i, uint d, uint state) {
 
 void main() {
     uint i = work_item();
-    if (gl_LocalInvocationID.x == 0u) pending_count = 0u;
-    barrier();
+    list_begin();
     if (i < a.counters.value[a.work_in_slot + 3u]) {
         uint d = a.work_in.value[i];
         uint state = census_state(dart_site(a.domain, a.darts, d), a.grid, a.darts, d, a.param != 0u);
         if (state == DART_TESTED) {
-            pending[atomicAdd(pending_count, 1u)] = i;
+            list_add(i);
         } else {
             decide(i, d, state);
         }
     }
-    barrier();
-    if (gl_LocalInvocationID.x < pending_count) {
-        uint j = pending[gl_LocalInvocationID.x];
+    uint j;
+    if (list_take(j)) {
         uint d = a.work_in.value[j];
         decide(j, d, tested_state(dart_site(a.domain, a.darts, d), a.grid, a.darts, d));
     }

@@ -208,6 +208,11 @@ inline ChildBoxes inner_child_boxes(ivec2 lo, int side, uint fanout) {
 }
 #endif
 
+// A base cell that holds a sample, or (two radii) that one sample covers, keeps no cell.
+VRPD_FN bool base_spent(Domain dom, Grid grid, uvec2 base) {
+    return grid_is_sample(grid.word[base_index(dom, base)]) || (two_radii(dom.radii) && base_covered(dom, grid, base));
+}
+
 // For the active cells [first, end) of one base cell: masks[i] has bit c set for the children c
 // of cell i that stay active (none if the base cell holds a sample or one covers it), and
 // counts[i] their number, for the scan that places them in the next active list. The samples
@@ -215,11 +220,6 @@ inline ChildBoxes inner_child_boxes(ivec2 lo, int side, uint fanout) {
 // Vulkan kernel one cell per invocation: with two radii a base cell may hold hundreds of active
 // cells (driver.cpp, kCrowded), and llvmpipe ends a loop once 65 535 iterations have run in one
 // SIMD batch, which a group's T tests in one invocation passed, leaving cells unrefined.
-// A base cell that holds a sample, or (two radii) that one sample covers, keeps no cell.
-VRPD_FN bool base_spent(Domain dom, Grid grid, uvec2 base) {
-    return grid_is_sample(grid.word[base_index(dom, base)]) || (two_radii(dom.radii) && base_covered(dom, grid, base));
-}
-
 VRPD_FN void refine_cells_of_base(VRPD_IN(CellArgs) a, Cells cells, Uints counts, Uints masks, Grid grid, uint first,
                                   uint end) {
     uvec2 base = base_cell_of(a.domain, cells.cell[first]);
