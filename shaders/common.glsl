@@ -1,4 +1,5 @@
 // Included first by every kernel: the GLSL version's extensions the shared headers rely on.
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #extension GL_EXT_buffer_reference : require
+#extension GL_KHR_memory_scope_semantics : require
 #extension GL_GOOGLE_include_directive : require

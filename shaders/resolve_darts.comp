@@ -1,9 +1,8 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// Per undecided dart: one step of the arrival-order resolution (see resolve_dart). It reads the
-// darts' states and writes only its own work-list slot (the decision) and the next work list;
-// apply_decisions writes the states after the pass. Variant resolve_darts_one (CMakeLists.txt):
-// one radius only.
+// Per undecided dart: one step of the arrival-order resolution (see resolve_dart). A decision sets
+// the dart's state at once (atomically: other invocations of the pass read it); an undecided dart
+// goes to the next work list. Variant resolve_darts_one (CMakeLists.txt): one radius only.
 #include "common.glsl"
 #include "shared/sampler.h"
 layout(local_size_x_id = 0) in;
@@ -15,18 +14,18 @@ void main() {
     if (i >= a.counters.value[a.work_in_slot + 3u]) return;
     uint d = a.work_in.value[i];
     uint state = resolve_dart(a.domain, a.grid, a.darts, d, a.param != 0u);
-    a.work_in.value[i] = d | (state << DECISION_SHIFT);
     if (state == DART_UNDECIDED) a.work_out.value[atomicAdd(a.counters.value[a.work_out_slot + 3u], 1u)] = d;
+    else set_dart_state(a.darts, d, state);
 }
 #else
 // Two radii: the census settles most darts in a few reads, and the rest take gathers and T tests,
 // a workgroup's together (workgroup_list.glsl).
 #include "workgroup_list.glsl"
 
-// Work-list slot i (dart d) takes its decision; an undecided dart goes to the next work list.
-void decide(uint i, uint d, uint state) {
-    a.work_in.value[i] = d | (state << DECISION_SHIFT);
+// Dart d takes its decision; an undecided dart goes to the next work list.
+void decide(uint d, uint state) {
     if (state == DART_UNDECIDED) a.work_out.value[atomicAdd(a.counters.value[a.work_out_slot + 3u], 1u)] = d;
+    else set_dart_state(a.darts, d, state);
 }
 
 void main() {
@@ -36,15 +35,12 @@ void main() {
         uint d = a.work_in.value[i];
         uint state = census_state(dart_site(a.domain, a.darts, d), a.grid, a.darts, d, a.param != 0u);
         if (state == DART_TESTED) {
-            list_add(i);
+            list_add(d);
         } else {
-            decide(i, d, state);
+            decide(d, state);
         }
     }
-    uint j;
-    if (list_take(j)) {
-        uint d = a.work_in.value[j];
-        decide(j, d, tested_state(dart_site(a.domain, a.darts, d), a.grid, a.darts, d));
-    }
+    uint d;
+    if (list_take(d)) decide(d, tested_state(dart_site(a.domain, a.darts, d), a.grid, a.darts, d));
 }
 #endif

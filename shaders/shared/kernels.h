@@ -16,7 +16,10 @@ layout(buffer_reference, std430, buffer_reference_align = 4) buffer Uints { uint
 layout(buffer_reference, std430, buffer_reference_align = 8) buffer Points { uvec2 point[]; };
 // Sets flag i to 1. Invocations that write it concurrently all write 1: the result is the same.
 void set_flag(Uints flags, uint i) { flags.value[i] = 1u; }
-uint load_state_word(Darts darts, uint w) { return darts.word[w]; }
+// A resolution pass sets states while other invocations read them: both are atomic, as on the host.
+uint load_state_word(Darts darts, uint w) {
+    return atomicLoad(darts.word[w], gl_ScopeDevice, gl_StorageSemanticsBuffer, gl_SemanticsRelaxed);
+}
 void or_state_word(Darts darts, uint w, uint bits) { atomicOr(darts.word[w], bits); }
 // Clears bits of mask i: many invocations may clear bits of one mask at once.
 void and_mask(Uints masks, uint i, uint bits) { atomicAnd(masks.value[i], bits); }
@@ -153,9 +156,8 @@ VRPD_FN bool masked_leaves(Domain dom, uint side, uint fanout) {
     return fanout == 4u && (side << MASK_LEVELS) == (1u << dom.cell_bits);
 }
 
-// Kernels over darts: resolve_darts, apply_decisions, emit_samples. A resolution pass keeps each
-// decision in its work-list slot: dart index | state << DECISION_SHIFT (rounds hold < 2^30 darts).
-const uint DECISION_SHIFT = 30u;
+// Kernels over darts: resolve_darts, emit_samples. A round holds < 2^30 darts (darts.h: their
+// words' indices stay below 2^32).
 const uint MAX_ROUND_DARTS = 0x40000000u;
 struct DartArgs {
     Domain domain;

@@ -14,15 +14,16 @@ VRPD_BEGIN
 // One step of the exact parallel resolution of a round: dart d is accepted once every earlier
 // conflicting dart (in arrival order) is rejected, and rejected as soon as one is accepted.
 // Decisions are only taken when they are final, so the outcome is the sequential process's.
-// A pass reads the states left by the previous pass and applies its decisions after it
-// (Jacobi): no invocation reads a state another one is writing.
-// `none_accepted`: no dart of the round is accepted yet (the Vulkan engine's first pass), so the
-// first earlier undecided dart in conflict leaves d undecided: no accepted one can follow it
+// A step reads the other darts' states once each, as they stand: a state it reads is undecided or
+// final, and either way the decision it supports is the sequential one. So a Vulkan pass sets
+// each decision as it takes it, and the darts after it in the pass see it (fewer passes).
+// `first_pass`: the Vulkan engine's first pass of a round, where few darts are accepted yet: the
+// first earlier undecided dart in conflict leaves d undecided, without a scan for an accepted one
 // (what stopping there saves: docs/performance.md). With two radii such a pass leaves the T tests
 // of a dart with an undecided dart before it within Rc to the passes after it.
-VRPD_FN uint resolve_dart(Domain global, Grid grid, Darts darts, uint d, bool none_accepted) {
+VRPD_FN uint resolve_dart(Domain global, Grid grid, Darts darts, uint d, bool first_pass) {
 #ifndef VRPD_ONE_RADIUS  // glslang does not fold two_radii(): only the guard keeps T's code out of SPIR-V
-    if (two_radii(global.radii)) return resolve_dart_two_radii(global, grid, darts, d, none_accepted);
+    if (two_radii(global.radii)) return resolve_dart_two_radii(global, grid, darts, d, first_pass);
 #endif
     DartSite s = dart_site(global, darts, d);
     bool waiting = false;
@@ -34,7 +35,7 @@ VRPD_FN uint resolve_dart(Domain global, Grid grid, Darts darts, uint d, bool no
             !inhibits(s.dom.radii, distance2(s.dom.lattice, uvec2(other.x, other.y), s.p)))
             continue;
         if (other.w == DART_ACCEPTED) return DART_REJECTED;
-        if (none_accepted) return DART_UNDECIDED;
+        if (first_pass) return DART_UNDECIDED;
         waiting = true;
     }
     return waiting ? DART_UNDECIDED : DART_ACCEPTED;

@@ -129,13 +129,13 @@ VRPD_FN uint state_given_accepted(Domain dom, Grid grid, Darts darts, uint d, uv
 // One step of the exact parallel resolution (resolve_dart) with two radii. A dart is accepted iff it is free and in T
 // given the samples and the darts accepted before it. Both only shrink as earlier darts are accepted, so: rejected as
 // soon as the accepted ones exclude it; accepted once it is free of, and in T despite, all the undecided too.
-// `none_accepted`: resolve_dart's. Its two parts: census_state, whose reads of the Rc neighbourhood settle most
+// `first_pass`: resolve_dart's. Its two parts: census_state, whose reads of the Rc neighbourhood settle most
 // darts, then tested_state for the rest (the Vulkan kernel runs a workgroup's rest together).
 
 // Not a state: census_state leaves the dart to tested_state.
 const uint DART_TESTED = 4u;
 
-VRPD_FN uint census_state(DartSite s, Grid grid, Darts darts, uint d, bool none_accepted) {
+VRPD_FN uint census_state(DartSite s, Grid grid, Darts darts, uint d, bool first_pass) {
     // Cheap cases first. A conflict rejects d. If nothing covers d, even counting the undecided
     // darts before it, d is in U, so in T, whatever they become: accepted. An undecided dart closer
     // than Rf blocks d until it is decided (d may yet be rejected by T; that can wait).
@@ -143,10 +143,10 @@ VRPD_FN uint census_state(DartSite s, Grid grid, Darts darts, uint d, bool none_
     if ((near & NEAR_ACCEPTED_RF) != 0u) return DART_REJECTED;
     if ((near & (NEAR_ACCEPTED_RC | NEAR_UNDECIDED_RC)) == 0u) return DART_ACCEPTED;
     if ((near & NEAR_UNDECIDED_RF) != 0u) return DART_UNDECIDED;
-    // A round's first pass (no dart of it accepted yet): a dart with an undecided dart before it
+    // A round's first pass (few darts of it accepted yet): a dart with an undecided dart before it
     // within Rc waits, its gather and T tests left to a pass that knows the accepted darts. The
     // earliest undecided dart has none, so each pass still decides one.
-    if (none_accepted && (near & NEAR_UNDECIDED_RC) != 0u) return DART_UNDECIDED;
+    if (first_pass && (near & NEAR_UNDECIDED_RC) != 0u) return DART_UNDECIDED;
     return DART_TESTED;
 }
 
@@ -170,9 +170,9 @@ VRPD_FN uint tested_state(DartSite s, Grid grid, Darts darts, uint d) {
     return reaches_uncovered_at(dom, p, n + undecided) == T_INSIDE ? DART_ACCEPTED : DART_UNDECIDED;
 }
 
-VRPD_FN uint resolve_dart_two_radii(Domain global, Grid grid, Darts darts, uint d, bool none_accepted) {
+VRPD_FN uint resolve_dart_two_radii(Domain global, Grid grid, Darts darts, uint d, bool first_pass) {
     DartSite s = dart_site(global, darts, d);
-    uint state = census_state(s, grid, darts, d, none_accepted);
+    uint state = census_state(s, grid, darts, d, first_pass);
     return state == DART_TESTED ? tested_state(s, grid, darts, d) : state;
 }
 

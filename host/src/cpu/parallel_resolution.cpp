@@ -1,8 +1,8 @@
 // Each thread decides the undecided darts of its part of the round (spatial order), one at a time:
 // a dart left undecided waits for an earlier one, which is decided first (depth first; each wait
 // is for an earlier arrival, so the chains end). A first sweep takes the darts with nothing to wait
-// for. Each dart's scan runs about once, where the GPU's Jacobi passes scan the undecided again in
-// every pass. Threads may decide the same dart near their parts' border: both reach the same final
+// for. Each dart's scan runs about once, where the GPU's passes scan the undecided again in every
+// pass. Threads may decide the same dart near their parts' border: both reach the same final
 // state. Should another thread decide the dart waited for between the two scans, the dart is
 // simply tried again; only a dart that waits for no dart while none decides (a bug) stops the run.
 #include "parallel_resolution.h"

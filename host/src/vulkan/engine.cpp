@@ -6,7 +6,6 @@
 
 #include <fmt/format.h>
 
-#include "apply_decisions.h"
 #include "apply_masks.h"
 #include "commit_cells.h"
 #include "commit_masked.h"
@@ -59,7 +58,6 @@ VulkanEngine::VulkanEngine(const Plan& plan, const std::string& selector, const 
       VRPD_KERNEL(list_dart_cells, CellArgs, WORKGROUP_SIZE),
       VRPD_KERNEL(count_darts, CellArgs, WORKGROUP_SIZE),
       VRPD_KERNEL(mark_ranges, CellArgs, WORKGROUP_SIZE),
-      VRPD_KERNEL(apply_decisions, DartArgs, WORKGROUP_SIZE),
       VRPD_KERNEL(throw_sited, CellArgs, WORKGROUP_SIZE),
       VRPD_KERNEL(work_args, WorkArgs, 1),
       resolve_darts_(ctx_, "resolve_darts",
@@ -283,8 +281,6 @@ RoundResult VulkanEngine::round(const RoundSpec& spec, const RoundSpec* next) {
             r.work_in_slot = in_slot;
             r.work_out_slot = out_slot;
             ctx_.dispatch_indirect(resolve_darts_, &r, counters_, in_slot * 4);
-            ctx_.barrier();  // decisions before they are applied
-            ctx_.dispatch_indirect(apply_decisions_, &r, counters_, in_slot * 4);
             ctx_.barrier();  // states and the next work list before the next pass
         }
         const std::uint32_t undecided = (in ? COUNTER_WORK1 : COUNTER_WORK0) + 3;

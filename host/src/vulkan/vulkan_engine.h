@@ -121,8 +121,8 @@ private:
     // One radius runs refine_cells_one and resolve_darts_one (CMakeLists.txt); profiles name
     // both variants by their source.
     Kernel init_cells_, place_samples_, flag_dart_cells_, flag_free_cells_, list_dart_cells_, count_darts_,
-        mark_ranges_, apply_decisions_, throw_sited_, work_args_, resolve_darts_, commit_cells_, emit_samples_,
-        refine_cells_, scatter_cells_, count_masked_, mark_masked_, throw_sited_empty_, commit_masked_, refine_masked_,
+        mark_ranges_, throw_sited_, work_args_, resolve_darts_, commit_cells_, emit_samples_, refine_cells_,
+        scatter_cells_, count_masked_, mark_masked_, throw_sited_empty_, commit_masked_, refine_masked_,
         scatter_covers_, apply_masks_, scatter_masked_, flag_masked_, list_masked_;
     std::uint64_t emitted_ = 0;
     std::uint32_t active_ = 0;
