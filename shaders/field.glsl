@@ -12,6 +12,15 @@ layout(buffer_reference, std430, buffer_reference_align = 8) buffer FieldCellWor
 // The accepted darts as (dart index, 0), sorted into arrival order by key.
 layout(buffer_reference, std430, buffer_reference_align = 8) buffer FieldPairs { uvec2 value[]; };
 
+// A word that invocations of one dispatch write while others read or write it (a dart's state, a
+// leaf's accepted dart or hint): loaded and stored atomically (relaxed), so there is no data race.
+uint field_load(FieldWords w, uint i) {
+    return atomicLoad(w.value[i], gl_ScopeDevice, gl_StorageSemanticsBuffer, gl_SemanticsRelaxed);
+}
+void field_store(FieldWords w, uint i, uint v) {
+    atomicStore(w.value[i], v, gl_ScopeDevice, gl_StorageSemanticsBuffer, gl_SemanticsRelaxed);
+}
+
 // This invocation's item, or a value >= a.count past the list.
 uint field_item() { return a.first + work_item(); }
 

@@ -52,7 +52,7 @@ void record(uint slot, uint key) {
 // Resolves dart j of the round's `count` (if still undecided).
 void resolve(uint j, uint count) {
     FieldWords states = FieldWords(a.words1);
-    if (states.value[j] != DART_UNDECIDED) return;
+    if (field_load(states, j) != DART_UNDECIDED) return;
     FieldCells darts = FieldCells(a.cells);
     FieldWords first = FieldWords(a.words0);
     uvec4 d = darts.value[j];
@@ -67,7 +67,7 @@ void resolve(uint j, uint count) {
     bool head = least.value[own] == d.z;
     // Two undecided darts of the leaf share the least key: the leaf's darts are tested in full.
     bool tied = head && pair_word(a.p1 ^ 1u, 1u).value[own] == d.z;
-    bool rejected = accepted.value[own] != 0u;
+    bool rejected = field_load(accepted, own) != 0u;
     bool wait = !head;
     FieldRun run = field_run();
     FieldBudget budget = FieldBudget(run.budget, 0u);
@@ -82,7 +82,7 @@ void resolve(uint j, uint count) {
             bool mine = leaf == d.w;
             if (mine && !tied) continue;
             uint slot = first.value[leaf];
-            uint taken = accepted.value[slot];
+            uint taken = field_load(accepted, slot);
             if (taken != 0u && !mine) {
                 // The leaf's other darts are rejected, or will be.
                 uvec4 o = darts.value[taken - 1u];
@@ -103,7 +103,7 @@ void resolve(uint j, uint count) {
                     break;
                 }
                 if (!arrives_before(o.z, k, d.z, j)) continue;
-                uint state = states.value[k];
+                uint state = field_load(states, k);
                 if (state == DART_REJECTED) continue;
                 if (!mine &&
                     !field_conflict(rule_f(run.rule, dart_radius(k), r), distance2(run.lattice, o.xy, d.xy)))
@@ -127,10 +127,10 @@ void resolve(uint j, uint count) {
     }
     if (budget.overflow != 0u) return;
     if (rejected) {
-        states.value[j] = DART_REJECTED;
+        field_store(states, j, DART_REJECTED);
     } else if (!wait) {
-        states.value[j] = DART_ACCEPTED;
-        accepted.value[own] = j + 1u;
+        field_store(states, j, DART_ACCEPTED);
+        field_store(accepted, own, j + 1u);
     } else {
         FieldWords counters = FieldWords(a.counters);
         atomicAdd(counters.value[FIELD_COUNTER_UNDECIDED], 1u);

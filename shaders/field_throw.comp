@@ -35,14 +35,14 @@ void main() {
             if (!FIELD_DENSITY || keep_weighted(hash_mix(hash_mix(stream, 0xD1B54A35u), j), bound, r)) {
                 stays = 1u;
                 if (!untouched) {
-                    uint hint = run.leaf_first.value[leaf];
+                    uint hint = field_load(run.leaf_first, leaf);
                     if (hint < a.p1 && field_conflicts_with(run, hint, p, r)) {
                         stays = 0u;
                     } else {
                         uint x = field_conflicting(run, p, r, budget);
                         if (x != FIELD_NO_SAMPLE) {
                             stays = 0u;
-                            run.leaf_first.value[leaf] = x;
+                            field_store(run.leaf_first, leaf, x);
                         }
                     }
                 }

@@ -24,7 +24,7 @@ void main() {
         uvec2 far = field_far_corner(run.lattice, corner, run.tree.tile_bits - s.depth);
         uint lo = run.rule == RULE_PRIOR ? 0u : field_min_over(run.table, corner, far);
         atomicMax(run.touched.value[leaf], field_touch_word(a.p0, field_covers(run, i, lo, corner, far)));
-        run.leaf_first.value[leaf] = i;  // a hint for the throw: a sample near the leaf
+        field_store(run.leaf_first, leaf, i);  // a hint for the throw: a sample near the leaf
     }
     field_run_spend(s, budget);
     field_note_budget(budget);
