@@ -14,8 +14,11 @@ layout(buffer_reference, std430, buffer_reference_align = 8) buffer Grid { uvec2
 layout(buffer_reference, std430, buffer_reference_align = 4) buffer Darts { uint word[]; };
 layout(buffer_reference, std430, buffer_reference_align = 4) buffer Uints { uint value[]; };
 layout(buffer_reference, std430, buffer_reference_align = 8) buffer Points { uvec2 point[]; };
-// Sets flag i to 1. Invocations that write it concurrently all write 1: the result is the same.
-void set_flag(Uints flags, uint i) { flags.value[i] = 1u; }
+// Sets flag i to 1. Invocations may write it concurrently: an atomic store (relaxed) keeps that
+// race-free, as on the host.
+void set_flag(Uints flags, uint i) {
+    atomicStore(flags.value[i], 1u, gl_ScopeDevice, gl_StorageSemanticsBuffer, gl_SemanticsRelaxed);
+}
 // A resolution pass sets states while other invocations read them: both are atomic, as on the host.
 uint load_state_word(Darts darts, uint w) {
     return atomicLoad(darts.word[w], gl_ScopeDevice, gl_StorageSemanticsBuffer, gl_SemanticsRelaxed);
