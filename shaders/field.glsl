@@ -15,10 +15,10 @@ layout(buffer_reference, std430, buffer_reference_align = 8) buffer FieldPairs {
 // A word that invocations of one dispatch write while others read or write it (a dart's state, a
 // leaf's accepted dart or hint): loaded and stored atomically (relaxed), so there is no data race.
 uint field_load(FieldWords w, uint i) {
-    return atomicLoad(w.value[i], gl_ScopeDevice, gl_StorageSemanticsBuffer, gl_SemanticsRelaxed);
+    return atomicLoad(w.value[i], VRPD_RELAXED);
 }
 void field_store(FieldWords w, uint i, uint v) {
-    atomicStore(w.value[i], v, gl_ScopeDevice, gl_StorageSemanticsBuffer, gl_SemanticsRelaxed);
+    atomicStore(w.value[i], v, VRPD_RELAXED);
 }
 
 // This invocation's item, or a value >= a.count past the list.

@@ -17,11 +17,11 @@ layout(buffer_reference, std430, buffer_reference_align = 8) buffer Points { uve
 // Sets flag i to 1. Invocations may write it concurrently: an atomic store (relaxed) keeps that
 // race-free, as on the host.
 void set_flag(Uints flags, uint i) {
-    atomicStore(flags.value[i], 1u, gl_ScopeDevice, gl_StorageSemanticsBuffer, gl_SemanticsRelaxed);
+    atomicStore(flags.value[i], 1u, VRPD_RELAXED);
 }
 // A resolution pass sets states while other invocations read them: both are atomic, as on the host.
 uint load_state_word(Darts darts, uint w) {
-    return atomicLoad(darts.word[w], gl_ScopeDevice, gl_StorageSemanticsBuffer, gl_SemanticsRelaxed);
+    return atomicLoad(darts.word[w], VRPD_RELAXED);
 }
 void or_state_word(Darts darts, uint w, uint bits) { atomicOr(darts.word[w], bits); }
 // Clears bits of mask i: many invocations may clear bits of one mask at once.
