@@ -23,7 +23,9 @@ struct ChildBoxes {
 };
 
 // Clears from `mask` the children that the disk of the sample at offset o covers wholly (exact
-// corner test), and from `open_corners` (two radii) the corners of the children it covers.
+// corner test), and from `open_corners` (two radii) the corners of the children it covers: the
+// 3 x 3 corners of four children, or of a cell that does not split (fanout 1) its corners, its
+// edges' midpoints and its centre.
 VRPD_FN void cover_children(Domain dom, ChildBoxes b, uint fanout, ivec2 o, VRPD_INOUT(uint) mask,
                             VRPD_INOUT(uint) open_corners) {
     uint64_t fx0 = far2(o.x, b.lo0.x, b.hi0.x);
@@ -42,10 +44,10 @@ VRPD_FN void cover_children(Domain dom, ChildBoxes b, uint fanout, ivec2 o, VRPD
         uint64_t gy[3];
         gx[0] = square_gap(o.x, b.lo0.x);
         gx[1] = square_gap(o.x, b.hi0.x);
-        gx[2] = square_gap(o.x, b.hi1.x);
+        gx[2] = square_gap(o.x, fanout == 4u ? b.hi1.x : (b.lo0.x + b.hi0.x) / 2);
         gy[0] = square_gap(o.y, b.lo0.y);
         gy[1] = square_gap(o.y, b.hi0.y);
-        gy[2] = square_gap(o.y, b.hi1.y);
+        gy[2] = square_gap(o.y, fanout == 4u ? b.hi1.y : (b.lo0.y + b.hi0.y) / 2);
         for (uint k = 0u; k < 9u; k++)
             if (covers(dom.radii, gx[k % 3u] + gy[k / 3u])) open_corners &= ~(1u << k);
     }
@@ -95,6 +97,32 @@ VRPD_FN bool cover_tested(Domain dom, uint fanout, uint side) {
     return fanout == 4u || side == 1u || two_radii(dom.radii);
 }
 
+// Two radii: do the open disks of cell_sample_at[0, samples) (offsets from the base cell's corner)
+// cover the closed box [lo, hi], each of its quarters by one disk, or else each quarter of that
+// quarter by one? Then no point of the box lies in U, as the exact test (t_membership.h) would
+// find at many times the cost: most cells that a union of disks covers are covered so, and only
+// the quarters that a boundary between two disks crosses need their own quarters.
+VRPD_FN bool covered_in_parts(Domain dom, ivec2 lo, ivec2 hi, uint samples) {
+    ivec2 mid = lo + (hi - lo) / 2;
+    for (int part = 0; part < 4; part++) {
+        ivec2 a = ivec2((part & 1) == 0 ? lo.x : mid.x, (part & 2) == 0 ? lo.y : mid.y);
+        ivec2 b = ivec2((part & 1) == 0 ? mid.x : hi.x, (part & 2) == 0 ? mid.y : hi.y);
+        ivec2 m = a + (b - a) / 2;
+        // The quarter itself (-1), then its own quarters while each is covered.
+        for (int quarter = -1; quarter < 4; quarter++) {
+            ivec2 qa = quarter < 0 ? a : ivec2((quarter & 1) == 0 ? a.x : m.x, (quarter & 2) == 0 ? a.y : m.y);
+            ivec2 qb = quarter < 0 ? b : ivec2((quarter & 1) == 0 ? m.x : b.x, (quarter & 2) == 0 ? m.y : b.y);
+            bool covered = false;
+            for (uint k = 0u; k < samples && !covered; k++)
+                covered =
+                    covers(dom.radii, far2(cell_sample_at[k].x, qa.x, qb.x) + far2(cell_sample_at[k].y, qa.y, qb.y));
+            if (covered && quarter < 0) break;
+            if (!covered && quarter >= 0) return false;
+        }
+    }
+    return true;
+}
+
 // Which of the `fanout` children (4, or 1: the cell itself) of the active cell at `corner` stay
 // active, as a bit mask. A child is dropped if it lies off the domain or (cover_tested) one
 // sample's disk covers it wholly (exact corner test, see far2). Children covered only by a union
@@ -106,8 +134,10 @@ VRPD_FN bool cover_tested(Domain dom, uint fanout, uint side) {
 //
 // Two radii: a cell is the closed square [corner, corner + side]^2 (continuous: T's test is), and
 // a child that no single disk covers is tested exactly (t_membership.h): it stays iff it still holds
-// a point of U. So the cells track U exactly, and vanish as soon as U does. Should that test run
-// past its bounds, the child stays; at the deepest level it then falls back to its lattice point.
+// a point of U. So the cells track U exactly, and vanish as soon as U does. Two cheap tests come
+// first: a child with an open corner (or, not splitting, an open midpoint) holds a point of U, and
+// one covered_in_parts covers holds none. Should the exact test run past its bounds, the child
+// stays; at the deepest level it then falls back to its lattice point.
 VRPD_FN uint surviving_children(VRPD_IN(Domain) dom, Grid grid, uvec2 base, uvec2 corner, uint side, uint fanout,
                                 uint samples) {
     // Child 0 shares the cell's corner; the others' corners lie side further along x, y or both.
@@ -156,11 +186,16 @@ VRPD_FN uint surviving_children(VRPD_IN(Domain) dom, Grid grid, uvec2 base, uvec
     for (uint c = 0u; c < fanout && two_radii(dom.radii); c++) {
         if ((mask & (1u << c)) == 0u) continue;
         uint k = 3u * (c >> 1u) + (c & 1u);
-        if ((open_corners & ((3u << k) | (3u << (k + 3u)))) != 0u) continue;
+        if ((open_corners & (fanout == 4u ? (3u << k) | (3u << (k + 3u)) : 0x1FFu)) != 0u) continue;
         uvec2 cc = child_corner(corner, side, c);
         ivec2 hi = ivec2(int(side), int(side));
         if (dom.lattice.periodic == 0u)
             hi = min(hi, ivec2(int(dom.lattice.extent_x - 1u - cc.x), int(dom.lattice.extent_y - 1u - cc.y)));
+        ivec2 lo = ivec2(cc - origin);
+        if (samples <= MAX_CELL_SAMPLES && covered_in_parts(dom, lo, lo + hi, samples)) {
+            mask &= ~(1u << c);
+            continue;
+        }
         uint n = gather_near_box(dom, grid, base, cc, hi);
         if (n > MAX_DISKS) continue;
         uint t = reaches_uncovered(n, dom.radii.coverage2, ivec2(0, 0), hi, false);
