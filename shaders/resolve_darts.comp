@@ -8,25 +8,23 @@
 layout(local_size_x_id = 0) in;
 layout(push_constant) uniform Push { DartArgs a; };
 
-#ifdef VRPD_ONE_RADIUS
-void main() {
-    uint i = work_item();
-    if (i >= a.counters.value[a.work_in_slot + 3u]) return;
-    uint d = a.work_in.value[i];
-    uint state = resolve_dart(a.domain, a.grid, a.darts, d, a.param != 0u);
-    if (state == DART_UNDECIDED) a.work_out.value[atomicAdd(a.counters.value[a.work_out_slot + 3u], 1u)] = d;
-    else set_dart_state(a.darts, d, state);
-}
-#else
-// Two radii: the census settles most darts in a few reads, and the rest take gathers and T tests,
-// a workgroup's together (workgroup_list.glsl).
-#include "workgroup_list.glsl"
-
 // Dart d takes its decision; an undecided dart goes to the next work list.
 void decide(uint d, uint state) {
     if (state == DART_UNDECIDED) a.work_out.value[atomicAdd(a.counters.value[a.work_out_slot + 3u], 1u)] = d;
     else set_dart_state(a.darts, d, state);
 }
+
+#ifdef VRPD_ONE_RADIUS
+void main() {
+    uint i = work_item();
+    if (i >= a.counters.value[a.work_in_slot + 3u]) return;
+    uint d = a.work_in.value[i];
+    decide(d, resolve_dart(a.domain, a.grid, a.darts, d, a.param != 0u));
+}
+#else
+// Two radii: the census settles most darts in a few reads, and the rest take gathers and T tests,
+// a workgroup's together (workgroup_list.glsl).
+#include "workgroup_list.glsl"
 
 void main() {
     uint i = work_item();
