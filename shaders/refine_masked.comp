@@ -10,11 +10,12 @@
 layout(local_size_x_id = 0) in;
 // Mask mode, per base cell: the mask of its surviving children (or cells) goes to masks[i], and
 // their number to counters[COUNTER_ACTIVE]. Where the refinement is scattered (over every base
-// cell, into 4 or 16 sub-cells: scatter_box), a boxed base cell's mask holds every child of its
-// active sub-cells, for scatter_covers to clear the covered ones, and apply_masks counts them all.
-// At the last mask-mode level (masked_leaves) the 64-bit mask goes to masks[i] and work[i] (low
-// and high halves), for apply_masks. Invocation cell_count writes the trailing 0 that the scan
-// of the counts needs.
+// cell, into 4 or 16 sub-cells: scatter_box), invocation i serves the i-th base cell of the box's
+// border (border_base) and writes its mask to masks[b]; the boxed cells' masks start full (the
+// engine fills them), scatter_covers clears the covered children, and apply_masks counts them
+// all. At the last mask-mode level (masked_leaves) the 64-bit mask goes to masks[i] and work[i]
+// (low and high halves), for apply_masks. Invocation cell_count writes the trailing 0 that the
+// scan of the counts needs.
 layout(push_constant) uniform Push { CellArgs a; };
 
 void main() {
@@ -26,19 +27,14 @@ void main() {
     bool counting = !scattered && !leaves;
     group_active_begin(counting);
     if (i < a.cell_count) {
-        uint b = masked_base(a, i);
-        if (scattered && box_holds(scatter_box(a.domain, a.side, a.param), int(b % a.domain.cells_x),
-                                   int(b / a.domain.cells_x))) {
-            a.masks.value[i] = all_children(a.grid.word[b]);
-        } else {
-            uvec2 kept = refine_masked_base(a, a.grid, b);
-            a.masks.value[i] = kept.x;
-            if (leaves)
-                a.work.value[i] = kept.y;
-            else if (counting)
-                group_active_add(kept.x);
-        }
-    } else if (i == a.cell_count) {
+        uint b = scattered ? border_base(a.domain, scatter_box(a.domain, a.side, a.param), i) : masked_base(a, i);
+        uvec2 kept = refine_masked_base(a, a.grid, b);
+        a.masks.value[scattered ? b : i] = kept.x;
+        if (leaves)
+            a.work.value[i] = kept.y;
+        else if (counting)
+            group_active_add(kept.x);
+    } else if (i == a.cell_count && !scattered) {
         a.masks.value[i] = 0u;
     }
     group_active_end(a, counting);

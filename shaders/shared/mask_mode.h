@@ -236,6 +236,24 @@ VRPD_FN bool box_holds(ScatterBox box, int x, int y) {
 }
 VRPD_FN bool box_any(ScatterBox box) { return box.x0 <= box.x1 && box.y0 <= box.y1; }
 
+// The base cells outside a box that holds some (its border), which the device's scattered
+// refinement gathers for alone: their count, and the i-th of them in base cell order (the rows
+// above the box, then each box row's cells left and right of it, then the rows below).
+VRPD_FN uint border_count(Domain dom, ScatterBox box) {
+    return dom.cells_x * dom.cells_y - uint(box.x1 - box.x0 + 1) * uint(box.y1 - box.y0 + 1);
+}
+
+VRPD_FN uint border_base(Domain dom, ScatterBox box, uint i) {
+    uint above = uint(box.y0) * dom.cells_x;
+    if (i < above) return i;
+    uint width = uint(box.x1 - box.x0 + 1), beside = dom.cells_x - width;
+    uint rows = uint(box.y1 - box.y0 + 1);
+    i -= above;
+    if (i >= rows * beside) return (uint(box.y1) + 1u) * dom.cells_x + (i - rows * beside);
+    uint row = i / beside, k = i % beside;
+    return (uint(box.y0) + row) * dom.cells_x + (k < uint(box.x0) ? k : k + width);
+}
+
 // A boxed base cell's mask before the samples' covers: every child of its active sub-cells, at
 // most level 1's four (the children of sub-cell k are sub-cells 4 k to 4 k + 3; at level 0 the
 // base cell is sub-cell 0): bit k moves to bit 4 k, and times 15 fills its four.

@@ -23,21 +23,37 @@ std::uint32_t VulkanEngine::refine_masked(const RoundSpec& spec, std::uint64_t r
     // list of the base cells that hold them (a superset of the active ones while the level's
     // rounds last: masks only lose bits).
     const bool last_level = fanout == 4u && (child_side << (MASK_LEVELS - 1u)) == (1u << plan_.domain.cell_bits);
-    ctx_.dispatch(refine_masked_, &a, dispatch_groups(std::uint64_t(n) + 1, WORKGROUP_SIZE));
-    ctx_.barrier();  // the new masks (and the active sum) before they reach the words
+    const bool tested = cover_tested(plan_.domain, fanout, child_side);
+    const ScatterBox box = scatter_box(plan_.domain, child_side, fanout);
+    const bool scattered = targets == 0 && box_any(box);
+    // Level 0's rounds before its last: without a cover test every base cell without a sample
+    // stays active, its one sub-cell, and nothing runs: the count is the base cells less the
+    // samples (each in a base cell of its own).
+    const bool whole = !tested && !leaves && child_side == (1u << plan_.domain.cell_bits);
+    if (!whole) {
+        // Scattered: the boxed cells' masks start full, for apply_masks to keep the children of
+        // the active sub-cells that no sample covers; refine_masked refines the box's border.
+        CellArgs r = a;
+        if (scattered) {
+            ctx_.vk().vkCmdFillBuffer(ctx_.recording(), scratch_.handle(), ranks - scratch_.address(),
+                                      std::uint64_t(n) * 4, ~0u);
+            ctx_.barrier();  // the fill before refine_masked writes the border's masks
+            r.cell_count = border_count(plan_.domain, box);
+        }
+        ctx_.dispatch(refine_masked_, &r, dispatch_groups(std::uint64_t(r.cell_count) + 1, WORKGROUP_SIZE));
+        ctx_.barrier();  // the new masks (and the active sum) before they reach the words
+    }
     // Over every base cell into 4 or 16 sub-cells, the samples clear the covered children from
     // the boxed cells' masks (refine_masked.comp); apply_masks then counts the sub-cells. The
     // samples, emitted_ and this round's, number at most the n base cells.
-    if (targets == 0 && box_any(scatter_box(plan_.domain, child_side, fanout))) {
+    if (scattered) {
         CellArgs s = a;
         s.cells = samples_.address();
         s.cell_count = std::uint32_t(emitted_);
         ctx_.dispatch(scatter_covers_, &s, dispatch_groups(n, WORKGROUP_SIZE));
         ctx_.barrier();  // the masks before apply_masks reads them
     }
-    // Without a cover test every cell stays (active cells lie on the lattice): the committed
-    // words hold their masks already, and refine_masked only counts them.
-    if (cover_tested(plan_.domain, fanout, child_side)) {
+    if (tested) {
         ctx_.dispatch(apply_masks_, &a, dispatch_groups(n, WORKGROUP_SIZE));
         ctx_.barrier();  // the words (and the counts) before the next round, or the scan
     }
@@ -48,7 +64,8 @@ std::uint32_t VulkanEngine::refine_masked(const RoundSpec& spec, std::uint64_t r
     if (next && !leaves && !last_level) record_counts(*next, count_masked_, targets, n);
     ctx_.submit_and_wait();
     darts_ = Buffer();
-    const std::uint32_t kept = counter(COUNTER_ACTIVE);
+    const std::uint32_t kept =
+        whole ? std::uint32_t(plan_.base_cells - emitted_ - counter(COUNTER_ACCEPTED)) : counter(COUNTER_ACTIVE);
     if (!leaves) {
         if (last_level && kept > 0) list_active_bases();
         return kept;
