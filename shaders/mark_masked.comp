@@ -4,8 +4,10 @@
 #include "shared/sampler.h"
 #include "masked.glsl"
 layout(local_size_x_id = 0) in;
-// Mask mode, per active base cell: its word becomes a packed darts word from its first dart on,
-// and its darts' records get their sites for throw_sited (shared/throw.h).
+// Mask mode, per base cell without a sample: its word becomes a packed darts word from its first
+// dart on (none where no sub-cell is active), so that over every base cell the darts of adjacent
+// base cells are one range (resolve_dart's rows), and an active cell's darts' records get their
+// sites for throw_sited (shared/throw.h).
 layout(push_constant) uniform Push { CellArgs a; };
 
 void main() {
@@ -13,7 +15,7 @@ void main() {
     if (i >= a.cell_count) return;
     uint b = masked_base(a, i);
     uvec2 w = a.grid.word[b];
-    if (!masked_active(w)) return;
+    if (grid_is_sample(w)) return;
     a.grid.word[b] = numbered_word(w, a.scan.value[i]);
     site_masked_darts(a, a.darts, w, b, a.scan.value[i]);
 }

@@ -11,6 +11,27 @@
 
 VRPD_BEGIN
 
+// What dart j (`other`), met by dart d's scan, says of d: DART_REJECTED if it is accepted and
+// inhibits d, DART_UNDECIDED if it is undecided, arrives before d and inhibits it, else
+// DART_ACCEPTED (nothing against d; d itself says nothing).
+VRPD_FN uint nearby_verdict(DartSite s, uint d, uvec4 other, uint j) {
+    if (!live_before(other, j, s.dart.z, d) ||
+        !inhibits(s.dom.radii, distance2(s.dom.lattice, uvec2(other.x, other.y), s.p)))
+        return DART_ACCEPTED;
+    return other.w == DART_ACCEPTED ? DART_REJECTED : DART_UNDECIDED;
+}
+
+// Where every base cell without a sample holds a darts word, numbered in base cell order
+// (resolve_dart's `rows`): the first dart of base cell b or, past a sample's cells (which hold no
+// darts), of the next base cell with darts; `total` (the round's darts) past the last.
+VRPD_FN uint first_dart_at(Grid grid, uint b, uint cells, uint total) {
+    for (; b < cells; b++) {
+        uvec2 w = grid.word[b];
+        if (!grid_is_sample(w)) return grid_darts(w).x;
+    }
+    return total;
+}
+
 // One step of the exact parallel resolution of a round: dart d is accepted once every earlier
 // conflicting dart (in arrival order) is rejected, and rejected as soon as one is accepted.
 // Decisions are only taken when they are final, so the outcome is the sequential process's.
@@ -21,22 +42,34 @@ VRPD_BEGIN
 // first earlier undecided dart in conflict leaves d undecided, without a scan for an accepted one
 // (what stopping there saves: docs/performance.md). With two radii such a pass leaves the T tests
 // of a dart with an undecided dart before it within Rc to the passes after it.
-VRPD_FN uint resolve_dart(Domain global, Grid grid, Darts darts, uint d, bool first_pass) {
+// `rows` (mask mode over every base cell, one radius): every base cell without a sample holds a
+// darts word, numbered in base cell order, so the darts of a row of adjacent base cells are one
+// range of indices (first_dart_at): a dart whose scan meets no side of the grid reads five
+// ranges, not 21 base cells' words, each with a loop of its own. `dart_count`: the round's.
+VRPD_FN uint resolve_dart(Domain global, Grid grid, Darts darts, uint d, bool first_pass, bool rows, uint dart_count) {
 #ifndef VRPD_ONE_RADIUS  // glslang does not fold two_radii(): only the guard keeps T's code out of SPIR-V
     if (two_radii(global.radii)) return resolve_dart_two_radii(global, grid, darts, d, first_pass);
 #endif
     DartSite s = dart_site(global, darts, d);
     bool waiting = false;
     int reach = conflict_reach(s.dom.radii);
+    if (rows && inside_by(global, s.cell, reach)) {
+        uint centre = base_index(global, s.cell), cells = global.cells_x * global.cells_y;
+        for (int dy = -reach; dy <= reach; dy++) {
+            uint row = uint(int(centre) + dy * int(global.cells_x)), width = uint(conflict_row(s.dom.radii, dy));
+            uint end = first_dart_at(grid, row + width + 1u, cells, dart_count);
+            for (uint j = first_dart_at(grid, row - width, cells, dart_count); j < end; j++) {
+                uint verdict = nearby_verdict(s, d, dart_at(darts, j), j);
+                if (verdict == DART_REJECTED || (verdict == DART_UNDECIDED && first_pass)) return verdict;
+                waiting = waiting || verdict == DART_UNDECIDED;
+            }
+        }
+        return waiting ? DART_UNDECIDED : DART_ACCEPTED;
+    }
     VRPD_FOR_EACH_NEARBY_DART(s.dom, grid, s.cell, reach, s.dom.radii.inhibition2, j) {
-        if (j == d) continue;
-        uvec4 other = dart_at(darts, j);
-        if (!live_before(other, j, s.dart.z, d) ||
-            !inhibits(s.dom.radii, distance2(s.dom.lattice, uvec2(other.x, other.y), s.p)))
-            continue;
-        if (other.w == DART_ACCEPTED) return DART_REJECTED;
-        if (first_pass) return DART_UNDECIDED;
-        waiting = true;
+        uint verdict = nearby_verdict(s, d, dart_at(darts, j), j);
+        if (verdict == DART_REJECTED || (verdict == DART_UNDECIDED && first_pass)) return verdict;
+        waiting = waiting || verdict == DART_UNDECIDED;
     }
     return waiting ? DART_UNDECIDED : DART_ACCEPTED;
 }
