@@ -5,9 +5,9 @@
 #include "masked.glsl"
 layout(local_size_x_id = 0) in;
 // Mask mode, per base cell without a sample: its word becomes a packed darts word from its first
-// dart on (none where no sub-cell is active), so that over every base cell the darts of adjacent
-// base cells are one range (resolve_dart's rows), and an active cell's darts' records get their
-// sites for throw_sited (shared/throw.h).
+// dart on (none where no sub-cell is active), so that a row of base cells mostly begins and ends
+// with a darts word (row_darts), and an active cell's darts' records get their sites for
+// throw_sited (shared/throw.h).
 layout(push_constant) uniform Push { CellArgs a; };
 
 void main() {

@@ -19,7 +19,7 @@ void main() {
     uint i = work_item();
     if (i >= a.counters.value[a.work_in_slot + 3u]) return;
     uint d = a.work_in.value[i];
-    decide(d, resolve_dart(a.domain, a.grid, a.darts, d, (a.param & 1u) != 0u, (a.param & 2u) != 0u, a.dart_count));
+    decide(d, resolve_dart(a.domain, a.grid, a.darts, d, a.param != 0u));
 }
 #else
 // Two radii: the census settles most darts in a few reads, and the rest take gathers and T tests,

@@ -324,7 +324,7 @@ TEST_CASE("two radii: the device's resolution passes give the host's decisions",
         undecided = false;
         for (uint d = 0; d < n; ++d) {
             host[d] = darts[d].w == DART_UNDECIDED
-                          ? resolve_dart(dom, Grid{grid.data()}, Darts{stored.data()}, d, false, false, 0u)
+                          ? resolve_dart(dom, Grid{grid.data()}, Darts{stored.data()}, d, false)
                           : darts[d].w;
             INFO("pass " << passes << " dart " << d << " at " << darts[d].x << "," << darts[d].y);
             REQUIRE(device[d] == host[d]);

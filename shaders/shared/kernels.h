@@ -175,9 +175,8 @@ struct DartArgs {
     uint dart_count;
     uint work_in_slot;             // COUNTER_WORK0 or COUNTER_WORK1
     uint work_out_slot;
-    uint param;  // emit_samples: samples already emitted in earlier rounds;
-                 // resolve_darts: 1 on a round's first pass, 2 for resolve_dart's
-                 // rows (bits)
+    uint param;                    // emit_samples: samples already emitted in earlier rounds;
+                                   // resolve_darts: 1 on a round's first pass (resolve_dart)
 };
 #ifdef __cplusplus
 static_assert(sizeof(DartArgs) == 128 && offsetof(DartArgs, darts) == 48 && offsetof(DartArgs, dart_count) == 112);

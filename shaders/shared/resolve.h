@@ -21,15 +21,27 @@ VRPD_FN uint nearby_verdict(DartSite s, uint d, uvec4 other, uint j) {
     return other.w == DART_ACCEPTED ? DART_REJECTED : DART_UNDECIDED;
 }
 
-// Where every base cell without a sample holds a darts word, numbered in base cell order
-// (resolve_dart's `rows`): the first dart of base cell b or, past a sample's cells (which hold no
-// darts), of the next base cell with darts; `total` (the round's darts) past the last.
-VRPD_FN uint first_dart_at(Grid grid, uint b, uint cells, uint total) {
-    for (; b < cells; b++) {
+// The darts of base cells [b0, b1] of a grid row: this round's darts are numbered in base cell
+// order, so they are one range, from the first darts word's first dart to the last one's end;
+// an empty range if no base cell there holds darts. (Mask mode numbers every base cell without
+// a sample, so that the first and the last base cell of a row mostly hold one.)
+VRPD_FN uvec2 row_darts(Grid grid, uint b0, uint b1) {
+    uvec2 range = uvec2(0u, 0u);
+    for (uint b = b0; b <= b1; b++) {
         uvec2 w = grid.word[b];
-        if (!grid_is_sample(w)) return grid_darts(w).x;
+        if (grid_is_darts(w)) {
+            range.x = grid_darts(w).x;
+            break;
+        }
     }
-    return total;
+    for (uint b = b1 + 1u; b > b0; b--) {
+        uvec2 w = grid.word[b - 1u];
+        if (grid_is_darts(w)) {
+            range.y = grid_darts(w).y;
+            break;
+        }
+    }
+    return range;
 }
 
 // One step of the exact parallel resolution of a round: dart d is accepted once every earlier
@@ -42,23 +54,21 @@ VRPD_FN uint first_dart_at(Grid grid, uint b, uint cells, uint total) {
 // first earlier undecided dart in conflict leaves d undecided, without a scan for an accepted one
 // (what stopping there saves: docs/performance.md). With two radii such a pass leaves the T tests
 // of a dart with an undecided dart before it within Rc to the passes after it.
-// `rows` (mask mode over every base cell, one radius): every base cell without a sample holds a
-// darts word, numbered in base cell order, so the darts of a row of adjacent base cells are one
-// range of indices (first_dart_at): a dart whose scan meets no side of the grid reads five
-// ranges, not 21 base cells' words, each with a loop of its own. `dart_count`: the round's.
-VRPD_FN uint resolve_dart(Domain global, Grid grid, Darts darts, uint d, bool first_pass, bool rows, uint dart_count) {
+// A dart whose scan meets no side of the grid reads the darts of each of its five rows as one
+// range (row_darts), not 21 base cells' words, each with a loop of its own.
+VRPD_FN uint resolve_dart(Domain global, Grid grid, Darts darts, uint d, bool first_pass) {
 #ifndef VRPD_ONE_RADIUS  // glslang does not fold two_radii(): only the guard keeps T's code out of SPIR-V
     if (two_radii(global.radii)) return resolve_dart_two_radii(global, grid, darts, d, first_pass);
 #endif
     DartSite s = dart_site(global, darts, d);
     bool waiting = false;
     int reach = conflict_reach(s.dom.radii);
-    if (rows && inside_by(global, s.cell, reach)) {
-        uint centre = base_index(global, s.cell), cells = global.cells_x * global.cells_y;
+    if (inside_by(global, s.cell, reach)) {
+        uint centre = base_index(global, s.cell);
         for (int dy = -reach; dy <= reach; dy++) {
             uint row = uint(int(centre) + dy * int(global.cells_x)), width = uint(conflict_row(s.dom.radii, dy));
-            uint end = first_dart_at(grid, row + width + 1u, cells, dart_count);
-            for (uint j = first_dart_at(grid, row - width, cells, dart_count); j < end; j++) {
+            uvec2 range = row_darts(grid, row - width, row + width);
+            for (uint j = range.x; j < range.y; j++) {
                 uint verdict = nearby_verdict(s, d, dart_at(darts, j), j);
                 if (verdict == DART_REJECTED || (verdict == DART_UNDECIDED && first_pass)) return verdict;
                 waiting = waiting || verdict == DART_UNDECIDED;

@@ -11,5 +11,5 @@ void main() {
     uint d = gl_GlobalInvocationID.x;
     if (d >= count) return;
     uint state = dart_at(darts, d).w;
-    decisions.value[d] = state == DART_UNDECIDED ? resolve_dart(domain, grid, darts, d, false, false, 0u) : state;
+    decisions.value[d] = state == DART_UNDECIDED ? resolve_dart(domain, grid, darts, d, false) : state;
 }

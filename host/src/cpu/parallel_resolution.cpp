@@ -28,7 +28,7 @@ void decide_in_parallel(const Domain& dom, Grid grid, Darts darts, std::size_t c
     pool.parallel_for(count, [&](std::size_t b, std::size_t e, unsigned) {
         for (std::size_t j = b; j < e; ++j) {
             if (dart_at(darts, uint(j)).w != DART_UNDECIDED) continue;
-            const uint state = resolve_dart(dom, grid, darts, uint(j), false, false, 0u);
+            const uint state = resolve_dart(dom, grid, darts, uint(j), false);
             if (state != DART_UNDECIDED) set_dart_state(darts, uint(j), state);
         }
         std::vector<uint> stack;
@@ -41,7 +41,7 @@ void decide_in_parallel(const Domain& dom, Grid grid, Darts darts, std::size_t c
                     stack.pop_back();
                     continue;
                 }
-                const uint state = resolve_dart(dom, grid, darts, t, false, false, 0u);
+                const uint state = resolve_dart(dom, grid, darts, t, false);
                 if (state != DART_UNDECIDED) {
                     set_dart_state(darts, t, state);
                     stack.pop_back();

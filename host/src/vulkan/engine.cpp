@@ -275,10 +275,7 @@ RoundResult VulkanEngine::round(const RoundSpec& spec, const RoundSpec* next) {
             WorkArgs w{counters_.address(), in_slot, out_slot, work_groups_};
             ctx_.dispatch(work_args_, &w, 1);
             ctx_.barrier();  // indirect command and emptied output list before the pass
-            // param: 1 on the round's first pass; 2 in mask mode over every base cell, where
-            // mark_masked numbers every base cell without a sample (resolve_dart's rows).
-            const std::uint32_t rows = masked && !by_list ? 2u : 0u;
-            DartArgs r = dart_args(dart_list, darts, (passes == 0 && p == 0 ? 1u : 0u) | rows);
+            DartArgs r = dart_args(dart_list, darts, passes == 0 && p == 0 ? 1u : 0u);
             r.work_in = work[in];
             r.work_out = work[in ^ 1];
             r.work_in_slot = in_slot;
