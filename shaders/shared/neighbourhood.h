@@ -22,22 +22,18 @@ VRPD_FN bool inner_cell(VRPD_IN(Domain) dom, uvec2 cell) {
     return inside_by(dom, cell, int(influence_reach(dom.radii)));
 }
 
-// The index of base cell (cx + dx, cy + dy) for a cell near a side of the grid (cells inside by
-// the scan's reach use plain offsets), or GRID_EMPTY when it falls off a free boundary.
-// make_plan guarantees influence_reach <= cells per side, so one wrap step suffices on a torus.
-VRPD_FN uint wrapped_neighbour_index(Domain dom, uvec2 cell, int dx, int dy) {
-    int x = int(cell.x) + dx;
-    int y = int(cell.y) + dy;
-    int w = int(dom.cells_x);
-    int h = int(dom.cells_y);
-    if (dom.lattice.periodic != 0u) {
-        x += x < 0 ? w : (x >= w ? -w : 0);
-        y += y < 0 ? h : (y >= h ? -h : 0);
-    } else if (x < 0 || y < 0 || x >= w || y >= h) {
-        return GRID_EMPTY;
-    }
-    return uint(y) * dom.cells_x + uint(x);
+// The first and last offsets a scan within `reach` of base cell coordinate c visits along an axis
+// (of n cells): all of [-reach, reach] on a torus, those that stay on the grid on a free boundary.
+VRPD_FN int first_offset(VRPD_IN(Domain) dom, uint c, int reach) {
+    return dom.lattice.periodic != 0u ? -reach : max(-reach, -int(c));
 }
+VRPD_FN int last_offset(VRPD_IN(Domain) dom, uint c, uint n, int reach) {
+    return dom.lattice.periodic != 0u ? reach : min(reach, int(n) - 1 - int(c));
+}
+
+// Base cell coordinate c (a cell's plus an offset) on an axis of n cells, wrapped on a torus;
+// make_plan guarantees influence_reach <= cells per side, so one wrap step suffices.
+VRPD_FN int wrapped_cell(int c, int n) { return c < 0 ? c + n : (c >= n ? c - n : c); }
 
 // The columns a scan of row dy (|dy| <= reach) must visit: |dx| <= row_reach, the cells some of
 // whose points are closer than sqrt(limit2) to some point of the centre cell; -1 if none is.
@@ -79,19 +75,20 @@ VRPD_FN Domain local_domain(VRPD_IN(Domain) dom, uvec2 cell) {
 // points may lie closer than sqrt(limit2) to a point of `cell`, row by row, as `nb`, their index
 // (an int: base cells number fewer than 2^31). The body follows as a block; `continue` goes to the
 // next cell, `return` ends the scan. GLSL has neither closures nor function pointers: a loop
-// macro keeps the scan written once while every compiler sees two plain nested loops (the
-// test of the cell's distance from the sides and the centre's index ride in the outer loop's
-// declaration, each row's first index in the inner one's, so the neighbour of a cell inside by
-// the reach costs one add and no off-grid test).
-#define VRPD_FOR_EACH_NEIGHBOUR(dom, cell, reach, limit2, dx, dy, nb)                 \
-    for (int dy = -(reach), nb = 0, vrpd_inner = inside_by(dom, cell, reach) ? 1 : 0, \
-             vrpd_centre = int(base_index(dom, cell));                                \
-         dy <= (reach); dy++)                                                         \
-        for (int dx = -row_reach(dom, dy, reach, limit2), vrpd_row_end = -dx,         \
-                 vrpd_row = vrpd_centre + dy * int(dom.cells_x);                      \
-             dx <= vrpd_row_end; dx++)                                                \
-            if (vrpd_inner != 0 ? ((nb = vrpd_row + dx), true)                        \
-                                : (nb = int(wrapped_neighbour_index(dom, cell, dx, dy))) != int(GRID_EMPTY))
+// macro keeps the scan written once while every compiler sees two plain nested loops. The
+// loops' bounds leave out the rows and columns off a free boundary, and a row's column steps
+// along, wrapping at the torus's side, so that a cell costs a few adds and no branch (a SIMD
+// batch of llvmpipe runs both sides of a branch).
+#define VRPD_FOR_EACH_NEIGHBOUR(dom, cell, reach, limit2, dx, dy, nb)                                                  \
+    for (int dy = first_offset(dom, (cell).y, reach), vrpd_last_dy = last_offset(dom, (cell).y, (dom).cells_y, reach), \
+             nb = 0;                                                                                                   \
+         dy <= vrpd_last_dy; dy++)                                                                                     \
+        for (int vrpd_width = row_reach(dom, dy, reach, limit2), dx = first_offset(dom, (cell).x, vrpd_width),         \
+                 vrpd_last_dx = last_offset(dom, (cell).x, (dom).cells_x, vrpd_width),                                 \
+                 vrpd_x = wrapped_cell(int((cell).x) + dx, int((dom).cells_x)),                                        \
+                 vrpd_row = wrapped_cell(int((cell).y) + dy, int((dom).cells_y)) * int((dom).cells_x);                 \
+             dx <= vrpd_last_dx; dx++, vrpd_x = vrpd_x + 1 == int((dom).cells_x) ? 0 : vrpd_x + 1)                     \
+            if (((nb = vrpd_row + vrpd_x), true))
 
 // This round's darts [first, end) in a grid word, or an empty range if it holds none.
 VRPD_FN uvec2 darts_in(uvec2 word) { return grid_is_darts(word) ? grid_darts(word) : uvec2(0u, 0u); }
