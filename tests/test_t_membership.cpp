@@ -9,6 +9,7 @@
 
 #include "coverage_probe.h"
 #include "resolve_probe.h"
+#include "root_sum_probe.h"
 #include "shared/sampler.h"
 #include "support.h"
 #include "t_membership_support.h"
@@ -390,6 +391,63 @@ TEST_CASE("T membership: a cell covered quarter by quarter holds no point of U",
             CHECK(holes >= 40);
         }
     }
+}
+
+TEST_CASE("the device's sign of a sqrt(l) + b sqrt(m) is exact, near ties as well", "[two-radii][gpu]") {
+    std::mt19937_64 rng(11);
+    const std::uint64_t r2 = shared::MAX_COVER2;
+    std::vector<glm::i64vec4> cases;
+    // The host test's draws (|a|, |b| up to 2^42, l, m up to 4 r2), most near the tie a^2 l = b^2 m,
+    // at every scale down to single digits; exact ties; and a tie missed by one at the largest.
+    for (int i = 0; i < 60000; ++i) {
+        const int bits = 2 + int(rng() % 41);
+        const std::uint64_t span = std::uint64_t(1) << bits;
+        const std::int64_t a = std::int64_t(rng() % (2 * span + 1)) - std::int64_t(span);
+        const std::int64_t b = std::int64_t(rng() % (2 * span + 1)) - std::int64_t(span);
+        const std::uint64_t l = rng() % (4 * r2 + 1) >> (rng() % 40);
+        std::uint64_t m = rng() % (4 * r2 + 1);
+        if (i % 4 != 0 && b != 0 && l != 0) {
+            const long double t = (long double)a * a * l / ((long double)b * b);
+            if (t < 4.0L * r2) m = std::uint64_t(t) + rng() % 3 - 1;
+        }
+        cases.push_back({a, std::int64_t(l), b, std::int64_t(m)});
+    }
+    const std::int64_t big = std::int64_t(1) << 41;
+    for (const glm::i64vec4 c :
+         {glm::i64vec4{3, 4, -2, 9}, glm::i64vec4{big, 4 * r2, -2 * big, r2},
+          glm::i64vec4{big, 4 * r2, -2 * big, r2 + 1}, glm::i64vec4{big, 4 * r2 + 1, -2 * big, r2},
+          glm::i64vec4{-3, 4, 2, 9}, glm::i64vec4{0, 5, -1, 7}, glm::i64vec4{1, 0, -1, 7}})
+        cases.push_back(c);
+    detail::VulkanContext ctx("");
+    detail::Kernel probe(ctx, "root_sum_probe", {spirv_root_sum_probe, std::size(spirv_root_sum_probe)}, 20, 64);
+    detail::Buffer in(ctx, cases.size() * sizeof(glm::i64vec4), true);
+    detail::Buffer out(ctx, cases.size() * 4, true);
+    std::memcpy(in.mapped(), cases.data(), cases.size() * sizeof(glm::i64vec4));
+    struct {
+        std::uint64_t cases, signs;
+        std::uint32_t count;
+    } push{in.address(), out.address(), std::uint32_t(cases.size())};
+    ctx.begin();
+    ctx.dispatch(probe, &push, std::uint32_t((cases.size() + 63) / 64));
+    ctx.barrier();  // signs before the host reads them
+    ctx.submit_and_wait();
+    ctx.check_validation();
+    const auto* signs = static_cast<const std::int32_t*>(out.mapped());
+    std::size_t close = 0, ties = 0;
+    for (std::size_t i = 0; i < cases.size(); ++i) {
+        const glm::i64vec4 c = cases[i];
+        const int exact = reference_sign(c.x, std::uint64_t(c.y), c.z, std::uint64_t(c.w));
+        INFO(c.x << " sqrt(" << c.y << ") + " << c.z << " sqrt(" << c.w << ")");
+        REQUIRE(signs[i] == exact);
+        // The cases where a single-precision estimate could not tell the sign: the sum within
+        // 2^-16 of the terms.
+        const long double ea = (long double)c.x * std::sqrt((long double)c.y);
+        const long double eb = (long double)c.z * std::sqrt((long double)c.w);
+        close += std::fabs(ea + eb) <= (std::fabs(ea) + std::fabs(eb)) * 0x1p-16L ? 1 : 0;
+        ties += exact == 0 ? 1 : 0;
+    }
+    CHECK(close > 10000);
+    CHECK(ties > 50);
 }
 
 TEST_CASE("T membership: the device gives the host's answer on every configuration", "[two-radii][gpu]") {
