@@ -8,9 +8,9 @@ layout(local_size_x_id = 0) in;
 // pass of its own: refine_masked reads the neighbours' words. Where the refinement is scattered
 // (refine_masked), a boxed cell's mask is every child of its active sub-cells (all_children)
 // less those scatter_covers cleared (a border cell's, refine_masked's, holds no other child),
-// and the masks' sub-cells are counted here. At the last mask-mode level, a base cell with surviving children parks their
-// 64-bit mask in its word until scatter_masked, and masks[i] becomes their count, for the scan
-// that ranks them in the explicit list.
+// and the masks' sub-cells are counted here. At the last mask-mode level, a base cell with
+// surviving children parks their 64-bit mask in its word until scatter_masked, and masks[i]
+// becomes their count, for the scan that ranks them in the explicit list.
 layout(push_constant) uniform Push { CellArgs a; };
 
 void main() {
