@@ -21,6 +21,13 @@ VRPD_FN uint nearby_verdict(DartSite s, uint d, uvec4 other, uint j) {
     return other.w == DART_ACCEPTED ? DART_REJECTED : DART_UNDECIDED;
 }
 
+// Folds a nearby dart's verdict into d's step: true if it decides the step (rejected, or on a
+// first pass undecided), which then returns the verdict; an undecided one leaves d `waiting`.
+VRPD_FN bool settles(uint verdict, bool first_pass, VRPD_INOUT(bool) waiting) {
+    waiting = waiting || verdict == DART_UNDECIDED;
+    return verdict == DART_REJECTED || (verdict == DART_UNDECIDED && first_pass);
+}
+
 // The darts of base cells [b0, b1] of a grid row: this round's darts are numbered in base cell
 // order, so they are one range, from the first darts word's first dart to the last one's end;
 // an empty range if no base cell there holds darts. (Mask mode numbers every base cell without
@@ -70,16 +77,14 @@ VRPD_FN uint resolve_dart(Domain global, Grid grid, Darts darts, uint d, bool fi
             uvec2 range = row_darts(grid, row - width, row + width);
             for (uint j = range.x; j < range.y; j++) {
                 uint verdict = nearby_verdict(s, d, dart_at(darts, j), j);
-                if (verdict == DART_REJECTED || (verdict == DART_UNDECIDED && first_pass)) return verdict;
-                waiting = waiting || verdict == DART_UNDECIDED;
+                if (settles(verdict, first_pass, waiting)) return verdict;
             }
         }
         return waiting ? DART_UNDECIDED : DART_ACCEPTED;
     }
     VRPD_FOR_EACH_NEARBY_DART(s.dom, grid, s.cell, reach, s.dom.radii.inhibition2, j) {
         uint verdict = nearby_verdict(s, d, dart_at(darts, j), j);
-        if (verdict == DART_REJECTED || (verdict == DART_UNDECIDED && first_pass)) return verdict;
-        waiting = waiting || verdict == DART_UNDECIDED;
+        if (settles(verdict, first_pass, waiting)) return verdict;
     }
     return waiting ? DART_UNDECIDED : DART_ACCEPTED;
 }
