@@ -1,13 +1,18 @@
 // Sizing fields (paper section 5): the expression language against direct evaluation, its errors
 // with their positions, the field's range and Lipschitz constant, and the checker's four rules on
-// hand-made pairs whose verdict each rule decides differently.
+// hand-made pairs whose verdict each rule decides differently; an expression's one kink's two
+// branches.
 #include <catch2/catch.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <cstdint>
 #include <fstream>
 #include <numbers>
+#include <random>
+#include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -336,4 +341,33 @@ TEST_CASE("Table 1 measured: Delaunay edges and angles within each rule's bounds
         }
         if (rule == SizingRule::Bigger) CHECK(judge(p, SizingRule::Prior).uncovered > 0);
     }
+}
+
+TEST_CASE("an expression's one kink gives two branches, one of which is its value at every point", "[field]") {
+    const Box box{1.5, 1, Boundary::Periodic};
+    for (const std::string text : {"0.01 + 0.05*abs(x - 0.3)", "0.05 - 0.04*abs(sin(7*d))", "min(0.02, 0.01 + x*y)",
+                                   "max(0.3*x, 0.1*y) + 0.01", "0.02 + max(x - 0.5, 0)*0.1", "1/min(3*x + 1, 2)"}) {
+        INFO(text);
+        const SizingExpression e(text);
+        REQUIRE(e.kinked());
+        std::mt19937_64 rng(7);
+        std::vector<double> x(1000), y(1000), a(1000), b(1000), plain(1000);
+        std::vector<std::uint8_t> second(1000);
+        for (std::size_t i = 0; i < x.size(); ++i)
+            x[i] = box.width * double(rng() % 4096) / 4096, y[i] = box.height * double(rng() % 4096) / 4096;
+        e.branches(x.data(), y.data(), a.data(), b.data(), second.data(), x.size(), box);
+        e(x.data(), y.data(), plain.data(), x.size(), box);
+        std::size_t seconds = 0;
+        for (std::size_t i = 0; i < x.size(); ++i) {
+            REQUIRE((second[i] ? b[i] : a[i]) == plain[i]);
+            seconds += second[i];
+        }
+        // Both branches are taken somewhere in the box.
+        CHECK(seconds > 0);
+        CHECK(seconds < x.size());
+    }
+    // No kink, two, or a clamp's: no branches.
+    for (const std::string text : {"0.01 + 0.02*x", "0.01 + 0.05*abs(x - 0.3) + 0.02*abs(y - 0.6)",
+                                   "clamp(x, 0.01, 0.02)", "0.01 + abs(-0.3)*x", "min(abs(x - 0.5), 0.2) + 0.01"})
+        CHECK_FALSE(SizingExpression(text).kinked());
 }

@@ -34,6 +34,15 @@ public:
     // runs over a batch of points, so its dispatch is paid once per batch, not once per point.
     void operator()(const double* x, const double* y, double* out, std::size_t n, const Box& box) const;
     const std::string& text() const { return text_; }
+    // Whether the program has one kink, the one step where its value can bend (an abs, min or
+    // max not on constants alone), and no clamp: then its value is one of two smooth branches.
+    bool kinked() const { return kink_ >= 0; }
+    // The two branches of the kink at n points: a[i] with the kink's first branch taken (abs: its
+    // argument; min and max: their first operand), b[i] with its second (abs: the argument
+    // negated; min and max: the second operand), and second[i] = 1 where the plain evaluation
+    // takes the second (so that its value is b[i], else a[i]). Requires kinked().
+    void branches(const double* x, const double* y, double* a, double* b, std::uint8_t* second, std::size_t n,
+                  const Box& box) const;
 
     // In this order: the values, then the binary operators, then the rest (the stack depth relies on it).
     enum class Op : std::uint8_t {
@@ -48,12 +57,15 @@ public:
     };
 
 private:
+    // With `branch` 0 or 1 the kink step takes that branch, and second[i] says which the plain
+    // evaluation takes; with -1 every step is the plain one.
     void run(const double* x, const double* y, double* out, std::size_t m, std::size_t stride, double* stack,
-             const Box& box) const;
+             const Box& box, int branch = -1, std::uint8_t* second = nullptr) const;
 
     std::string text_;
     std::vector<Step> program_;
     std::size_t depth_ = 0;  // the stack the program needs
+    std::ptrdiff_t kink_ = -1;  // the kink's step, or -1
 };
 
 // The field a run of `sizing` over `box` samples (vrpd.h, Sizing): its source tabulated in fixed

@@ -297,13 +297,21 @@ SizingExpression::SizingExpression(std::string text) : text_(std::move(text)), p
         depth_ = std::max(depth_, depth);
     }
     if (depth_ > kMaxStack) throw Error("sizing expression: too deeply nested to evaluate");
+    // Folding left no abs, min or max on constants alone, so each of these steps can bend.
+    std::size_t kinks = 0;
+    for (std::size_t k = 0; k < program_.size(); ++k) {
+        const Op op = program_[k].op;
+        if (op == Op::Clamp) kinks += 2;
+        if (op == Op::Abs || op == Op::Min || op == Op::Max) ++kinks, kink_ = std::ptrdiff_t(k);
+    }
+    if (kinks != 1) kink_ = -1;
 }
 
 // Runs the program over m <= stride points: stack entry k of point i is stack[k * stride + i].
 // Each step runs over all the points before the next, so its dispatch is paid once per batch;
 // every point's arithmetic is the scalar evaluation's, in the same order.
 void SizingExpression::run(const double* x, const double* y, double* out, std::size_t m, std::size_t stride,
-                           double* stack, const Box& box) const {
+                           double* stack, const Box& box, int branch, std::uint8_t* second) const {
     std::size_t n = 0;  // entries on the stack
     auto row = [&](std::size_t k) { return stack + k * stride; };
     // A binary operator: both operands on the stack, or one of them the step's constant. Each
@@ -331,7 +339,33 @@ void SizingExpression::run(const double* x, const double* y, double* out, std::s
         double* a = row(n++);
         for (std::size_t i = 0; i < m; ++i) a[i] = value(i);
     };
-    for (const Step& s : program_) {
+    // The kink with a branch forced: std::abs(v) is -v where v < 0, std::min(a, b) is b where
+    // b < a, std::max(a, b) is b where a < b.
+    auto apply_kink = [&](const Step& s) {
+        if (s.op == Op::Abs) {
+            double* a = row(n - 1);
+            for (std::size_t i = 0; i < m; ++i) {
+                second[i] = a[i] < 0;
+                if (branch == 1) a[i] = -a[i];
+            }
+            return;
+        }
+        if (s.constant == Constant::None) --n;
+        double* a = row(n - 1);
+        const double* b = row(n);
+        for (std::size_t i = 0; i < m; ++i) {
+            const double first = s.constant == Constant::Left ? s.value : a[i];
+            const double other = s.constant == Constant::None ? b[i] : s.constant == Constant::Right ? s.value : a[i];
+            second[i] = s.op == Op::Min ? other < first : first < other;
+            a[i] = branch == 1 ? other : first;
+        }
+    };
+    for (std::size_t k = 0; k < program_.size(); ++k) {
+        const Step& s = program_[k];
+        if (branch >= 0 && std::ptrdiff_t(k) == kink_) {
+            apply_kink(s);
+            continue;
+        }
         switch (s.op) {
         case Op::Number: push([&](std::size_t) { return s.value; }); break;
         case Op::X: push([&](std::size_t i) { return x[i]; }); break;
@@ -413,6 +447,17 @@ void SizingExpression::operator()(const double* x, const double* y, double* out,
     std::vector<double> stack(depth_ * kBatch);
     for (std::size_t first = 0; first < n; first += kBatch)
         run(x + first, y + first, out + first, std::min(kBatch, n - first), kBatch, stack.data(), box);
+}
+
+void SizingExpression::branches(const double* x, const double* y, double* a, double* b, std::uint8_t* second,
+                                std::size_t n, const Box& box) const {
+    constexpr std::size_t kBatch = 64;
+    std::vector<double> stack(depth_ * kBatch);
+    for (std::size_t first = 0; first < n; first += kBatch) {
+        const std::size_t m = std::min(kBatch, n - first);
+        run(x + first, y + first, a + first, m, kBatch, stack.data(), box, 0, second + first);
+        run(x + first, y + first, b + first, m, kBatch, stack.data(), box, 1, second + first);
+    }
 }
 
 SizingRule parse_sizing_rule(const std::string& name) {
