@@ -33,10 +33,11 @@ d4a5705704c67a85e1afe053a6b82ff780958e8d146e859ea42ca29720707a27 | --radius 0.01
 321befb78b3c069568e4a8c07695911e7c65533886f8b8008574559c26ac57ea | --sizing 0.01+0.05*x --rule smaller --boundary free --seed 1
 cbbe3632b2e90e9ed39f409da9fa237e54cb2e46bbc992fd5a13b760db72ced6 | --sizing 0.02+0.01*sin(2*pi*x)*cos(2*pi*y) --rule prior --seed 2
 b2be33571f6dfbe20e3364a2b4577af9b19a711afeb21e478de7d181ef8c4e29 | --sizing 0.004+0.02*d --rule bigger --weighting density --seed 3
-2ba2003176bd7cbf16e3bede745b0441baaa859910f5951a1eda4ec31be3e644 | --sizing 0.03+(0.006-0.03)*abs(sin(4*pi*d)) --rule current --extent 2,1 --seed 4
+a3feafe0cf93c77bd41289f724a4a65ba96e9899e8d9a46e93459947738e6721 | --sizing 0.03+(0.006-0.03)*abs(sin(4*pi*d)) --rule current --extent 2,1 --seed 4
 1894ff5c05edab6c1db251d4024c5b52082332398a6d0d91be86347ab1d2faed | --sizing 0.002+0.04*x*y --rule prior --boundary free --extent 1.5,1 --seed 8
 c9c81e5824dd900774447ccd26c979c9b67a9d2767ed6ca3f16fadac1e1535a1 | --sizing 0.3+0.1*sin(2*pi*x) --rule current --seed 7
 44d57b5284d2ccddb713f1113168c1022075b83566caa00c3646c1ade3d3b915 | --sizing 0.006+0.003*sin(2*pi*x)*cos(2*pi*y) --rule bigger --hierarchy discrete:4:3 --seed 5
+8a5dcfbc8f2c41cd2d61fdb0fb34b075d9b3a139a5e884d3fd8c54639e41c7a8 | --sizing 0.004+0.03*abs(x-0.3) --rule bigger --boundary free --weighting density --seed 10
 EOF
 )
 

@@ -456,10 +456,11 @@ TEST_CASE("sample --sizing from the command line: x,y,r rows, and bad input refu
     }
 }
 
-// The sampler's arrays at their peak (with the table), per sample, on the rectified sine of
-// Figure 16 at r from 0.015 to 0.0015: measured 186-188 bytes under smaller, 211 under bigger
-// (fewer samples on the same leaves).
-TEST_CASE("sizing fields: the arrays' peak stays within 220 bytes a sample on a rectified sine", "[field]") {
+// The sampler's arrays at their peak (with the table, its patches and kinked cells within 0.1 %
+// of the source), per sample, on the rectified sine of Figure 16 at r from 0.015 to 0.0015:
+// measured 202-204 bytes under smaller, 227-229 under bigger (fewer samples on the same
+// leaves).
+TEST_CASE("sizing fields: the arrays' peak stays within 240 bytes a sample on a rectified sine", "[field]") {
     for (SizingRule rule : {SizingRule::Smaller, SizingRule::Bigger})
         for (unsigned threads : {1u, 2u}) {
             SampleOptions o = field_options("0.015 + (0.0015 - 0.015)*abs(sin(8*pi*d))", rule, Boundary::Periodic, 1);
@@ -468,6 +469,6 @@ TEST_CASE("sizing fields: the arrays' peak stays within 220 bytes a sample on a 
             INFO(sizing_rule_name(rule) << " on " << threads << " threads: " << s.size() << " samples, "
                                         << double(s.stats.peak_bytes) / double(s.size()) << " bytes a sample");
             REQUIRE(s.size() > 60000);
-            CHECK(s.stats.peak_bytes <= 220 * s.size());
+            CHECK(s.stats.peak_bytes <= 240 * s.size());
         }
 }

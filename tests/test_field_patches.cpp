@@ -110,28 +110,31 @@ TEST_CASE("a kink: patched table cells bring the table within 0.1 % of its sourc
 }
 
 TEST_CASE("patches reach the least target their budget allows", "[field]") {
-    // The rectified sine's kinks at 76 000 samples would take more than a split a sample to reach
-    // 0.075 %; within that budget the patches reach 0.3 % (the table alone: 2.37 %), which the run
-    // reports.
+    // The rectified sine at 76 000 samples: its kinks' cells are kinked, and its troughs, where r
+    // bends most, would take more than a split a sample to reach 0.075 %; within a budget of 8
+    // words a sample the patches reach 0.212 % (the table alone: 0.72 %), which the run reports.
     Sizing s;
     s.expression = "0.015 + (0.0015 - 0.015)*abs(sin(8*pi*d))";
+    s.table_budget = 8;
     const detail::FieldTable t = detail::tabulate(s, {1, 1, Boundary::Periodic});
+    CHECK(t.kink_count > 0);
     CHECK(t.patch_count > 0);
     CHECK(t.splits.size() <= 80000);
     CHECK(t.tabulation_error > 0.00075);
-    CHECK(t.tabulation_error < 0.004);
+    CHECK(t.tabulation_error < 0.003);
     // Continuous across the leaves' edges, around the torus too.
     CHECK(worst_leaf_step(t) <= std::int64_t(std::ceil(t.lipschitz)) + 2);
-    // A larger budget (Sizing::table_budget, words a sample) brings it closer, and at 64 words a
-    // sample to the target, with about five times the splits; past what it needs, it takes no more.
-    s.table_budget = 32;
+    // A larger budget (Sizing::table_budget, words a sample) brings it closer: within the 0.1 %
+    // the run warns past at 32 words a sample (the default), and at 64 to the target, with about
+    // four times the splits; past what it needs, it takes no more.
+    s.table_budget = Sizing{}.table_budget;
     const detail::FieldTable closer = detail::tabulate(s, {1, 1, Boundary::Periodic});
-    CHECK(closer.tabulation_error < 0.5 * t.tabulation_error);
+    CHECK(closer.tabulation_error < 0.001);
     CHECK(closer.tabulation_error > 0.00075);
     s.table_budget = 64;
     const detail::FieldTable within = detail::tabulate(s, {1, 1, Boundary::Periodic});
     CHECK(within.tabulation_error <= 0.00075);
-    CHECK(within.splits.size() > 4 * t.splits.size());
+    CHECK(within.splits.size() > 3 * t.splits.size());
     CHECK(worst_leaf_step(within) <= std::int64_t(std::ceil(within.lipschitz)) + 2);
     s.table_budget = 128;
     CHECK(detail::tabulate(s, {1, 1, Boundary::Periodic}).splits == within.splits);

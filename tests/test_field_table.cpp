@@ -149,27 +149,37 @@ TEST_CASE(
     "min_over and max_over (and extremes_over, both) bound r over a block, exactly inside one table cell, and "
     "children_min is min_over of each child, on a table and on it scaled",
     "[field]") {
-    // A smooth field, and one with a kink, whose cells along it hold patches: half the blocks
-    // start in a patched cell there. Each also scaled by 2.5 (a hierarchy's level), whose r is
-    // within 2.5 + 2 lattice units of 2.5 times the table's.
-    Sizing smooth, kink;
+    // A smooth field; one with a kink, whose cells along it are kinked (the greater of two
+    // branches), and one whose valley's kinked cells are the lesser; and one with two kinks, whose
+    // cells along them hold patches. Half the blocks start in a table cell at x = 0.3. Each also
+    // scaled by 2.5 (a hierarchy's level), whose r is within 2.5 + 2 lattice units of 2.5 times
+    // the table's.
+    Sizing smooth, kink, valley, kinks;
     smooth.expression = "0.02 + 0.01*sin(9*x)*cos(7*y)";
     kink.expression = "0.01 + 0.05*abs(x - 0.3)";
+    valley.expression = "0.05 - 0.04*abs(x - 0.3)";
+    kinks.expression = "0.01 + 0.05*abs(x - 0.3) + 0.02*abs(y - 0.6)";
     detail::ThreadPool pool(2);
+    const Box torus{1, 1, Boundary::Periodic}, free{1, 1, Boundary::Free};
     for (const auto& [s, box, scale] :
-         {std::tuple{smooth, Box{1, 1, Boundary::Periodic}, 1.0},
-          std::tuple{smooth, Box{1, 1, Boundary::Periodic}, 2.5}, std::tuple{kink, Box{1, 1, Boundary::Free}, 1.0},
-          std::tuple{kink, Box{1, 1, Boundary::Free}, 2.5}}) {
+         {std::tuple{smooth, torus, 1.0}, std::tuple{smooth, torus, 2.5}, std::tuple{kink, free, 1.0},
+          std::tuple{kink, free, 2.5}, std::tuple{valley, free, 1.0}, std::tuple{kinks, free, 1.0},
+          std::tuple{kinks, free, 2.5}}) {
+        INFO(s.expression << " times " << scale);
         const detail::FieldTable base = detail::tabulate(s, box);
         const detail::FieldTable t = scale == 1 ? base : detail::scaled(base, scale, pool);
-        REQUIRE((t.patch_count == 0) == (s.expression == smooth.expression));
+        REQUIRE((t.patch_count > 0) == (s.expression == kinks.expression));
+        REQUIRE((t.kink_count > 0) == (s.expression == kink.expression || s.expression == valley.expression));
+        if (t.kink_count > 0)
+            CHECK(t.kinks[shared::FIELD_KINK_WORDS - 1] ==
+                  (s.expression == kink.expression ? shared::FIELD_KINK_MAX : shared::FIELD_KINK_MIN));
         CHECK(t.lipschitz == Approx(scale * base.lipschitz).epsilon(0.01));
         std::mt19937_64 rng(5);
         for (int i = 0; i < 3000; ++i) {
             const std::uint32_t side = 1u << (rng() % 20);
             glm::uvec2 a(std::uint32_t(rng() % (t.lattice.extent_x - side)),
                          std::uint32_t(rng() % (t.lattice.extent_y - side)));
-            if (t.patch_count > 0 && i % 2 == 0) {
+            if (s.expression != smooth.expression && i % 2 == 0) {
                 // Into the table cell at x = 0.3, at a random row.
                 a.x = std::min(std::uint32_t(0.3 / t.quantum) - std::uint32_t(rng() % side), t.lattice.extent_x - side);
             }
@@ -190,7 +200,8 @@ TEST_CASE(
             REQUIRE(lo <= seen_lo);
             REQUIRE(hi >= seen_hi);
             // Inside one table cell, or one leaf of its patch, the interpolant is bilinear: its
-            // extremes are at the corners.
+            // extremes are at the corners. A kinked cell's join of two is exact on its own side:
+            // the least of a min, the greatest of a max.
             const glm::uvec2 cell = a >> t.cell_bits;
             glm::uvec4 v = t.cell_nodes(cell.x, cell.y);
             glm::uvec2 f = a & glm::uvec2((1u << t.cell_bits) - 1);
@@ -198,8 +209,11 @@ TEST_CASE(
             shared::field_descend(t.view(), shared::field_patch(t.view(), cell.x, cell.y), v, f, bits);
             if ((a.x >> t.cell_bits) == (b.x >> t.cell_bits) && (a.y >> t.cell_bits) == (b.y >> t.cell_bits) &&
                 (a.x >> bits) == (b.x >> bits) && (a.y >> bits) == (b.y >> bits)) {
-                REQUIRE(lo == seen_lo);
-                REQUIRE(hi == seen_hi);
+                const int k = shared::field_kink(t.view(), cell.x, cell.y);
+                const bool least =
+                    k < 0 || t.kinks[std::size_t(k) * shared::FIELD_KINK_WORDS + 8] == shared::FIELD_KINK_MIN;
+                if (least) REQUIRE(lo == seen_lo);
+                if (k < 0 || !least) REQUIRE(hi == seen_hi);
             }
             // children_min: min_over of each child of the block split at its middle (or, cut short
             // by the lattice's edge, with no second part along an axis).
@@ -224,12 +238,16 @@ TEST_CASE("a table copied, moved or assigned views its own arrays", "[field]") {
     // The lookups read the table through its view: each copy must point into its own vectors,
     // and a table moved from into its emptied ones, or a copy would read freed memory.
     Sizing s;
-    s.expression = "0.01 + 0.05*abs(x - 0.3)";  // patched: every array is in use
+    // Kinked cells along x = 0.3 and patches at the cone's tip, d = 0: every array is in use.
+    s.expression = "0.02 + 0.1*abs(x - 0.3) + 0.05*d";
     const detail::FieldTable original = detail::tabulate(s, {1, 1, Boundary::Free});
     REQUIRE(original.patch_count > 0);
+    REQUIRE(original.kink_count > 0);
     auto owns = [](const detail::FieldTable& t) {
         const shared::FieldTableView& v = t.view();
         return v.nodes.value == t.nodes.data() && v.patched.value == t.patched.data() &&
+               v.kinked.value == t.kinked.data() && v.kink_rank.value == t.kink_rank.data() &&
+               v.kinks.value == t.kinks.data() && v.kink_count == t.kink_count &&
                v.patch_rank.value == t.patch_rank.data() &&
                v.splits.value == reinterpret_cast<const std::uint32_t*>(t.splits.data()) &&
                v.pyramid_lo.value == t.pyramid_lo.data() && v.pyramid_hi.value == t.pyramid_hi.data() &&
@@ -308,16 +326,16 @@ TEST_CASE("a leaf search meets exactly the leaves that meet its square, read as 
 
 TEST_CASE("the device reads a table as the host does: r at points and its bounds over blocks", "[field][gpu]") {
     // The probe kernel runs shared/field_table.h's lookups on each block; the host's FieldTable
-    // answers from the same header compiled as C++. A smooth field, one with patches along a
-    // kink, and that one scaled (a hierarchy's level); blocks from one lattice point to most of
-    // the box, a third of them starting in the kink's patched cells.
+    // answers from the same header compiled as C++. A smooth field, one with kinked cells along a
+    // kink and patches at a cone's tip, and that one scaled (a hierarchy's level); blocks from one
+    // lattice point to most of the box, a third of them starting in the kink's cells.
     Sizing smooth, kink;
     smooth.expression = "0.02 + 0.01*sin(9*x)*cos(7*y)";
-    kink.expression = "0.01 + 0.05*abs(x - 0.3)";
+    kink.expression = "0.02 + 0.1*abs(x - 0.3) + 0.05*d";
     detail::ThreadPool pool(2);
     detail::VulkanContext ctx("");
     constexpr std::uint32_t kResults = 6;  // PROBE_RESULTS of field_table_probe.comp
-    detail::Kernel probe(ctx, "field_table_probe", {spirv_field_table_probe, std::size(spirv_field_table_probe)}, 96,
+    detail::Kernel probe(ctx, "field_table_probe", {spirv_field_table_probe, std::size(spirv_field_table_probe)}, 128,
                          64);
     for (const auto& [s, box, scale] :
          {std::tuple{smooth, Box{1, 1, Boundary::Periodic}, 1.0}, std::tuple{kink, Box{1, 0.8, Boundary::Free}, 1.0},
@@ -326,15 +344,19 @@ TEST_CASE("the device reads a table as the host does: r at points and its bounds
         const detail::FieldTable t = scale == 1 ? base : detail::scaled(base, scale, pool);
         INFO(s.expression << " times " << scale);
         REQUIRE((t.patch_count == 0) == (s.expression == smooth.expression));
+        REQUIRE((t.kink_count == 0) == (s.expression == smooth.expression));
         DeviceCopies upload{ctx, {}};
         auto words = [&](const std::vector<std::uint32_t>& v) { return upload(v.data(), v.size() * 4); };
         struct {
             std::uint32_t cell_bits, cells_x, cells_y, patch_count;
             std::uint64_t nodes, patched, patch_rank, splits, pyramid_lo, pyramid_hi, pyramid_start;
+            std::uint32_t kink_count, kink_pad;
+            std::uint64_t kinked, kink_rank, kinks;
             std::uint64_t blocks, results;
             std::uint32_t count;
         } push{};
-        static_assert(offsetof(decltype(push), nodes) == 16 && offsetof(decltype(push), count) == 88);
+        static_assert(offsetof(decltype(push), nodes) == 16 && offsetof(decltype(push), kinked) == 80 &&
+                      offsetof(decltype(push), count) == 120 && sizeof(push) <= 128);
         const shared::FieldTableView v = t.view();
         push.cell_bits = v.cell_bits;
         push.cells_x = v.cells_x;
@@ -347,6 +369,10 @@ TEST_CASE("the device reads a table as the host does: r at points and its bounds
         push.pyramid_lo = words(t.pyramid_lo);
         push.pyramid_hi = words(t.pyramid_hi);
         push.pyramid_start = words(t.pyramid_start);
+        push.kink_count = v.kink_count;
+        push.kinked = upload(t.kinked.data(), t.kinked.size() * 8);
+        push.kink_rank = words(t.kink_rank);
+        push.kinks = words(t.kinks);
         std::mt19937_64 rng(11);
         std::vector<glm::uvec4> blocks;
         for (int i = 0; i < 6000; ++i) {
@@ -354,7 +380,7 @@ TEST_CASE("the device reads a table as the host does: r at points and its bounds
             const glm::uvec2 w(std::min(side, t.lattice.extent_x), std::min(side, t.lattice.extent_y));
             glm::uvec2 a(std::uint32_t(rng() % (t.lattice.extent_x - w.x + 1)),
                          std::uint32_t(rng() % (t.lattice.extent_y - w.y + 1)));
-            if (t.patch_count > 0 && i % 3 == 0)
+            if (t.kink_count > 0 && i % 3 == 0)
                 a.x = std::min(std::uint32_t(0.3 / t.quantum) - std::uint32_t(rng() % w.x), t.lattice.extent_x - w.x);
             blocks.emplace_back(a, a + w - glm::uvec2(1));
         }
@@ -364,7 +390,7 @@ TEST_CASE("the device reads a table as the host does: r at points and its bounds
         push.count = std::uint32_t(blocks.size());
         run_probe(ctx, probe, &push, blocks.size());
         const auto* got = static_cast<const std::uint32_t*>(out.mapped());
-        std::size_t patched = 0, one_cell = 0;
+        std::size_t kinked = 0, one_cell = 0;
         for (std::size_t i = 0; i < blocks.size(); ++i) {
             const glm::uvec2 a(blocks[i].x, blocks[i].y), b(blocks[i].z, blocks[i].w);
             INFO("block (" << a.x << ", " << a.y << ") to (" << b.x << ", " << b.y << ")");
@@ -372,13 +398,13 @@ TEST_CASE("the device reads a table as the host does: r at points and its bounds
             const std::array<std::uint32_t, kResults> host{t.radius(a),      t.radius(b), t.min_over(a, b),
                                                            t.max_over(a, b), lo,          hi};
             for (std::uint32_t k = 0; k < kResults; ++k) REQUIRE(got[i * kResults + k] == host[k]);
-            patched += t.patch(a.x >> t.cell_bits, a.y >> t.cell_bits);
+            kinked += t.kink(a.x >> t.cell_bits, a.y >> t.cell_bits);
             one_cell += (a.x >> t.cell_bits) == (b.x >> t.cell_bits) && (a.y >> t.cell_bits) == (b.y >> t.cell_bits);
         }
-        // Both kinds of block, and on the kinked tables blocks in patched cells, were asked.
+        // Both kinds of block, and on the kinked tables blocks in kinked cells, were asked.
         CHECK(one_cell > blocks.size() / 10);
         CHECK(blocks.size() - one_cell > blocks.size() / 10);
-        if (t.patch_count > 0) CHECK(patched > blocks.size() / 8);
+        if (t.kink_count > 0) CHECK(kinked > blocks.size() / 8);
     }
 }
 

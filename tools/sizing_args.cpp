@@ -54,8 +54,8 @@ void add_sizing_options(CLI::App& app, SizingArgs& a, bool weighting) {
     app.add_option("--lipschitz", a.lipschitz, "use the largest L-Lipschitz field below r");
     app.add_option("--rule", a.rule, "with a sizing field: prior, current, bigger or smaller (Table 1)");
     app.add_option("--table-budget", a.table_budget,
-                   "table words a sample (default 8) that patches may add where the table strays from the "
-                   "source (kinks): more brings it closer, at that memory; give check the same");
+                   "table words a sample (default 32) that patches may add where the table strays from the "
+                   "source (kinks, sharp bends): more brings it closer, at that memory; give check the same");
     if (weighting)
         app.add_option("--weighting", a.weighting,
                        "uniform (default: each sample uniform over the uncovered set) or density (1/r^2, Eq. 12)");

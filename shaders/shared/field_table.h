@@ -1,8 +1,11 @@
 // A sizing field's table as every device reads it (the host builds it: field/table.h): the nodes
-// in lattice units, the patches of the table cells where the field bends, and the min/max
-// pyramids. r at a lattice point, and bounds of r over a block of lattice points: exact inside one
-// table cell or leaf of its patch, where the bilinear interpolant's extremes lie at the block's
-// corners, and from the splits' and the pyramids' bounds beyond it.
+// in lattice units, the kinked cells where the source's one kink crosses (each the least or the
+// greatest of two interpolants, one a branch), the patches of the table cells where the field
+// bends otherwise, and the min/max pyramids. r at a lattice point, and bounds of r over a block
+// of lattice points: exact inside one table cell or leaf of its patch, where the bilinear
+// interpolant's extremes lie at the block's corners (in a kinked cell, on one side: the least of
+// a min of branches, the greatest of a max), and from the splits' and the pyramids' bounds beyond
+// it.
 #ifndef VRPD_FIELD_TABLE_H
 #define VRPD_FIELD_TABLE_H
 #include "bridge.h"
@@ -32,6 +35,14 @@ struct FieldBits {
 // its square, its corners included. Patch q's root is split q; the others follow the roots.
 const uint FIELD_SPLIT_WORDS = 8u;
 
+// A kinked cell is the least (FIELD_KINK_MIN) or greatest (FIELD_KINK_MAX) of two bilinear
+// interpolants, each of one branch of the source's kink at the cell's corners. Its
+// FIELD_KINK_WORDS words in `kinks`: the first branch's four corners (field_interpolate's order),
+// the second's, and which join. Kinked cells have no patch.
+const uint FIELD_KINK_WORDS = 9u;
+const uint FIELD_KINK_MIN = 0u;
+const uint FIELD_KINK_MAX = 1u;
+
 // The table as the functions below read it. On the host its arrays are pointers into the
 // table's vectors; on a device, buffer references (the same members, from FieldTableArgs).
 struct FieldTableView {
@@ -49,6 +60,11 @@ struct FieldTableView {
     FieldWords pyramid_lo;
     FieldWords pyramid_hi;
     FieldWords pyramid_start;
+    uint kink_count;
+    uint kink_pad;
+    FieldBits kinked;      // a bit per table cell, row by row (with kinked cells)
+    FieldWords kink_rank;  // per word of `kinked`: the kinked cells before it
+    FieldWords kinks;      // FIELD_KINK_WORDS a kinked cell, in cell order
 };
 
 // The four nodes of table cell (i, j), in field_interpolate's order.
@@ -68,6 +84,26 @@ VRPD_FN int field_patch(VRPD_IN(FieldTableView) t, uint i, uint j) {
     uint64_t below = word & ((uint64_t(1) << bit) - uint64_t(1));
     return int(t.patch_rank.value[c >> 6u] + uint(bitCount(uint(below)) + bitCount(uint(below >> 32u))));
 }
+// Table cell (i, j)'s kinked cell, or -1.
+VRPD_FN int field_kink(VRPD_IN(FieldTableView) t, uint i, uint j) {
+    if (t.kink_count == 0u) return -1;
+    uint c = j * t.cells_x + i;
+    uint64_t word = t.kinked.value[c >> 6u];
+    uint bit = c & 63u;
+    if (((word >> bit) & uint64_t(1)) == uint64_t(0)) return -1;
+    uint64_t below = word & ((uint64_t(1) << bit) - uint64_t(1));
+    return int(t.kink_rank.value[c >> 6u] + uint(bitCount(uint(below)) + bitCount(uint(below >> 32u))));
+}
+// Branch b's corners of kinked cell k, in field_interpolate's order.
+VRPD_FN uvec4 field_kink_branch(VRPD_IN(FieldTableView) t, uint k, uint b) {
+    uint at = k * FIELD_KINK_WORDS + 4u * b;
+    return uvec4(t.kinks.value[at], t.kinks.value[at + 1u], t.kinks.value[at + 2u], t.kinks.value[at + 3u]);
+}
+// Kinked cell k's join of x (from its first branch) and y (from its second).
+VRPD_FN uint field_kink_join(VRPD_IN(FieldTableView) t, uint k, uint x, uint y) {
+    return t.kinks.value[k * FIELD_KINK_WORDS + 8u] == FIELD_KINK_MIN ? min(x, y) : max(x, y);
+}
+
 VRPD_FN uint field_split_word(VRPD_IN(FieldTableView) t, uint s, uint k) {
     return t.splits.value[s * FIELD_SPLIT_WORDS + k];
 }
@@ -129,6 +165,10 @@ VRPD_FN uint field_radius(VRPD_IN(FieldTableView) t, uvec2 p) {
     uvec2 f = uvec2(p.x & mask, p.y & mask);
     uint i = p.x >> t.cell_bits;
     uint j = p.y >> t.cell_bits;
+    int k = field_kink(t, i, j);
+    if (k >= 0)
+        return field_kink_join(t, uint(k), field_interpolate(field_kink_branch(t, uint(k), 0u), f, t.cell_bits),
+                               field_interpolate(field_kink_branch(t, uint(k), 1u), f, t.cell_bits));
     uvec4 v = field_cell_nodes(t, i, j);
     uint bits = t.cell_bits;
     int q = field_patch(t, i, j);
@@ -149,6 +189,16 @@ VRPD_FN uvec2 field_corner_extremes(uvec4 v, uint bits, uvec2 fa, uvec2 fb) {
     uint r2 = field_blend(b0, b1, fa.y, bits);
     uint r3 = field_blend(b0, b1, fb.y, bits);
     return uvec2(min(min(r0, r1), min(r2, r3)), max(max(r0, r1), max(r2, r3)));
+}
+
+// The same for the block [fa, fb] (offsets) of kinked cell k: its join's own extreme exactly (the
+// least of a min, the greatest of a max), the other bounded by the branches' (the least of a max
+// is at least each branch's least; the greatest of a min at most each branch's greatest).
+VRPD_FN uvec2 field_kink_extremes(VRPD_IN(FieldTableView) t, uint k, uint bits, uvec2 fa, uvec2 fb) {
+    uvec2 a = field_corner_extremes(field_kink_branch(t, k, 0u), bits, fa, fb);
+    uvec2 b = field_corner_extremes(field_kink_branch(t, k, 1u), bits, fa, fb);
+    if (t.kinks.value[k * FIELD_KINK_WORDS + 8u] == FIELD_KINK_MIN) return uvec2(min(a.x, b.x), min(a.y, b.y));
+    return uvec2(max(a.x, b.x), max(a.y, b.y));
 }
 
 // The same for the block [fa, fb] (offsets) of table cell (i, j), which holds patch q. Inside one
@@ -181,8 +231,11 @@ VRPD_OUTLINED_FN uvec2 field_patch_extremes(VRPD_IN(FieldTableView) t, int q, ui
     return uvec2(lo, hi);
 }
 
-// The least (x) and greatest (y) node of table cell (i, j): its patch's, or of its four nodes.
+// The least (x) and greatest (y) node of table cell (i, j): its patch's, or of its four nodes; of
+// a kinked cell, field_kink_extremes over the cell and its far edges.
 VRPD_FN uvec2 field_cell_range(VRPD_IN(FieldTableView) t, uint i, uint j) {
+    int k = field_kink(t, i, j);
+    if (k >= 0) return field_kink_extremes(t, uint(k), t.cell_bits, uvec2(0u), uvec2(1u << t.cell_bits));
     int q = field_patch(t, i, j);
     if (q >= 0) return uvec2(field_split_word(t, uint(q), 6u), field_split_word(t, uint(q), 7u));
     uvec4 n = field_cell_nodes(t, i, j);
@@ -201,6 +254,8 @@ VRPD_FN uvec2 field_cell_extremes(VRPD_IN(FieldTableView) t, uvec2 a, uvec2 b) {
     uvec2 fb = uvec2(b.x & mask, b.y & mask);
     uint i = a.x >> t.cell_bits;
     uint j = a.y >> t.cell_bits;
+    int k = field_kink(t, i, j);
+    if (k >= 0) return field_kink_extremes(t, uint(k), t.cell_bits, fa, fb);
     int q = field_patch(t, i, j);
     if (q >= 0) return field_patch_extremes(t, q, i, j, fa, fb);
     return field_corner_extremes(field_cell_nodes(t, i, j), t.cell_bits, fa, fb);

@@ -84,9 +84,10 @@ struct Sizing {
     double lipschitz = -1;       // >= 0: use the largest L-Lipschitz field below r (on the table's nodes)
     SizingRule rule = SizingRule::Smaller;
     Weighting weighting = Weighting::Uniform;
-    // The table words a sample the field's patches may take where the table strays from the
-    // source (kinks): more brings such a field closer to it, at that memory (1 to 1024).
-    double table_budget = 8;
+    // The table words a sample the field's patches and kinked cells may take where the table
+    // strays from the source (kinks, sharp bends): more brings such a field closer to it, at that
+    // memory (1 to 1024).
+    double table_budget = 32;
 };
 
 struct SampleOptions {

@@ -58,6 +58,35 @@ void build_pyramids(FieldTable& t, ThreadPool& pool) {
         h = (h + 1) / 2;
     }
 }
+
+// Joins kinked cell k, table cell (i, j), into `part`: each branch's gradients at the corners
+// (the join's gradient is one of theirs wherever it has one), and r where the kink crosses the
+// cell's edges inside the box (the corners come as nodes): the ridge or valley of a join lies
+// along the kink, between the corners.
+void kink_bounds(const FieldTable& t, std::uint32_t k, std::uint32_t i, std::uint32_t j, BoundsPart& part) {
+    const glm::uvec4 a = shared::field_kink_branch(t.view(), k, 0), b = shared::field_kink_branch(t.view(), k, 1);
+    raise_steepest(part.steepest, a.x, a.y, a.z, a.w, 1);
+    raise_steepest(part.steepest, b.x, b.y, b.z, b.w, 1);
+    const std::int64_t d[4] = {std::int64_t(a.x) - b.x, std::int64_t(a.y) - b.y, std::int64_t(a.z) - b.z,
+                               std::int64_t(a.w) - b.w};
+    const std::uint64_t side = std::uint64_t(1) << t.cell_bits, x0 = std::uint64_t(i) << t.cell_bits,
+                        y0 = std::uint64_t(j) << t.cell_bits;
+    // The edges as (from, to) corners, and where along x or y each runs.
+    constexpr int kEdges[4][2] = {{0, 1}, {2, 3}, {0, 2}, {1, 3}};
+    for (const auto& e : kEdges) {
+        const std::int64_t d0 = d[e[0]], d1 = d[e[1]];
+        if ((d0 < 0) == (d1 < 0)) continue;
+        const std::uint64_t at = std::uint64_t(d0 * std::int64_t(side) / (d0 - d1));  // in [0, side]
+        const bool along_x = e[1] - e[0] == 1;
+        for (std::uint64_t f : {at, std::min(at + 1, side)}) {
+            std::uint64_t x = x0 + (along_x ? f : (e[0] & 1) * side), y = y0 + (along_x ? (e[0] >> 1) * side : f);
+            if (x >= t.lattice.extent_x || y >= t.lattice.extent_y) continue;
+            const std::uint32_t r = t.radius({std::uint32_t(x), std::uint32_t(y)});
+            part.lo = std::min(part.lo, r);
+            part.hi = std::max(part.hi, r);
+        }
+    }
+}
 }  // namespace
 
 void complete_bounds(FieldTable& t, ThreadPool& pool) {
@@ -66,6 +95,11 @@ void complete_bounds(FieldTable& t, ThreadPool& pool) {
     t.r_hi = *std::max_element(t.nodes.begin(), t.nodes.end());
     for (std::uint32_t q = 0; q < t.patch_count; ++q)
         t.r_lo = std::min(t.r_lo, t.splits[q].lo), t.r_hi = std::max(t.r_hi, t.splits[q].hi);
+    for (std::uint32_t k = 0; k < t.kink_count; ++k) {
+        const glm::uvec2 e =
+            shared::field_kink_extremes(t.view(), k, t.cell_bits, {0, 0}, glm::uvec2(1u << t.cell_bits));
+        t.r_lo = std::min(t.r_lo, e.x), t.r_hi = std::max(t.r_hi, e.y);
+    }
     // Over the box, r's extremes are at the corners of the table cells clipped to it: the nodes
     // inside, the points where node lines meet the far edges, and the far corner. The
     // interpolant's L: its steepest gradient over the cells (patch_bounds takes a patched cell's).
@@ -89,10 +123,15 @@ void complete_bounds(FieldTable& t, ThreadPool& pool) {
                     part.hi = std::max(part.hi, r);
                 }
                 if (j == t.cells_y) continue;
-                for (std::uint32_t i = 0; i < t.cells_x; ++i)
+                for (std::uint32_t i = 0; i < t.cells_x; ++i) {
+                    if (const int k = shared::field_kink(t.view(), i, j); k >= 0) {
+                        kink_bounds(t, std::uint32_t(k), i, j, part);
+                        continue;
+                    }
                     if (!t.patch(i, j))
                         raise_steepest(part.steepest, t.node(i, j), t.node(i + 1, j), t.node(i, j + 1),
                                        t.node(i + 1, j + 1), 1);
+                }
             }
             parts[chunk] = part;
         },
@@ -119,7 +158,8 @@ std::pair<std::uint32_t, std::uint32_t> FieldTable::extremes_over(glm::uvec2 a, 
 std::array<std::uint32_t, 4> FieldTable::children_min(glm::uvec2 a, glm::uvec2 e, glm::uvec2 m, glm::uvec2 b,
                                                       std::uint32_t open) const {
     std::array<std::uint32_t, 4> least{};
-    if (!shared::field_in_one_cell(view(), a, b) || patch(a.x >> cell_bits, a.y >> cell_bits)) {
+    if (!shared::field_in_one_cell(view(), a, b) || patch(a.x >> cell_bits, a.y >> cell_bits) ||
+        kink(a.x >> cell_bits, a.y >> cell_bits)) {
         for (std::uint32_t k = 0; k < 4; ++k)
             if (open >> k & 1)
                 least[k] =

@@ -10,7 +10,7 @@ namespace vrpd::detail {
 
 // Bytes per expected sample, at the peak: the first round's balance, with about 4.4 to 5.5 leaves
 // a sample, each with its tree share (9 bytes), its stamp (4) and its cell twice (8 each), the
-// samples, and the table (its patches up to 32 bytes a sample). Measured on large runs: 160-195
+// samples, and the table (its patches and kinked cells up to 128 bytes a sample). Measured on large runs: 160-195
 // bytes a sample on the rectified sine (Figure 16's scale 186, with patches; 255 bytes of peak
 // RSS), 289 on a 500x ramp (docs/performance.md).
 inline constexpr double kFieldBytesPerSample = 400;

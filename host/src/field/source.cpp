@@ -149,4 +149,13 @@ FieldSource field_source(const Sizing& s, const Box& box) {
     };
 }
 
+FieldBranches field_branches(const Sizing& s, const Box& box) {
+    if (s.expression.empty()) return {};
+    auto expr = std::make_shared<SizingExpression>(s.expression);
+    if (!expr->kinked()) return {};
+    return [expr, box](const double* x, const double* y, double* a, double* b, std::uint8_t* second, std::size_t n) {
+        expr->branches(x, y, a, b, second, n, box);
+    };
+}
+
 }  // namespace vrpd::detail

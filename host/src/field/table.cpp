@@ -4,12 +4,16 @@
 // and the interpolant's rounding costs under 0.025 %. The table is refined (table cells and
 // lattice halved together) while its interpolant is further than 0.075 % from the source at some
 // table cell's centre or edge midpoint, within the 31-bit lattice and a budget of 8 nodes per
-// expected sample. A kink, such as abs()'s, converges only linearly, so the cells still past
-// 0.075 % then get patches (field/patches.cpp), quadtrees of their own, within a budget of 8
-// table words per expected sample (at least 2^18; a split takes 8); where they cannot reach
-// 0.075 % within it, they reach the least target they can, up by factors of sqrt(2).
+// expected sample. A kink, such as abs()'s, converges only linearly: where the source's one kink
+// crosses a cell, the cell interpolates the kink's two branches (each smooth) and takes their
+// least or greatest, as the source does (a kinked cell). The cells still past 0.075 % then get
+// patches (field/patches.cpp), quadtrees of their own; kinked cells and patches share a budget
+// of table words per expected sample (Sizing::table_budget, 32 by default; at least 2^18; a split
+// takes 8, a kinked cell 9). Where the patches cannot reach 0.075 % within it, they reach the
+// least target they can, up by factors of 2^(1/4).
 #include "table.h"
 
+#include "drafts.h"
 #include "patches.h"
 
 #include "field.h"
@@ -20,7 +24,9 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <bit>
 #include <functional>
+#include <optional>
 
 #include <fmt/format.h>
 
@@ -29,163 +35,17 @@ namespace {
 
 constexpr std::uint64_t kLatticeLimit = 0x7FFFFFFFu;
 constexpr std::uint64_t kMaxTableNodes = std::uint64_t(16) << 20;
-constexpr double kTargetError = 0.00075;
 constexpr double kNodesPerSample = 8;
 constexpr std::uint64_t kMinTableNodes = std::uint64_t(1) << 16;
 constexpr std::uint32_t kMinLatticeRadius = 4096;
 constexpr std::uint32_t kSurvey = 256;
 constexpr double kMinPatchWords = 1 << 18;
 
-// The double-valued table at a resolution: its nodes, the source at the points halfway between
-// them (which are the next resolution's nodes), and its largest relative error against the
-// source at those of them inside the box.
-// Its arrays are first touched by the row threads that fill them, on huge pages where granted.
-using Doubles = std::vector<double, Uninitialised<double, true>>;
-struct Draft {
-    std::uint32_t cells_x = 0, cells_y = 0;
-    double h = 0;
-    Doubles values;
-    Doubles fine;  // (2 cells_x + 1) x (2 cells_y + 1), at spacing h / 2
-    double error = 0;
-    std::uint64_t over = 0;  // the points where the error is past the target
-};
-
-// Calls row(j) for j in [0, n) on the pool's threads, from two rows on (a row holds hundreds of
-// nodes or more); an Error stops the run as each_reporting says.
-void for_rows(ThreadPool& pool, std::size_t n, const std::function<void(std::size_t)>& row) {
-    constexpr std::size_t kRowGrain = 2;
-    each_reporting(pool, n, kRowGrain, row);
-}
-
-// Fills entries first, first + step, ... of row j of the nodes of n_x x n_y cells of side h. On a
-// torus the last row and column are the first: the field wraps. Inside the box a node is the
-// source there, checked; past a free box's edge, the source there if it is a radius, else its
-// value at the edge.
-void fill_nodes(const FieldSource& f, const Box& box, bool periodic, std::uint32_t n_x, std::uint32_t n_y, double h,
-                std::size_t j, std::uint32_t first, std::uint32_t step, double* row) {
-    const std::size_t sj = periodic && j == n_y ? 0 : j;
-    const double y = double(sj) * h;
-    std::vector<double> xs, ys, vs;
-    for (std::uint32_t i = first; i <= n_x; i += step) xs.push_back((periodic && i == n_x ? 0 : i) * h);
-    ys.assign(xs.size(), y);
-    vs.resize(xs.size());
-    f(xs.data(), ys.data(), vs.data(), xs.size());
-    for (std::size_t k = 0; k < xs.size(); ++k) row[first + k * step] = node_value(f, box, xs[k], y, vs[k]);
-}
-
-// The bilinear interpolant of a cell with nodes n[0], n[1] (row 0) and n[row], n[row + 1] at a
-// halfway point (tx, ty): (0.5, 0.5), (0.5, 0) or (0, 0.5). There it is the mean of the four
-// nodes around the point (the centre) or of the two beside it (an edge's midpoint).
-[[gnu::always_inline]] inline double midpoint_mean(const double* n, std::size_t row, double tx, double ty) {
-    return ty == 0   ? (n[0] + n[1]) * 0.5
-           : tx == 0 ? (n[0] + n[row]) * 0.5
-                     : ((n[0] + n[1]) + (n[row] + n[row + 1])) * 0.25;
-}
-
-// The relative error of a draft's interpolant at point (tx, ty) of cell (i, j), a halfway point
-// (its value in d.fine). A point past a free box's edge is judged at the edge, inside the cell.
-[[gnu::always_inline]] inline double point_error(const FieldSource& f, const Box& box, const Draft& d, std::uint32_t i,
-                                                 std::uint32_t j, double tx, double ty) {
-    const std::size_t row = std::size_t(d.cells_x) + 1;
-    const double* n = &d.values[std::size_t(j) * row + i];
-    const double fx = (i + tx) * d.h, fy = (double(j) + ty) * d.h;
-    if (fx <= box.width && fy <= box.height) [[likely]] {
-        const double v =
-            d.fine[(2 * std::size_t(j) + std::size_t(2 * ty)) * (2 * row - 1) + 2 * i + std::size_t(2 * tx)];
-        const double mean = midpoint_mean(n, row, tx, ty);
-        return std::abs(mean - v) / v;
-    }
-    const double x = std::min(fx, box.width), y = std::min(fy, box.height);
-    const double v = source_at(f, x, y);
-    tx = x / d.h - i;
-    ty = y / d.h - double(j);
-    const double at = (n[0] * (1 - tx) + n[1] * tx) * (1 - ty) + (n[row] * (1 - tx) + n[row + 1] * tx) * ty;
-    return std::abs(at - v) / v;
-}
-
-// The errors at cell (i, j)'s centre, bottom midpoint and left midpoint (point_error's). A cell
-// wholly inside the box reads its points' values from d.fine directly.
-[[gnu::always_inline]] inline std::array<double, 3> cell_point_errors(const FieldSource& f, const Box& box,
-                                                                      const Draft& d, std::uint32_t i,
-                                                                      std::uint32_t j) {
-    if ((i + 1.0) * d.h > box.width || (j + 1.0) * d.h > box.height) [[unlikely]]
-        return {point_error(f, box, d, i, j, 0.5, 0.5), point_error(f, box, d, i, j, 0.5, 0.0),
-                point_error(f, box, d, i, j, 0.0, 0.5)};
-    const std::size_t row = std::size_t(d.cells_x) + 1, fine_row = 2 * row - 1;
-    const double* n = &d.values[std::size_t(j) * row + i];
-    const double* low = &d.fine[2 * std::size_t(j) * fine_row + 2 * std::size_t(i)];
-    const double* mid = low + fine_row;
-    const double centre = midpoint_mean(n, row, 0.5, 0.5), bottom = midpoint_mean(n, row, 0.5, 0),
-                 left = midpoint_mean(n, row, 0, 0.5);
-    return {std::abs(centre - mid[1]) / mid[1], std::abs(bottom - low[1]) / low[1], std::abs(left - mid[0]) / mid[0]};
-}
-
-// Per cell of the draft, the largest error at its centre and edge midpoints (those past a free
-// box's far edges excepted, as the draft's own error does).
-std::vector<double> cell_errors(ThreadPool& pool, const FieldSource& f, const Box& box, const Draft& d) {
-    const bool periodic = box.boundary == Boundary::Periodic;
-    std::vector<double> out(std::size_t(d.cells_x) * d.cells_y, 0.0);
-    auto measured = [&](std::uint32_t i, std::uint32_t j) { return i * d.h < box.width && j * d.h < box.height; };
-    for_rows(pool, d.cells_y, [&](std::size_t jj) {
-        const std::uint32_t j = std::uint32_t(jj);
-        for (std::uint32_t i = 0; i < d.cells_x; ++i) {
-            if (!measured(i, j)) continue;
-            const std::array<double, 3> own = cell_point_errors(f, box, d, i, j);
-            double e = std::max({own[0], own[1], own[2]});
-            // The top and right midpoints, as the cells above and to the right measure them.
-            const std::uint32_t up = j + 1 < d.cells_y ? j + 1 : 0, right = i + 1 < d.cells_x ? i + 1 : 0;
-            if ((j + 1 < d.cells_y || periodic) && measured(i, up))
-                e = std::max(e, point_error(f, box, d, i, up, 0.5, 0.0));
-            if ((i + 1 < d.cells_x || periodic) && measured(right, j))
-                e = std::max(e, point_error(f, box, d, right, j, 0.0, 0.5));
-            out[std::size_t(j) * d.cells_x + i] = e;
-        }
-    });
-    return out;
-}
-
-// The draft of n_x x n_y cells of side h, from its nodes if the last draft's `fine` holds them.
-Draft draft(ThreadPool& pool, const FieldSource& f, const Box& box, std::uint32_t cells_x, std::uint32_t cells_y,
-            double h, Doubles nodes) {
-    Draft d{cells_x, cells_y, h, std::move(nodes), {}, 0};
-    const bool periodic = box.boundary == Boundary::Periodic;
-    const std::size_t row = std::size_t(cells_x) + 1;
-    if (d.values.empty()) {
-        d.values.resize(row * (std::size_t(cells_y) + 1));
-        for_rows(pool, std::size_t(cells_y) + 1, [&](std::size_t j) {
-            fill_nodes(f, box, periodic, cells_x, cells_y, h, j, 0, 1, &d.values[j * row]);
-        });
-    }
-    // The halfway points: the nodes' rows with every other entry new, and the rows between them.
-    const std::size_t fine_row = 2 * row - 1;
-    d.fine.resize(fine_row * (2 * std::size_t(cells_y) + 1));
-    for_rows(pool, 2 * std::size_t(cells_y) + 1, [&](std::size_t j) {
-        double* out = &d.fine[j * fine_row];
-        const bool even = j % 2 == 0;
-        if (even)
-            for (std::size_t i = 0; i < row; ++i) out[2 * i] = d.values[j / 2 * row + i];
-        fill_nodes(f, box, periodic, 2 * cells_x, 2 * cells_y, h / 2, j, even ? 1 : 0, even ? 2 : 1, out);
-    });
-    std::vector<double> error(cells_y, 0.0);  // per row, so that threads never share one
-    std::vector<std::uint64_t> over(cells_y, 0);
-    for_rows(pool, cells_y, [&](std::size_t j) {
-        if (double(j) * h >= box.height) return;
-        for (std::uint32_t i = 0; i < cells_x && i * h < box.width; ++i)
-            for (const double e : cell_point_errors(f, box, d, i, std::uint32_t(j))) {
-                error[j] = std::max(error[j], e);
-                over[j] += e > kTargetError;
-            }
-    });
-    for (std::uint64_t n : over) d.over += n;
-    for (double e : error) d.error = std::max(d.error, e);
-    return d;
-}
-
 }  // namespace
 
 FieldStats FieldTable::stats() const {
     return {box_lo * quantum, box_hi * quantum, lipschitz, tabulation_error,
-            std::uint64_t(nodes.size() + 5 * splits.size())};
+            std::uint64_t(nodes.size() + 5 * splits.size() + 8 * std::uint64_t(kink_count))};
 }
 
 void require_memory(const char* what, double expected, double bytes_per_sample) {
@@ -196,7 +56,13 @@ void require_memory(const char* what, double expected, double bytes_per_sample) 
                                 double(limit.bytes) / (1 << 20)));
 }
 
-FieldTable tabulate(const Sizing& s, const Box& box, unsigned threads) {
+namespace {
+
+// The table of `s` over `box`, its kinked cells from the source's branches g (none if g is
+// empty). Empty where the branches fail it: a cell the kink crosses is no join of them, a patch
+// falls on a kinked cell, a branch passes the lattice's radii, or the kinked cells take more
+// words than the patches' budget; the table without branches is then made instead.
+std::optional<FieldTable> tabulate_with(const Sizing& s, const Box& box, unsigned threads, const FieldBranches& g) {
     const BlocksReleased released;  // the drafts' blocks, once the drafts are gone
     if (s.lipschitz != -1 && !(std::isfinite(s.lipschitz) && s.lipschitz >= 0))
         throw Error(fmt::format("the Lipschitz bound must be a finite number >= 0 (got {})", s.lipschitz));
@@ -233,7 +99,7 @@ FieldTable tabulate(const Sizing& s, const Box& box, unsigned threads) {
         }
     }
     // A budget past the default adds its words to each sample's bytes.
-    require_memory("the field", expected, kFieldBytesPerSample + 4 * std::max(0.0, s.table_budget - 8));
+    require_memory("the field", expected, kFieldBytesPerSample + 4 * std::max(0.0, s.table_budget - 32));
     const double short_side = std::min(box.width, box.height);
     if (periodic && hi >= short_side / 2)
         throw Error(
@@ -262,12 +128,12 @@ FieldTable tabulate(const Sizing& s, const Box& box, unsigned threads) {
                         "the table's {} nodes hold",
                         lo, hi, kMaxTableNodes));
     Draft d;
-    Doubles nodes;
     double samples = 0;
     ThreadPool pool(threads);
     for (;;) {
-        d = draft(pool, f, box, std::uint32_t(tx << a), std::uint32_t(ty << a), tile / double(1u << a),
-                  std::move(nodes));
+        d = draft(pool, f, g, box, std::uint32_t(tx << a), std::uint32_t(ty << a), tile / double(1u << a),
+                  std::move(d));
+        if (d.broken) return std::nullopt;
         const double quantum = d.h / double(1u << shared::MAX_FIELD_CELL_BITS);
         const double least = *std::min_element(d.values.begin(), d.values.end());
         const bool fine = d.error <= kTargetError && least / quantum >= kMinLatticeRadius;
@@ -277,21 +143,34 @@ FieldTable tabulate(const Sizing& s, const Box& box, unsigned threads) {
         const double next_nodes = double(tx << (a + 1)) * double(ty << (a + 1));
         const bool affordable = next_nodes <= std::max(kNodesPerSample * samples, double(kMinTableNodes));
         if (fine || !fits(a + 1) || (least / quantum >= kMinLatticeRadius && !affordable)) break;
-        nodes = std::move(d.fine);
         ++a;
     }
-    // Patches where the table strays from the source past the target (a kink), within their own
-    // budget of table words; none under --lipschitz, whose field is the table's nodes themselves.
-    // Where they cannot reach the target within it, the least target they reach, from the target up
-    // by factors of sqrt(2).
+    // The kinked cells, in cell order, with their joins; their words come from the patches' budget.
+    std::vector<std::uint32_t> kinked;
+    if (g)
+        for (std::uint32_t j = 0; j < d.cells_y; ++j)
+            for (std::uint32_t i = 0; i < d.cells_x; ++i)
+                if (cell_model(d, i, j).join != kPlain) kinked.push_back(j * d.cells_x + i);
+    double budget = std::max(s.table_budget * samples, double(kMinPatchWords));
+    budget -= double(kinked.size()) * shared::FIELD_KINK_WORDS;
+    if (budget < 0) return std::nullopt;
+    // Patches where the table strays from the source past the target (a kink the cells do not
+    // take as kinked, or a bend), within their own budget of table words; none under --lipschitz,
+    // whose field is the table's nodes themselves, nor on a kinked cell. Where they cannot reach
+    // the target within it, the least target they reach, from the target up by factors of sqrt(2).
     double error = d.error;
     std::vector<PatchDraft> patches;
-    const double budget = std::max(s.table_budget * samples, double(kMinPatchWords));
     if (s.lipschitz < 0 && d.error > kTargetError) {
         const TableDraft view{d.values.data(), d.fine.data(), d.cells_x, d.cells_y, d.h};
-        const std::vector<double> cell_error = cell_errors(pool, f, box, d);
-        for (double target = kTargetError; patches.empty() && target < d.error; target *= std::sqrt(2.0))
+        std::vector<double> cell_error = cell_errors(pool, f, box, d);
+        double kinked_error = 0;
+        for (std::uint32_t c : kinked) kinked_error = std::max(kinked_error, cell_error[c]), cell_error[c] = 0;
+        const double rest = *std::max_element(cell_error.begin(), cell_error.end());
+        for (double target = kTargetError; patches.empty() && target < rest; target *= std::sqrt(std::sqrt(2.0)))
             patches = draft_patches(pool, f, box, view, cell_error, target, std::uint64_t(budget), error);
+        if (!patches.empty()) error = std::max(error, kinked_error);
+        for (const PatchDraft& p : patches)
+            if (std::binary_search(kinked.begin(), kinked.end(), p.cell)) return std::nullopt;
     }
     Doubles().swap(d.fine);
     if (lo == hi && std::all_of(d.values.begin(), d.values.end(), [&](double v) { return v == lo; })) t.constant = lo;
@@ -324,8 +203,41 @@ FieldTable tabulate(const Sizing& s, const Box& box, unsigned threads) {
     // The drafts are many small blocks of the heap, freed before the bounds are made: their pages
     // stay with the heap, whose later small arrays reuse them without a page fault.
     std::vector<PatchDraft>().swap(patches);
+    if (!kinked.empty()) {
+        const std::size_t cells = std::size_t(t.cells_x) * t.cells_y;
+        t.kinked.assign((cells + 63) / 64, 0);
+        t.kink_rank.assign(t.kinked.size(), 0);
+        t.kink_count = std::uint32_t(kinked.size());
+        t.kinks.reserve(kinked.size() * shared::FIELD_KINK_WORDS);
+        for (std::uint32_t c : kinked) {
+            const CellModel m = cell_model(d, c % d.cells_x, c / d.cells_x);
+            for (const double* branch : {m.a, m.b})
+                for (int k = 0; k < 4; ++k) {
+                    // As the nodes are rounded: the branch the source takes at a corner is its node.
+                    const double v = std::round(branch[k] / t.quantum);
+                    if (v >= 4294967295.0) return std::nullopt;
+                    t.kinks.push_back(std::max<std::uint32_t>(1, std::uint32_t(v)));
+                }
+            t.kinks.push_back(std::uint32_t(m.join));
+            t.kinked[c >> 6] |= std::uint64_t(1) << (c & 63);
+        }
+        std::uint32_t before = 0;
+        for (std::size_t w = 0; w < t.kinked.size(); ++w) {
+            t.kink_rank[w] = before;
+            before += std::uint32_t(std::popcount(t.kinked[w]));
+        }
+    }
     complete_bounds(t, pool);
     return t;
+}
+
+}  // namespace
+
+FieldTable tabulate(const Sizing& s, const Box& box, unsigned threads) {
+    if (s.lipschitz < 0)
+        if (const FieldBranches g = field_branches(s, box))
+            if (std::optional<FieldTable> t = tabulate_with(s, box, threads, g)) return std::move(*t);
+    return std::move(*tabulate_with(s, box, threads, {}));
 }
 
 FieldTable scaled(const FieldTable& t, double scale, ThreadPool& pool) {
@@ -352,6 +264,9 @@ FieldTable scaled(const FieldTable& t, double scale, ThreadPool& pool) {
             s.hi = times(s.hi);
         }
     });
+    // The kinked cells' branches scale alike; their joins stay.
+    for (std::size_t k = 0; k < out.kinks.size(); ++k)
+        if (k % shared::FIELD_KINK_WORDS != 8) out.kinks[k] = times(out.kinks[k]);
     out.constant = t.constant * scale;
     complete_bounds(out, pool);
     return out;

@@ -19,9 +19,14 @@ namespace vrpd::detail {
 
 // A sizing field's source over points of the box: out[i] = r(x[i], y[i]) for i < n; throws nothing.
 using FieldSource = std::function<void(const double* x, const double* y, double* out, std::size_t n)>;
+// The two branches of a source with one kink at points of the box (SizingExpression::branches).
+using FieldBranches =
+    std::function<void(const double* x, const double* y, double* a, double* b, std::uint8_t* second, std::size_t n)>;
 
 // The source a Sizing names: its expression, or its image (loaded, checked greyscale), over the box.
 FieldSource field_source(const Sizing& sizing, const Box& box);
+// Its branches where it is an expression with one kink (SizingExpression::kinked), else empty.
+FieldBranches field_branches(const Sizing& sizing, const Box& box);
 
 // A table's data; FieldTable adds the view of its vectors that the lookups read.
 struct FieldTableData {
@@ -56,6 +61,15 @@ struct FieldTableData {
     std::vector<std::uint32_t> patch_rank;  // per word of `patched`: the patches of the cells before it
     std::uint32_t patch_count = 0;
     std::vector<Split> splits;  // patch q's root is splits[q]; the other splits follow the roots
+
+    // The table cells that the source's one kink crosses (its branches taken differently at their
+    // corners): each the least or the greatest of its two branches' bilinear interpolants, as the
+    // source is at every corner. A kinked cell's edge that the kink does not cross has one branch
+    // at both ends, which is the source there, so r stays continuous with the cell beside it.
+    std::vector<std::uint64_t> kinked;     // a bit per table cell, row by row; empty without kinks
+    std::vector<std::uint32_t> kink_rank;  // per word of `kinked`: the kinked cells before it
+    std::uint32_t kink_count = 0;
+    std::vector<std::uint32_t> kinks;  // FIELD_KINK_WORDS a kinked cell, in cell order
 };
 
 struct FieldTable : FieldTableData {
@@ -95,12 +109,18 @@ struct FieldTable : FieldTableData {
                  {reinterpret_cast<const std::uint32_t*>(splits.data())},
                  {pyramid_lo.data()},
                  {pyramid_hi.data()},
-                 {pyramid_start.data()}};
+                 {pyramid_start.data()},
+                 kink_count,
+                 0,
+                 {kinked.data()},
+                 {kink_rank.data()},
+                 {kinks.data()}};
     }
     // The four nodes of table cell (i, j), in field_interpolate's order.
     glm::uvec4 cell_nodes(std::uint32_t i, std::uint32_t j) const { return shared::field_cell_nodes(view(), i, j); }
-    // Whether table cell (i, j) has a patch.
+    // Whether table cell (i, j) has a patch; whether it is kinked.
     bool patch(std::uint32_t i, std::uint32_t j) const { return shared::field_patch(view(), i, j) >= 0; }
+    bool kink(std::uint32_t i, std::uint32_t j) const { return shared::field_kink(view(), i, j) >= 0; }
     // r at lattice point p (inside the lattice).
     std::uint32_t radius(glm::uvec2 p) const { return shared::field_radius(view(), p); }
     // Starts fetching the nodes radius(p) reads.
@@ -133,10 +153,11 @@ struct FieldTable : FieldTableData {
     // the square around [a, b] that reaches while it shrinks, at most `steps` times.
     std::uint64_t grown_reach(glm::uvec2 a, glm::uvec2 b, std::uint32_t r_hi, int steps, double scale = 1) const;
     FieldStats stats() const;
-    // The bytes the nodes, the patches' splits and the pyramids hold.
+    // The bytes the nodes, the kinked cells, the patches' splits and the pyramids hold.
     std::uint64_t bytes() const {
         std::uint64_t n =
             nodes.capacity() + patch_rank.capacity() + 2 * patched.capacity() + splits.capacity() * sizeof(Split) / 4;
+        n += kink_rank.capacity() + 2 * kinked.capacity() + kinks.capacity();
         n += pyramid_lo.capacity() + pyramid_hi.capacity() + pyramid_start.capacity();
         return 4 * n;
     }

@@ -65,12 +65,16 @@ Sampling FieldVulkan::run(const FieldTable& table, const FieldQuadtree& tree, co
                                  {&FieldTableView::patch_rank, &t_->patch_rank},
                                  {&FieldTableView::pyramid_lo, &t_->pyramid_lo},
                                  {&FieldTableView::pyramid_hi, &t_->pyramid_hi},
-                                 {&FieldTableView::pyramid_start, &t_->pyramid_start}}) {
+                                 {&FieldTableView::pyramid_start, &t_->pyramid_start},
+                                 {&FieldTableView::kink_rank, &t_->kink_rank},
+                                 {&FieldTableView::kinks, &t_->kinks}}) {
         tables_.push_back(words(*array));
         run_args_.table.*member = device_ref<FieldWords>(tables_.back().address());
     }
     tables_.push_back(words(t_->patched));
     run_args_.table.patched = device_ref<FieldBits>(tables_.back().address());
+    tables_.push_back(words(t_->kinked));
+    run_args_.table.kinked = device_ref<FieldBits>(tables_.back().address());
     tables_.push_back(upload(t_->splits.data(), t_->splits.size() * sizeof(FieldTable::Split), staging));
     run_args_.table.splits = device_ref<FieldWords>(tables_.back().address());
     roots_ = words(tree.root_words());

@@ -29,9 +29,9 @@ using namespace shared;
 using field::ExponentCounts;
 
 static_assert(sizeof(FieldArgs) == 80 && offsetof(FieldArgs, count) == 56 && offsetof(FieldArgs, p2) == 72);
-static_assert(sizeof(FieldRun) == 184 && offsetof(FieldRun, tree) == 72 && offsetof(FieldRun, lattice) == 104 &&
-              offsetof(FieldRun, leaf_sample) == 136 && offsetof(FieldRun, keys) == 168 &&
-              offsetof(FieldRun, leaf_first) == 176);
+static_assert(sizeof(FieldRun) == 216 && offsetof(FieldRun, tree) == 104 && offsetof(FieldRun, lattice) == 136 &&
+              offsetof(FieldRun, leaf_sample) == 168 && offsetof(FieldRun, keys) == 200 &&
+              offsetof(FieldRun, leaf_first) == 208);
 
 namespace {
 constexpr std::uint32_t kPassesPerSubmit = 4;
