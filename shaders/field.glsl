@@ -1,6 +1,14 @@
 // Included by the field sampler's kernels (shaders/field_*.comp) after common.glsl: their push
 // constants (shared/field_run.h's FieldArgs), the buffers they address, and the steps every
 // kernel shares.
+
+// The run's rule, boundary, weighting and whether its table may have kinked cells, as constants
+// of the pipeline (FieldVulkan makes one per variant, shared/field_run.h's field_variant), equal
+// to the run's own: the branches on them fold away where the driver builds the kernel, and
+// llvmpipe would run both sides of each (shared/radii.h). Declared before the shared headers,
+// whose table lookups read FIELD_KINKS (16: FIELD_VARIANT_KINKS).
+layout(constant_id = 1) const uint FIELD_VARIANT = 0u;
+#define FIELD_KINKS ((FIELD_VARIANT & 16u) != 0u)
 #include "shared/darts.h"
 #include "shared/field_run.h"
 #include "shared/kernels.h"
@@ -29,10 +37,6 @@ uint field_value(uint v) {
     return (v & FIELD_COUNTED) == 0u ? v : FieldWords(a.counters).value[v & ~FIELD_COUNTED];
 }
 
-// The run's rule, boundary and weighting as constants of the pipeline (FieldVulkan makes one per
-// variant), equal to the run's own: the branches on them fold away where the driver builds the
-// kernel, and llvmpipe would run both sides of each (shared/radii.h).
-layout(constant_id = 1) const uint FIELD_VARIANT = 0u;
 const bool FIELD_DENSITY = (FIELD_VARIANT & FIELD_VARIANT_DENSITY) != 0u;  // Eq. 12's weighting
 FieldRun field_run() {
     FieldRun run = FieldRunRef(a.run).value;

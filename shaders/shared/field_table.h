@@ -84,9 +84,16 @@ VRPD_FN int field_patch(VRPD_IN(FieldTableView) t, uint i, uint j) {
     uint64_t below = word & ((uint64_t(1) << bit) - uint64_t(1));
     return int(t.patch_rank.value[c >> 6u] + uint(bitCount(uint(below)) + bitCount(uint(below >> 32u))));
 }
+// Whether the lookups read kinked cells: the host and the test kernels do wherever a table has
+// them; a field kernel only in its variant for tables that may (field.glsl), so that the others
+// carry no code for them.
+#ifndef FIELD_KINKS
+#define FIELD_KINKS true
+#endif
+
 // Table cell (i, j)'s kinked cell, or -1.
 VRPD_FN int field_kink(VRPD_IN(FieldTableView) t, uint i, uint j) {
-    if (t.kink_count == 0u) return -1;
+    if (!FIELD_KINKS || t.kink_count == 0u) return -1;
     uint c = j * t.cells_x + i;
     uint64_t word = t.kinked.value[c >> 6u];
     uint bit = c & 63u;

@@ -85,8 +85,9 @@ Sampling FieldVulkan::run(const FieldTable& table, const FieldQuadtree& tree, co
                       device_ref<FieldWords>(nodes_.address())};
     run_args_.lattice = t_->lattice;
     run_args_.rule = std::uint32_t(o_.sizing->rule);
-    if (field_variant(run_args_.rule, t_->lattice.periodic != 0, density_) != variant_of(o_))
-        throw std::logic_error("a field table's box differs from the kernels'");
+    if (field_variant(run_args_.rule, t_->lattice.periodic != 0, density_, may_kink(*o_.sizing)) != variant_of(o_) ||
+        (t_->kink_count > 0 && !may_kink(*o_.sizing)))
+        throw std::logic_error("a field table's box or kinks differ from the kernels'");
     run_args_.r_hi = t_->r_hi;
     run_args_.r_lo = t_->r_lo;
     // 1 / (1 - L) rounded up in 2^-16 units (a larger factor only widens the searches).

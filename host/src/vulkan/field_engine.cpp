@@ -20,6 +20,7 @@
 #include "field_touch.h"
 #include "field_triage.h"
 #include "field_unmark.h"
+#include "vrpd/sizing.h"
 #include "vulkan/field_vulkan.h"
 #include "work_args.h"
 
@@ -44,7 +45,11 @@ constexpr std::uint32_t kLavapipeBudget = 6000;
 
 std::uint32_t FieldVulkan::variant_of(const SampleOptions& o) {
     return field_variant(std::uint32_t(o.sizing->rule), o.box.boundary == Boundary::Periodic,
-                         o.sizing->weighting == Weighting::Density);
+                         o.sizing->weighting == Weighting::Density, may_kink(*o.sizing));
+}
+
+bool FieldVulkan::may_kink(const Sizing& s) {
+    return s.lipschitz < 0 && !s.expression.empty() && SizingExpression(s.expression).kinked();
 }
 
 FieldVulkan::FieldVulkan(const SampleOptions& o, std::uint32_t budget, std::uint32_t work_groups)

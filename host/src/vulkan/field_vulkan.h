@@ -38,6 +38,9 @@ public:
 private:
     // The kernels' variant (kernel.h) for the run's rule, box and weighting (shared/field_run.h).
     static std::uint32_t variant_of(const SampleOptions& o);
+    // Whether the table of s may have kinked cells (field/table.h): an expression with one kink,
+    // without --lipschitz.
+    static bool may_kink(const Sizing& s);
     // Counter slots of the scans' totals.
     static constexpr std::uint32_t kCellsTotal = shared::FIELD_COUNTER_TOTAL, kDartsTotal = kCellsTotal + 1,
                                    kKeptTotal = kCellsTotal + 2, kAcceptedTotal = kCellsTotal + 3,
