@@ -357,9 +357,15 @@ TEST_CASE("an expression's one kink gives two branches, one of which is its valu
             x[i] = box.width * double(rng() % 4096) / 4096, y[i] = box.height * double(rng() % 4096) / 4096;
         e.branches(x.data(), y.data(), a.data(), b.data(), second.data(), x.size(), box);
         e(x.data(), y.data(), plain.data(), x.size(), box);
+        // `taken`: the plain values, bit for bit, and the same branches.
+        std::vector<double> taken(x.size());
+        std::vector<std::uint8_t> taken_second(x.size());
+        e.taken(x.data(), y.data(), taken.data(), taken_second.data(), x.size(), box);
         std::size_t seconds = 0;
         for (std::size_t i = 0; i < x.size(); ++i) {
             REQUIRE((second[i] ? b[i] : a[i]) == plain[i]);
+            REQUIRE(std::memcmp(&taken[i], &plain[i], sizeof(double)) == 0);
+            REQUIRE(taken_second[i] == second[i]);
             seconds += second[i];
         }
         // Both branches are taken somewhere in the box.

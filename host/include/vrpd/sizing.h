@@ -43,6 +43,9 @@ public:
     // takes the second (so that its value is b[i], else a[i]). Requires kinked().
     void branches(const double* x, const double* y, double* a, double* b, std::uint8_t* second, std::size_t n,
                   const Box& box) const;
+    // The plain values at n points, bit for bit operator()'s, and `second` as branches gives it.
+    void taken(const double* x, const double* y, double* out, std::uint8_t* second, std::size_t n,
+               const Box& box) const;
 
     // In this order: the values, then the binary operators, then the rest (the stack depth relies on it).
     enum class Op : std::uint8_t {
@@ -58,7 +61,8 @@ public:
 
 private:
     // With `branch` 0 or 1 the kink step takes that branch, and second[i] says which the plain
-    // evaluation takes; with -1 every step is the plain one.
+    // evaluation takes; with -1 every step is the plain one, the kink's saying so too where
+    // `second` is given.
     void run(const double* x, const double* y, double* out, std::size_t m, std::size_t stride, double* stack,
              const Box& box, int branch = -1, std::uint8_t* second = nullptr) const;
 

@@ -15,41 +15,35 @@ namespace {
 // Fills entries first, first + step, ... of row j of the nodes of n_x x n_y cells of side h. On a
 // torus the last row and column are the first: the field wraps. Inside the box a node is the
 // source there, checked; past a free box's edge, the source there if it is a radius, else its
-// value at the edge.
-// With branches g, a node's value is the branch the source takes (its own value), and `other` and
-// `second` (rows as `row`) get the other branch and which it took; a node past a free box's edge
-// that takes the source at the edge has that value on both branches.
+// value at the edge. With branches g, `second` (as `row`) gets which branch of the kink the
+// source takes; a node that takes the source at the edge takes neither (0, its value on both).
 void fill_nodes(const FieldSource& f, const FieldBranches& g, const Box& box, bool periodic, std::uint32_t n_x,
                 std::uint32_t n_y, double h, std::size_t j, std::uint32_t first, std::uint32_t step, double* row,
-                double* other, std::uint8_t* second) {
+                std::uint8_t* second) {
     const std::size_t sj = periodic && j == n_y ? 0 : j;
     const double y = double(sj) * h;
-    std::vector<double> xs, ys, vs, as, bs;
+    std::vector<double> xs, ys, vs;
     std::vector<std::uint8_t> takes;
     for (std::uint32_t i = first; i <= n_x; i += step) xs.push_back((periodic && i == n_x ? 0 : i) * h);
     ys.assign(xs.size(), y);
     vs.resize(xs.size());
-    if (!g) {
+    if (g) {
+        takes.resize(xs.size());
+        g.taken(xs.data(), ys.data(), vs.data(), takes.data(), xs.size());
+    } else {
         f(xs.data(), ys.data(), vs.data(), xs.size());
-        for (std::size_t k = 0; k < xs.size(); ++k) row[first + k * step] = node_value(f, box, xs[k], y, vs[k]);
-        return;
     }
-    as.resize(xs.size());
-    bs.resize(xs.size());
-    takes.resize(xs.size());
-    g(xs.data(), ys.data(), as.data(), bs.data(), takes.data(), xs.size());
     for (std::size_t k = 0; k < xs.size(); ++k) {
-        const double v = takes[k] ? bs[k] : as[k], node = node_value(f, box, xs[k], y, v);
-        const std::size_t at = first + k * step;
-        row[at] = node;
-        if (other) other[at] = node == v ? (takes[k] ? as[k] : bs[k]) : node;
-        second[at] = node == v ? takes[k] : 0;
+        const double node = node_value(f, box, xs[k], y, vs[k]);
+        row[first + k * step] = node;
+        if (g) second[first + k * step] = node == vs[k] ? takes[k] : 0;
     }
 }
 
 // Sets `other` at the nodes of a draft's cells that the kink crosses (the source takes both
-// branches at their corners), from the branches there, as fill_nodes does; by rows of nodes on
-// the pool's threads.
+// branches at their corners): the branch the source does not take there, or the node's own value
+// where it takes the source at a free box's edge (fill_nodes); by rows of nodes on the pool's
+// threads.
 void fill_others(ThreadPool& pool, const FieldBranches& g, bool periodic, std::uint32_t cells_x, std::uint32_t cells_y,
                  double h, const Doubles& values, const Bytes& second, Doubles& other) {
     const std::size_t row = std::size_t(cells_x) + 1;
@@ -72,7 +66,7 @@ void fill_others(ThreadPool& pool, const FieldBranches& g, bool periodic, std::u
         if (at.empty()) return;
         std::vector<double> as(at.size()), bs(at.size());
         std::vector<std::uint8_t> takes(at.size());
-        g(xs.data(), ys.data(), as.data(), bs.data(), takes.data(), at.size());
+        g.both(xs.data(), ys.data(), as.data(), bs.data(), takes.data(), at.size());
         for (std::size_t k = 0; k < at.size(); ++k) {
             const double v = takes[k] ? bs[k] : as[k], node = values[at[k]];
             other[at[k]] = node == v ? (takes[k] ? as[k] : bs[k]) : node;
@@ -204,15 +198,16 @@ Draft draft(ThreadPool& pool, const FieldSource& f, const FieldBranches& g, cons
     d.second = std::move(last.second_fine);
     const bool periodic = box.boundary == Boundary::Periodic;
     const std::size_t row = std::size_t(cells_x) + 1;
-    if (g) d.other.resize(row * (std::size_t(cells_y) + 1));
     if (d.values.empty()) {
         d.values.resize(row * (std::size_t(cells_y) + 1));
         if (g) d.second.resize(d.values.size());
         for_rows(pool, std::size_t(cells_y) + 1, [&](std::size_t j) {
             fill_nodes(f, g, box, periodic, cells_x, cells_y, h, j, 0, 1, &d.values[j * row],
-                       g ? &d.other[j * row] : nullptr, g ? &d.second[j * row] : nullptr);
+                       g ? &d.second[j * row] : nullptr);
         });
-    } else if (g) {
+    }
+    if (g) {
+        d.other.resize(d.values.size());
         fill_others(pool, g, periodic, cells_x, cells_y, h, d.values, d.second, d.other);
     }
     // The halfway points: the nodes' rows with every other entry new, and the rows between them.
@@ -228,8 +223,7 @@ Draft draft(ThreadPool& pool, const FieldSource& f, const FieldBranches& g, cons
                 out[2 * i] = d.values[j / 2 * row + i];
                 if (g) second[2 * i] = d.second[j / 2 * row + i];
             }
-        fill_nodes(f, g, box, periodic, 2 * cells_x, 2 * cells_y, h / 2, j, even ? 1 : 0, even ? 2 : 1, out, nullptr,
-                   second);
+        fill_nodes(f, g, box, periodic, 2 * cells_x, 2 * cells_y, h / 2, j, even ? 1 : 0, even ? 2 : 1, out, second);
     });
     std::vector<double> error(cells_y, 0.0);  // per row, so that threads never share one
     std::vector<std::uint64_t> over(cells_y, 0);

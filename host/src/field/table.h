@@ -19,9 +19,14 @@ namespace vrpd::detail {
 
 // A sizing field's source over points of the box: out[i] = r(x[i], y[i]) for i < n; throws nothing.
 using FieldSource = std::function<void(const double* x, const double* y, double* out, std::size_t n)>;
-// The two branches of a source with one kink at points of the box (SizingExpression::branches).
-using FieldBranches =
-    std::function<void(const double* x, const double* y, double* a, double* b, std::uint8_t* second, std::size_t n)>;
+// A source with one kink at points of the box: its values and which branch of the kink each
+// takes (SizingExpression::taken), and both branches (SizingExpression::branches).
+struct FieldBranches {
+    std::function<void(const double* x, const double* y, double* out, std::uint8_t* second, std::size_t n)> taken;
+    std::function<void(const double* x, const double* y, double* a, double* b, std::uint8_t* second, std::size_t n)>
+        both;
+    explicit operator bool() const { return bool(taken); }
+};
 
 // The source a Sizing names: its expression, or its image (loaded, checked greyscale), over the box.
 FieldSource field_source(const Sizing& sizing, const Box& box);

@@ -339,14 +339,15 @@ void SizingExpression::run(const double* x, const double* y, double* out, std::s
         double* a = row(n++);
         for (std::size_t i = 0; i < m; ++i) a[i] = value(i);
     };
-    // The kink with a branch forced: std::abs(v) is -v where v < 0, std::min(a, b) is b where
-    // b < a, std::max(a, b) is b where a < b.
+    // The kink with a branch forced, or plain (branch -1), saying which branch the plain one
+    // takes: std::abs(v) is -v where v < 0, std::min(a, b) is b where b < a, std::max(a, b) is b
+    // where a < b.
     auto apply_kink = [&](const Step& s) {
         if (s.op == Op::Abs) {
             double* a = row(n - 1);
             for (std::size_t i = 0; i < m; ++i) {
                 second[i] = a[i] < 0;
-                if (branch == 1) a[i] = -a[i];
+                a[i] = branch == 1 ? -a[i] : branch == 0 ? a[i] : std::abs(a[i]);
             }
             return;
         }
@@ -357,12 +358,12 @@ void SizingExpression::run(const double* x, const double* y, double* out, std::s
             const double first = s.constant == Constant::Left ? s.value : a[i];
             const double other = s.constant == Constant::None ? b[i] : s.constant == Constant::Right ? s.value : a[i];
             second[i] = s.op == Op::Min ? other < first : first < other;
-            a[i] = branch == 1 ? other : first;
+            a[i] = branch == 1 || (branch < 0 && second[i]) ? other : first;
         }
     };
     for (std::size_t k = 0; k < program_.size(); ++k) {
         const Step& s = program_[k];
-        if (branch >= 0 && std::ptrdiff_t(k) == kink_) {
+        if ((branch >= 0 || second) && std::ptrdiff_t(k) == kink_) {
             apply_kink(s);
             continue;
         }
@@ -447,6 +448,15 @@ void SizingExpression::operator()(const double* x, const double* y, double* out,
     std::vector<double> stack(depth_ * kBatch);
     for (std::size_t first = 0; first < n; first += kBatch)
         run(x + first, y + first, out + first, std::min(kBatch, n - first), kBatch, stack.data(), box);
+}
+
+void SizingExpression::taken(const double* x, const double* y, double* out, std::uint8_t* second, std::size_t n,
+                             const Box& box) const {
+    constexpr std::size_t kBatch = 64;
+    std::vector<double> stack(depth_ * kBatch);
+    for (std::size_t first = 0; first < n; first += kBatch)
+        run(x + first, y + first, out + first, std::min(kBatch, n - first), kBatch, stack.data(), box, -1,
+            second + first);
 }
 
 void SizingExpression::branches(const double* x, const double* y, double* a, double* b, std::uint8_t* second,
