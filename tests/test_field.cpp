@@ -89,7 +89,7 @@ TEST_CASE("each rule on a ramp, rectified sines, a kink and an image: conflict-f
         Boundary boundary;
     };
     std::vector<Field> fields(5);
-    fields[4].sizing.expression = "0.01 + 0.05*abs(x - 0.3)";  // a kink: a table with patches
+    fields[4].sizing.expression = "0.01 + 0.05*abs(x - 0.3)";  // a kink: kinked table cells
     fields[4].boundary = Boundary::Free;
     fields[3].sizing.expression = "0.06 + (0.006-0.06)*abs(sin(8*pi*d))";
     fields[3].boundary = Boundary::Periodic;
@@ -151,7 +151,7 @@ TEST_CASE("radii near half the torus: each rule conflict-free and maximal, cpu =
 }
 
 TEST_CASE("sizing fields: cpu on 1 or 3 threads and serial give the same samples", "[field]") {
-    // The second field's kink gives its table patches. The third's radii, 50 times the least on
+    // The second field's kink gives its table kinked cells. The third's radii, 50 times the least on
     // the right, crowd its first rounds' darts into the leaves there: on 3 threads a leaf's darts
     // are put in arrival order, and each defers to its leaf's earlier ones (field/resolve.cpp).
     for (const auto& [expression, boundary] : {std::pair{"0.01 + 0.04*x*y", Boundary::Periodic},

@@ -28,7 +28,8 @@ TEST_CASE("a sizing field samples the same points on gpu, cpu and serial under e
           "[field][gpu]") {
     // A ramp on a free box (leaves of several sides, blocks outside the lattice at its edges), a
     // smooth field on a torus (searches across its seams), and a rectified sine on a 2 x 1 torus
-    // (kinks in patched table cells, L 0.39: cover reaches grow well past a sample's own r).
+    // (kinked table cells along its kinks, patches in its troughs, L 0.39: cover reaches grow well
+    // past a sample's own r).
     struct Case {
         std::string expression;
         Box box;
