@@ -74,15 +74,20 @@ VRPD_FN uvec4 field_cell_nodes(VRPD_IN(FieldTableView) t, uint i, uint j) {
     return uvec4(t.nodes.value[at], t.nodes.value[at + 1u], t.nodes.value[at + row], t.nodes.value[at + row + 1u]);
 }
 
-// Table cell (i, j)'s patch, or -1.
-VRPD_FN int field_patch(VRPD_IN(FieldTableView) t, uint i, uint j) {
-    if (t.patch_count == 0u) return -1;
-    uint c = j * t.cells_x + i;
-    uint64_t word = t.patched.value[c >> 6u];
+// Cell c's rank among the cells whose bit is set in `bits` (a bit per cell; `rank`: per word, the
+// set bits before it), or -1 where its bit is clear.
+VRPD_FN int field_ranked(FieldBits bits, FieldWords rank, uint c) {
+    uint64_t word = bits.value[c >> 6u];
     uint bit = c & 63u;
     if (((word >> bit) & uint64_t(1)) == uint64_t(0)) return -1;
     uint64_t below = word & ((uint64_t(1) << bit) - uint64_t(1));
-    return int(t.patch_rank.value[c >> 6u] + uint(bitCount(uint(below)) + bitCount(uint(below >> 32u))));
+    return int(rank.value[c >> 6u] + uint(bitCount(uint(below)) + bitCount(uint(below >> 32u))));
+}
+
+// Table cell (i, j)'s patch, or -1.
+VRPD_FN int field_patch(VRPD_IN(FieldTableView) t, uint i, uint j) {
+    if (t.patch_count == 0u) return -1;
+    return field_ranked(t.patched, t.patch_rank, j * t.cells_x + i);
 }
 // Whether the lookups read kinked cells: the host and the test kernels do wherever a table has
 // them; a field kernel only in its variant for tables that may (field.glsl), so that the others
@@ -94,12 +99,7 @@ VRPD_FN int field_patch(VRPD_IN(FieldTableView) t, uint i, uint j) {
 // Table cell (i, j)'s kinked cell, or -1.
 VRPD_FN int field_kink(VRPD_IN(FieldTableView) t, uint i, uint j) {
     if (!FIELD_KINKS || t.kink_count == 0u) return -1;
-    uint c = j * t.cells_x + i;
-    uint64_t word = t.kinked.value[c >> 6u];
-    uint bit = c & 63u;
-    if (((word >> bit) & uint64_t(1)) == uint64_t(0)) return -1;
-    uint64_t below = word & ((uint64_t(1) << bit) - uint64_t(1));
-    return int(t.kink_rank.value[c >> 6u] + uint(bitCount(uint(below)) + bitCount(uint(below >> 32u))));
+    return field_ranked(t.kinked, t.kink_rank, j * t.cells_x + i);
 }
 // Branch b's corners of kinked cell k, in field_interpolate's order.
 VRPD_FN uvec4 field_kink_branch(VRPD_IN(FieldTableView) t, uint k, uint b) {
