@@ -65,6 +65,9 @@ private:
     // `second` is given.
     void run(const double* x, const double* y, double* out, std::size_t m, std::size_t stride, double* stack,
              const Box& box, int branch = -1, std::uint8_t* second = nullptr) const;
+    // run over n points in batches, each step over a batch before the next.
+    void batched(const double* x, const double* y, double* out, std::size_t n, const Box& box, int branch,
+                 std::uint8_t* second) const;
 
     std::string text_;
     std::vector<Step> program_;

@@ -442,32 +442,28 @@ double SizingExpression::operator()(double x, double y, const Box& box) const {
     return out;
 }
 
-void SizingExpression::operator()(const double* x, const double* y, double* out, std::size_t n,
-                                  const Box& box) const {
+void SizingExpression::batched(const double* x, const double* y, double* out, std::size_t n, const Box& box, int branch,
+                               std::uint8_t* second) const {
     constexpr std::size_t kBatch = 64;
     std::vector<double> stack(depth_ * kBatch);
     for (std::size_t first = 0; first < n; first += kBatch)
-        run(x + first, y + first, out + first, std::min(kBatch, n - first), kBatch, stack.data(), box);
+        run(x + first, y + first, out + first, std::min(kBatch, n - first), kBatch, stack.data(), box, branch,
+            second ? second + first : nullptr);
+}
+
+void SizingExpression::operator()(const double* x, const double* y, double* out, std::size_t n, const Box& box) const {
+    batched(x, y, out, n, box, -1, nullptr);
 }
 
 void SizingExpression::taken(const double* x, const double* y, double* out, std::uint8_t* second, std::size_t n,
                              const Box& box) const {
-    constexpr std::size_t kBatch = 64;
-    std::vector<double> stack(depth_ * kBatch);
-    for (std::size_t first = 0; first < n; first += kBatch)
-        run(x + first, y + first, out + first, std::min(kBatch, n - first), kBatch, stack.data(), box, -1,
-            second + first);
+    batched(x, y, out, n, box, -1, second);
 }
 
 void SizingExpression::branches(const double* x, const double* y, double* a, double* b, std::uint8_t* second,
                                 std::size_t n, const Box& box) const {
-    constexpr std::size_t kBatch = 64;
-    std::vector<double> stack(depth_ * kBatch);
-    for (std::size_t first = 0; first < n; first += kBatch) {
-        const std::size_t m = std::min(kBatch, n - first);
-        run(x + first, y + first, a + first, m, kBatch, stack.data(), box, 0, second + first);
-        run(x + first, y + first, b + first, m, kBatch, stack.data(), box, 1, second + first);
-    }
+    batched(x, y, a, n, box, 0, second);
+    batched(x, y, b, n, box, 1, second);
 }
 
 SizingRule parse_sizing_rule(const std::string& name) {
