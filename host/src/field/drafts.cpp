@@ -12,6 +12,18 @@
 namespace vrpd::detail {
 namespace {
 
+// The coordinate of node i of n cells of side h along an axis: on a torus node n is node 0.
+double node_coordinate(std::int64_t i, std::int64_t n, bool periodic, double h) {
+    return double(periodic && i == n ? 0 : i) * h;
+}
+
+// Whether the kink crosses the cell whose lower left node is `at` in rows of `row` nodes: the
+// source takes both branches at its corners.
+bool takes_both(const Bytes& second, std::size_t at, std::size_t row) {
+    const std::uint8_t s0 = second[at];
+    return second[at + 1] != s0 || second[at + row] != s0 || second[at + row + 1] != s0;
+}
+
 // Fills entries first, first + step, ... of row j of the nodes of n_x x n_y cells of side h. On a
 // torus the last row and column are the first: the field wraps. Inside the box a node is the
 // source there, checked; past a free box's edge, the source there if it is a radius, else its
@@ -20,11 +32,10 @@ namespace {
 void fill_nodes(const FieldSource& f, const FieldBranches& g, const Box& box, bool periodic, std::uint32_t n_x,
                 std::uint32_t n_y, double h, std::size_t j, std::uint32_t first, std::uint32_t step, double* row,
                 std::uint8_t* second) {
-    const std::size_t sj = periodic && j == n_y ? 0 : j;
-    const double y = double(sj) * h;
+    const double y = node_coordinate(std::int64_t(j), n_y, periodic, h);
     std::vector<double> xs, ys, vs;
     std::vector<std::uint8_t> takes;
-    for (std::uint32_t i = first; i <= n_x; i += step) xs.push_back((periodic && i == n_x ? 0 : i) * h);
+    for (std::uint32_t i = first; i <= n_x; i += step) xs.push_back(node_coordinate(i, n_x, periodic, h));
     ys.assign(xs.size(), y);
     vs.resize(xs.size());
     if (g) {
@@ -49,9 +60,7 @@ void fill_others(ThreadPool& pool, const FieldBranches& g, bool periodic, std::u
     const std::size_t row = std::size_t(cells_x) + 1;
     auto crossed = [&](std::int64_t i, std::int64_t j) {
         if (i < 0 || j < 0 || i >= std::int64_t(cells_x) || j >= std::int64_t(cells_y)) return false;
-        const std::size_t at = std::size_t(j) * row + std::size_t(i);
-        const std::uint8_t s0 = second[at];
-        return second[at + 1] != s0 || second[at + row] != s0 || second[at + row + 1] != s0;
+        return takes_both(second, std::size_t(j) * row + std::size_t(i), row);
     };
     for_rows(pool, std::size_t(cells_y) + 1, [&](std::size_t jj) {
         const std::int64_t j = std::int64_t(jj);
@@ -60,8 +69,8 @@ void fill_others(ThreadPool& pool, const FieldBranches& g, bool periodic, std::u
         for (std::int64_t i = 0; i <= std::int64_t(cells_x); ++i)
             if (crossed(i - 1, j - 1) || crossed(i, j - 1) || crossed(i - 1, j) || crossed(i, j)) {
                 at.push_back(jj * row + std::size_t(i));
-                xs.push_back((periodic && i == cells_x ? 0 : double(i)) * h);
-                ys.push_back((periodic && jj == cells_y ? 0 : double(j)) * h);
+                xs.push_back(node_coordinate(i, cells_x, periodic, h));
+                ys.push_back(node_coordinate(j, cells_y, periodic, h));
             }
         if (at.empty()) return;
         std::vector<double> as(at.size()), bs(at.size());
@@ -143,8 +152,7 @@ CellModel cell_model(const Draft& d, std::uint32_t i, std::uint32_t j) {
     if (d.second.empty()) return m;
     const std::size_t row = std::size_t(d.cells_x) + 1, at = std::size_t(j) * row + i;
     const std::size_t corner[4] = {at, at + 1, at + row, at + row + 1};
-    const std::uint8_t s0 = d.second[at];
-    if (d.second[at + 1] == s0 && d.second[at + row] == s0 && d.second[at + row + 1] == s0) return m;
+    if (!takes_both(d.second, at, row)) return m;
     bool least = true, greatest = true;
     for (int c = 0; c < 4; ++c) {
         const double v = d.values[corner[c]], o = d.other[corner[c]];

@@ -10,9 +10,6 @@ namespace vrpd::detail {
 
 void install_patches(FieldTable& t, const std::vector<PatchDraft>& patches, ThreadPool& pool) {
     if (patches.empty()) return;
-    const std::size_t cells = std::size_t(t.cells_x) * t.cells_y;
-    t.patched.assign((cells + 63) / 64, 0);
-    t.patch_rank.assign(t.patched.size(), 0);
     t.patch_count = std::uint32_t(patches.size());
     // Patch k's root is split k; its other splits follow the roots from first[k], breadth first, so
     // that each split's split children are consecutive.
@@ -81,12 +78,9 @@ void install_patches(FieldTable& t, const std::vector<PatchDraft>& patches, Thre
         4);
     for (const double v : too_large)
         if (v != 0) throw Error(fmt::format("the field's radius {:.6g} is too large for the lattice of this box", v));
-    for (const PatchDraft& p : patches) t.patched[p.cell >> 6] |= std::uint64_t(1) << (p.cell & 63);
-    std::uint32_t before = 0;
-    for (std::size_t w = 0; w < t.patched.size(); ++w) {
-        t.patch_rank[w] = before;
-        before += std::uint32_t(std::popcount(t.patched[w]));
-    }
+    std::vector<std::uint32_t> cells(patches.size());
+    for (std::size_t k = 0; k < patches.size(); ++k) cells[k] = patches[k].cell;
+    rank_cells(std::size_t(t.cells_x) * t.cells_y, cells, t.patched, t.patch_rank);
     t.refresh_view();
 }
 

@@ -24,7 +24,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <bit>
 #include <functional>
 #include <optional>
 
@@ -204,9 +203,6 @@ std::optional<FieldTable> tabulate_with(const Sizing& s, const Box& box, unsigne
     // stay with the heap, whose later small arrays reuse them without a page fault.
     std::vector<PatchDraft>().swap(patches);
     if (!kinked.empty()) {
-        const std::size_t cells = std::size_t(t.cells_x) * t.cells_y;
-        t.kinked.assign((cells + 63) / 64, 0);
-        t.kink_rank.assign(t.kinked.size(), 0);
         t.kink_count = std::uint32_t(kinked.size());
         t.kinks.reserve(kinked.size() * shared::FIELD_KINK_WORDS);
         for (std::uint32_t c : kinked) {
@@ -219,13 +215,8 @@ std::optional<FieldTable> tabulate_with(const Sizing& s, const Box& box, unsigne
                     t.kinks.push_back(std::max<std::uint32_t>(1, std::uint32_t(v)));
                 }
             t.kinks.push_back(std::uint32_t(m.join));
-            t.kinked[c >> 6] |= std::uint64_t(1) << (c & 63);
         }
-        std::uint32_t before = 0;
-        for (std::size_t w = 0; w < t.kinked.size(); ++w) {
-            t.kink_rank[w] = before;
-            before += std::uint32_t(std::popcount(t.kinked[w]));
-        }
+        rank_cells(std::size_t(t.cells_x) * t.cells_y, kinked, t.kinked, t.kink_rank);
     }
     complete_bounds(t, pool);
     return t;

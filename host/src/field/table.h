@@ -3,6 +3,7 @@
 #pragma once
 
 #include <array>
+#include <bit>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -170,6 +171,20 @@ struct FieldTable : FieldTableData {
 private:
     shared::FieldTableView view_{};
 };
+
+// The words shared::field_ranked reads for a table of `cells` cells: in `bits`, a bit for each
+// cell of `set`, and in `rank`, per word, the set bits before it.
+inline void rank_cells(std::size_t cells, std::span<const std::uint32_t> set, std::vector<std::uint64_t>& bits,
+                       std::vector<std::uint32_t>& rank) {
+    bits.assign((cells + 63) / 64, 0);
+    rank.assign(bits.size(), 0);
+    for (const std::uint32_t c : set) bits[c >> 6] |= std::uint64_t(1) << (c & 63);
+    std::uint32_t before = 0;
+    for (std::size_t w = 0; w < bits.size(); ++w) {
+        rank[w] = before;
+        before += std::uint32_t(std::popcount(bits[w]));
+    }
+}
 
 // The leaves per unit area that quadtree roots (tiles) of a side give, estimated from r at the
 // centres of a survey's n x n cells of the box, row by row: a leaf is the largest part tile / 2^k
