@@ -109,6 +109,28 @@ TEST_CASE("a kink: patched table cells bring the table within 0.1 % of its sourc
     CHECK(one.lipschitz == t.lipschitz);
 }
 
+TEST_CASE("two kinks whose leaves change level along their lines: within the target and the budget", "[field]") {
+    // r, and with it the relative error, varies along each kink line, so the patches' leaves change
+    // level along it; each change leaves a node moved for continuity and a leaf steeper than the
+    // field, and splitting the coarser leaf only moves the change along the line. Fixed without
+    // end, those slopes took the line to its deepest level, past the budget at every target, and
+    // the table stopped at 0.37 %. Past two thirds of the budget the steeper leaves stay.
+    Sizing s;
+    s.expression = "0.002 + 0.05*abs(x - 0.5) + 0.05*abs(y - 0.3)";
+    const Box box{1, 1, Boundary::Free};
+    const detail::FieldTable t = detail::tabulate(s, box, 2);
+    CHECK(t.kink_count == 0);
+    REQUIRE(t.patch_count > 0);
+    CHECK(t.tabulation_error <= 0.00075);
+    // The kept slopes: steeper than the source's 0.05 sqrt(2), and measured.
+    CHECK(t.lipschitz > 0.05 * std::sqrt(2.0));
+    CHECK(t.lipschitz < 2 * 0.05 * std::sqrt(2.0));
+    CHECK(worst_leaf_step(t) <= std::int64_t(std::ceil(t.lipschitz)) + 2);
+    const detail::FieldTable one = detail::tabulate(s, box, 1);
+    CHECK(one.splits == t.splits);
+    CHECK(one.lipschitz == t.lipschitz);
+}
+
 TEST_CASE("patches reach the least target their budget allows", "[field]") {
     // The rectified sine at 76 000 samples: its kinks' cells are kinked, and its troughs, where r
     // bends most, would take more than a split a sample to reach 0.075 %; within a budget of 8

@@ -144,7 +144,12 @@ std::vector<PatchDraft> draft_patches(ThreadPool& pool, const FieldSource& f, co
     // Balanced, then settled: where continuity takes a leaf past the target, or makes it steeper
     // than any leaf or cell with the source's nodes, the leaves of a larger size across its edges
     // (whose edges set its corners there) are split; a leaf past the target with none is split
-    // itself. Until every leaf is within the target and the reference's slope.
+    // itself. Until every leaf is within the target and, while the splits stay within two thirds
+    // of the budget, the reference's slope: where a kink line's leaves change level (r, and with
+    // it the relative error, varies along the line), each change moves a node by up to the kink's
+    // jump in slope times a quarter of the coarser side, and splitting the coarser leaf moves the
+    // change one leaf along the line, so the slope's fixes take every leaf of the line to its
+    // deepest level. Past that share the table keeps the steeper leaves, whose L is measured.
     // Each patch's settling is kept until a split in it or in a table cell beside it (whose edge
     // nodes its own depend on) calls for it again.
     std::vector<Forest::Settled> settled;
@@ -171,8 +176,9 @@ std::vector<PatchDraft> draft_patches(ThreadPool& pool, const FieldSource& f, co
         std::vector<Leaf> fix;
         for (const std::uint32_t p : again) {
             fix.insert(fix.end(), settled[p].past.begin(), settled[p].past.end());
-            for (const auto& [leaf, g] : settled[p].moved)
-                if (g > steepest * 1.01) fix.push_back(leaf);
+            if (forest.split_count <= grown_limit)
+                for (const auto& [leaf, g] : settled[p].moved)
+                    if (g > steepest * 1.01) fix.push_back(leaf);
         }
         if (fix.empty()) break;
         for (const Leaf& l : fix) {

@@ -156,7 +156,7 @@ std::optional<FieldTable> tabulate_with(const Sizing& s, const Box& box, unsigne
     // Patches where the table strays from the source past the target (a kink the cells do not
     // take as kinked, or a bend), within their own budget of table words; none under --lipschitz,
     // whose field is the table's nodes themselves, nor on a kinked cell. Where they cannot reach
-    // the target within it, the least target they reach, from the target up by factors of sqrt(2).
+    // the target within it, the least target they reach, from the target up by factors of 2^(1/4).
     double error = d.error;
     std::vector<PatchDraft> patches;
     if (s.lipschitz < 0 && d.error > kTargetError) {
