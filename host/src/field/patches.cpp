@@ -18,6 +18,9 @@ namespace {
 
 using namespace patch;
 
+// How many times the budget's splits the settling passes may visit, in all.
+constexpr std::uint64_t kSettleVisits = 32;
+
 // The halvings that take an error e past target t within it: ceil(log2(e / t)), for e > t, read
 // exactly from the quotient's exponent (frexp: q = m 2^p, m in [0.5, 1)), at a fraction of
 // log2's cost; the draft tries several targets over every cell past the least of them.
@@ -155,6 +158,12 @@ std::vector<PatchDraft> draft_patches(ThreadPool& pool, const FieldSource& f, co
     std::vector<Forest::Settled> settled;
     std::vector<std::uint8_t> dirty;
     std::vector<std::uint32_t> again;  // the patches to settle again
+    // Each pass settles its patches whole, so a chain of fixes a leaf at a time (a cusp, whose
+    // leaves along it pass the target split after split) costs its length times a patch. The
+    // passes stop once they have settled kSettleVisits times the budget's splits: the leaves
+    // still past the target stay, and the error reported is theirs (every patch is settled as
+    // it stands).
+    std::uint64_t visited = 0;
     for (;;) {
         forest.balance(work);
         if (forest.split_count > limit) return {};
@@ -172,7 +181,10 @@ std::vector<PatchDraft> draft_patches(ThreadPool& pool, const FieldSource& f, co
             if (dirty[p]) again.push_back(std::uint32_t(p));
         each_reporting(pool, again.size(), 4,
                        [&](std::size_t k) { settled[again[k]] = forest.settle(again[k], target, steepest); });
-        for (const std::uint32_t p : again) steepest = std::max(steepest, settled[p].steepest);
+        for (const std::uint32_t p : again) {
+            steepest = std::max(steepest, settled[p].steepest);
+            visited += forest.patches[p].splits.size();
+        }
         std::vector<Leaf> fix;
         for (const std::uint32_t p : again) {
             fix.insert(fix.end(), settled[p].past.begin(), settled[p].past.end());
@@ -180,7 +192,7 @@ std::vector<PatchDraft> draft_patches(ThreadPool& pool, const FieldSource& f, co
                 for (const auto& [leaf, g] : settled[p].moved)
                     if (g > steepest * 1.01) fix.push_back(leaf);
         }
-        if (fix.empty()) break;
+        if (fix.empty() || visited > kSettleVisits * limit) break;
         for (const Leaf& l : fix) {
             const Square sq = forest.square(l);
             bool coarser = false;
