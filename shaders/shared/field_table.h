@@ -208,14 +208,12 @@ VRPD_FN uvec2 field_kink_extremes(VRPD_IN(FieldTableView) t, uint k, uint bits, 
     return uvec2(max(a.x, b.x), max(a.y, b.y));
 }
 
-// The same for the block [fa, fb] (offsets) of table cell (i, j), which holds patch q. Inside one
-// leaf, exact. Else the block meets two or four quadrants of the least split that holds it: in a
-// quadrant that is a leaf, exact over its part of the block; in one that is split, that split's
-// least and greatest node.
-VRPD_OUTLINED_FN uvec2 field_patch_extremes(VRPD_IN(FieldTableView) t, int q, uint i, uint j, uvec2 fa, uvec2 fb) {
-    uvec4 v = field_cell_nodes(t, i, j);
-    uint bits = t.cell_bits;
-    int split = field_descend_block(t, q, v, fa, fb, bits);
+// The same for the block [fa, fb] (offsets) of a square of side 2^bits with corners v, split by
+// s (or one leaf, s = -1). Inside one leaf, exact. Else the block meets two or four quadrants of
+// the least split that holds it: in a quadrant that is a leaf, exact over its part of the block;
+// in one that is split, that split's least and greatest node.
+VRPD_FN uvec2 field_split_extremes(VRPD_IN(FieldTableView) t, int s0, uvec4 v, uvec2 fa, uvec2 fb, uint bits) {
+    int split = field_descend_block(t, s0, v, fa, fb, bits);
     if (split < 0) return field_corner_extremes(v, bits, fa, fb);
     uint s = uint(split);
     uint child_bits = bits - 1u;
@@ -236,6 +234,11 @@ VRPD_OUTLINED_FN uvec2 field_patch_extremes(VRPD_IN(FieldTableView) t, int q, ui
         hi = max(hi, e.y);
     }
     return uvec2(lo, hi);
+}
+
+// The same for the block [fa, fb] (offsets) of table cell (i, j), which holds patch q.
+VRPD_OUTLINED_FN uvec2 field_patch_extremes(VRPD_IN(FieldTableView) t, int q, uint i, uint j, uvec2 fa, uvec2 fb) {
+    return field_split_extremes(t, q, field_cell_nodes(t, i, j), fa, fb, t.cell_bits);
 }
 
 // The least (x) and greatest (y) node of table cell (i, j): its patch's, or of its four nodes; of
