@@ -2,13 +2,16 @@
 // constants (shared/field_run.h's FieldArgs), the buffers they address, and the steps every
 // kernel shares.
 
-// The run's rule, boundary, weighting and whether its table may have kinked cells, as constants
-// of the pipeline (FieldVulkan makes one per variant, shared/field_run.h's field_variant), equal
-// to the run's own: the branches on them fold away where the driver builds the kernel, and
-// llvmpipe would run both sides of each (shared/radii.h). Declared before the shared headers,
-// whose table lookups read FIELD_KINKS (16: FIELD_VARIANT_KINKS).
+// The run's rule, boundary and weighting, as constants of the pipeline (FieldVulkan makes one per
+// variant, shared/field_run.h's field_variant), equal to the run's own: the branches on them fold
+// away where the driver builds the kernel, and llvmpipe would run both sides of each
+// (shared/radii.h). Whether the table lookups read kinked cells is the build's (FIELD_KINKS, 1
+// in each kernel's `_kinks` build, CMakeLists.txt): the kernels for tables without them carry no
+// code for them at all, which llvmpipe would translate on every run, specialized away or not.
 layout(constant_id = 1) const uint FIELD_VARIANT = 0u;
-#define FIELD_KINKS ((FIELD_VARIANT & 16u) != 0u)
+#ifndef FIELD_KINKS
+#define FIELD_KINKS 0
+#endif
 #include "shared/darts.h"
 #include "shared/field_run.h"
 #include "shared/kernels.h"

@@ -26,14 +26,11 @@ struct FieldPoints {
 #endif
 
 // A field kernel's variant (specialization constant 1, kernel.h): the run's rule (RULE_*),
-// FIELD_VARIANT_TORUS where its box is a torus, FIELD_VARIANT_DENSITY under Eq. 12's weighting,
-// FIELD_VARIANT_KINKS where its table may have kinked cells (field.glsl's FIELD_KINKS).
+// FIELD_VARIANT_TORUS where its box is a torus, FIELD_VARIANT_DENSITY under Eq. 12's weighting.
 const uint FIELD_VARIANT_TORUS = 4u;
 const uint FIELD_VARIANT_DENSITY = 8u;
-const uint FIELD_VARIANT_KINKS = 16u;
-VRPD_FN uint field_variant(uint rule, bool torus, bool density, bool kinks) {
-    return rule | (torus ? FIELD_VARIANT_TORUS : 0u) | (density ? FIELD_VARIANT_DENSITY : 0u) |
-           (kinks ? FIELD_VARIANT_KINKS : 0u);
+VRPD_FN uint field_variant(uint rule, bool torus, bool density) {
+    return rule | (torus ? FIELD_VARIANT_TORUS : 0u) | (density ? FIELD_VARIANT_DENSITY : 0u);
 }
 
 // A leaf's sample slot when it holds none.

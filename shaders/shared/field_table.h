@@ -89,16 +89,16 @@ VRPD_FN int field_patch(VRPD_IN(FieldTableView) t, uint i, uint j) {
     if (t.patch_count == 0u) return -1;
     return field_ranked(t.patched, t.patch_rank, j * t.cells_x + i);
 }
-// Whether the lookups read kinked cells: the host and the test kernels do wherever a table has
-// them; a field kernel only in its variant for tables that may (field.glsl), so that the others
-// carry no code for them.
+// Whether the lookups read kinked cells (1) or not (0): the host and the test kernels do wherever
+// a table has them; a field kernel only in its build for tables that may (field.glsl), so that
+// the others carry no code for them, which llvmpipe would translate on every run.
 #ifndef FIELD_KINKS
-#define FIELD_KINKS true
+#define FIELD_KINKS 1
 #endif
 
 // Table cell (i, j)'s kinked cell, or -1.
 VRPD_FN int field_kink(VRPD_IN(FieldTableView) t, uint i, uint j) {
-    if (!FIELD_KINKS || t.kink_count == 0u) return -1;
+    if (t.kink_count == 0u) return -1;
     return field_ranked(t.kinked, t.kink_rank, j * t.cells_x + i);
 }
 // Branch b's corners of kinked cell k, in field_interpolate's order.
@@ -172,10 +172,12 @@ VRPD_FN uint field_radius(VRPD_IN(FieldTableView) t, uvec2 p) {
     uvec2 f = uvec2(p.x & mask, p.y & mask);
     uint i = p.x >> t.cell_bits;
     uint j = p.y >> t.cell_bits;
+#if FIELD_KINKS
     int k = field_kink(t, i, j);
     if (k >= 0)
         return field_kink_join(t, uint(k), field_interpolate(field_kink_branch(t, uint(k), 0u), f, t.cell_bits),
                                field_interpolate(field_kink_branch(t, uint(k), 1u), f, t.cell_bits));
+#endif
     uvec4 v = field_cell_nodes(t, i, j);
     uint bits = t.cell_bits;
     int q = field_patch(t, i, j);
@@ -244,8 +246,10 @@ VRPD_OUTLINED_FN uvec2 field_patch_extremes(VRPD_IN(FieldTableView) t, int q, ui
 // The least (x) and greatest (y) node of table cell (i, j): its patch's, or of its four nodes; of
 // a kinked cell, field_kink_extremes over the cell and its far edges.
 VRPD_FN uvec2 field_cell_range(VRPD_IN(FieldTableView) t, uint i, uint j) {
+#if FIELD_KINKS
     int k = field_kink(t, i, j);
     if (k >= 0) return field_kink_extremes(t, uint(k), t.cell_bits, uvec2(0u), uvec2(1u << t.cell_bits));
+#endif
     int q = field_patch(t, i, j);
     if (q >= 0) return uvec2(field_split_word(t, uint(q), 6u), field_split_word(t, uint(q), 7u));
     uvec4 n = field_cell_nodes(t, i, j);
@@ -264,8 +268,10 @@ VRPD_FN uvec2 field_cell_extremes(VRPD_IN(FieldTableView) t, uvec2 a, uvec2 b) {
     uvec2 fb = uvec2(b.x & mask, b.y & mask);
     uint i = a.x >> t.cell_bits;
     uint j = a.y >> t.cell_bits;
+#if FIELD_KINKS
     int k = field_kink(t, i, j);
     if (k >= 0) return field_kink_extremes(t, uint(k), t.cell_bits, fa, fb);
+#endif
     int q = field_patch(t, i, j);
     if (q >= 0) return field_patch_extremes(t, q, i, j, fa, fb);
     return field_corner_extremes(field_cell_nodes(t, i, j), t.cell_bits, fa, fb);

@@ -85,8 +85,8 @@ Sampling FieldVulkan::run(const FieldTable& table, const FieldQuadtree& tree, co
                       device_ref<FieldWords>(nodes_.address())};
     run_args_.lattice = t_->lattice;
     run_args_.rule = std::uint32_t(o_.sizing->rule);
-    if (field_variant(run_args_.rule, t_->lattice.periodic != 0, density_, may_kink(*o_.sizing)) != variant_of(o_) ||
-        (t_->kink_count > 0 && !may_kink(*o_.sizing)))
+    if (field_variant(run_args_.rule, t_->lattice.periodic != 0, density_) != variant_of(o_) ||
+        (t_->kink_count > 0 && !kinks_))
         throw std::logic_error("a field table's box or kinks differ from the kernels'");
     run_args_.r_hi = t_->r_hi;
     run_args_.r_lo = t_->r_lo;

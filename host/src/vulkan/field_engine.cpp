@@ -6,20 +6,35 @@
 
 #include "field/power_sum.h"
 #include "field_accepted.h"
+#include "field_accepted_kinks.h"
 #include "field_balance.h"
+#include "field_balance_kinks.h"
 #include "field_compact.h"
+#include "field_compact_kinks.h"
 #include "field_count_darts.h"
+#include "field_count_darts_kinks.h"
 #include "field_emit.h"
+#include "field_emit_kinks.h"
 #include "field_fates.h"
+#include "field_fates_kinks.h"
 #include "field_first_darts.h"
+#include "field_first_darts_kinks.h"
 #include "field_histogram.h"
+#include "field_histogram_kinks.h"
 #include "field_place.h"
+#include "field_place_kinks.h"
 #include "field_resolve.h"
+#include "field_resolve_kinks.h"
 #include "field_scatter.h"
+#include "field_scatter_kinks.h"
 #include "field_throw.h"
+#include "field_throw_kinks.h"
 #include "field_touch.h"
+#include "field_touch_kinks.h"
 #include "field_triage.h"
+#include "field_triage_kinks.h"
 #include "field_unmark.h"
+#include "field_unmark_kinks.h"
 #include "vrpd/sizing.h"
 #include "vulkan/field_vulkan.h"
 #include "work_args.h"
@@ -45,34 +60,41 @@ constexpr std::uint32_t kLavapipeBudget = 6000;
 
 std::uint32_t FieldVulkan::variant_of(const SampleOptions& o) {
     return field_variant(std::uint32_t(o.sizing->rule), o.box.boundary == Boundary::Periodic,
-                         o.sizing->weighting == Weighting::Density, may_kink(*o.sizing));
+                         o.sizing->weighting == Weighting::Density);
 }
 
 bool FieldVulkan::may_kink(const Sizing& s) {
     return s.lipschitz < 0 && !s.expression.empty() && SizingExpression(s.expression).kinked();
 }
 
+// The initializer of field kernel member name_: its build for kinked cells (NAME_kinks) where the
+// table may have them, in the run's variant.
+#define VRPD_FIELD_KERNEL(name)                                                                                     \
+    name##_(ctx_, #name, kinks_ ? spirv_words(spirv_##name##_kinks) : spirv_words(spirv_##name), sizeof(FieldArgs), \
+            WORKGROUP_SIZE, variant_of(o))
+
 FieldVulkan::FieldVulkan(const SampleOptions& o, std::uint32_t budget, std::uint32_t work_groups)
     : o_(o),
+      kinks_(may_kink(*o.sizing)),
       lease_(o.device, o.vulkan),
       ctx_(lease_.get()),
       counters_(ctx_, FIELD_COUNTER_WORDS * 4, true),
       primitives_(ctx_, counters_),
-      VRPD_KERNEL(field_histogram, FieldArgs, WORKGROUP_SIZE, variant_of(o)),
-      VRPD_KERNEL(field_fates, FieldArgs, WORKGROUP_SIZE, variant_of(o)),
-      VRPD_KERNEL(field_balance, FieldArgs, WORKGROUP_SIZE, variant_of(o)),
-      VRPD_KERNEL(field_scatter, FieldArgs, WORKGROUP_SIZE, variant_of(o)),
-      VRPD_KERNEL(field_count_darts, FieldArgs, WORKGROUP_SIZE, variant_of(o)),
-      VRPD_KERNEL(field_throw, FieldArgs, WORKGROUP_SIZE, variant_of(o)),
-      VRPD_KERNEL(field_compact, FieldArgs, WORKGROUP_SIZE, variant_of(o)),
-      VRPD_KERNEL(field_first_darts, FieldArgs, WORKGROUP_SIZE, variant_of(o)),
-      VRPD_KERNEL(field_resolve, FieldArgs, WORKGROUP_SIZE, variant_of(o)),
-      VRPD_KERNEL(field_unmark, FieldArgs, WORKGROUP_SIZE, variant_of(o)),
-      VRPD_KERNEL(field_accepted, FieldArgs, WORKGROUP_SIZE, variant_of(o)),
-      VRPD_KERNEL(field_emit, FieldArgs, WORKGROUP_SIZE, variant_of(o)),
-      VRPD_KERNEL(field_touch, FieldArgs, WORKGROUP_SIZE, variant_of(o)),
-      VRPD_KERNEL(field_place, FieldArgs, WORKGROUP_SIZE, variant_of(o)),
-      VRPD_KERNEL(field_triage, FieldArgs, WORKGROUP_SIZE, variant_of(o)),
+      VRPD_FIELD_KERNEL(field_histogram),
+      VRPD_FIELD_KERNEL(field_fates),
+      VRPD_FIELD_KERNEL(field_balance),
+      VRPD_FIELD_KERNEL(field_scatter),
+      VRPD_FIELD_KERNEL(field_count_darts),
+      VRPD_FIELD_KERNEL(field_throw),
+      VRPD_FIELD_KERNEL(field_compact),
+      VRPD_FIELD_KERNEL(field_first_darts),
+      VRPD_FIELD_KERNEL(field_resolve),
+      VRPD_FIELD_KERNEL(field_unmark),
+      VRPD_FIELD_KERNEL(field_accepted),
+      VRPD_FIELD_KERNEL(field_emit),
+      VRPD_FIELD_KERNEL(field_touch),
+      VRPD_FIELD_KERNEL(field_place),
+      VRPD_FIELD_KERNEL(field_triage),
       VRPD_KERNEL(work_args, WorkArgs, 1),
       density_(o.sizing->weighting == Weighting::Density) {
     if (o.profile) ctx_.start_profile();

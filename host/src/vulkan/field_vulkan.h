@@ -109,6 +109,7 @@ private:
 
     const FieldTable* t_ = nullptr;  // the run's
     const SampleOptions& o_;
+    bool kinks_;  // the kernels read kinked cells (may_kink)
     ContextLease lease_;
     VulkanContext& ctx_;
     Buffer counters_;
