@@ -288,16 +288,13 @@ VRPD_FN uint field_open_children(VRPD_IN(FieldRun) run, uvec2 corner, uint bits,
     uvec2 b = field_far_corner(run.lattice, corner, bits);
     uvec2 ka[4];
     uvec2 kb[4];
-    uint lo[4];
     uint open = 0u;
     for (uint k = 0u; k < 4u; k++) {
         ka[k] = uvec2(corner.x + (k & 1u) * side, corner.y + (k >> 1u) * side);
         kb[k] = field_far_corner(run.lattice, ka[k], bits - 1u);
-        lo[k] = 0u;
-        if (ka[k].x >= run.lattice.extent_x || ka[k].y >= run.lattice.extent_y) continue;
-        open |= 1u << k;
-        if (run.rule != RULE_PRIOR) lo[k] = field_min_over(run.table, ka[k], kb[k]);
+        if (ka[k].x < run.lattice.extent_x && ka[k].y < run.lattice.extent_y) open |= 1u << k;
     }
+    uvec4 lo = run.rule == RULE_PRIOR ? uvec4(0u) : field_children_min(run.table, a, kb[0], ka[3], b, open);
     // A sample covering a child lies within its f of the whole child, inside the cell.
     uint reach = field_reach(run, a, b, field_max_over(run.table, a, b));
     FieldSearch s = field_run_search(run, a, b, uint64_t(reach), FIELD_OCCUPIED, budget);

@@ -321,5 +321,64 @@ VRPD_FN uvec2 field_extremes_over(VRPD_IN(FieldTableView) t, uvec2 a, uvec2 b) {
     return uvec2(field_bound_over_blocks(t, a, b, false), field_bound_over_blocks(t, a, b, true));
 }
 
+// The least r over each child k (bit k of `open`; x, then y, low first) of the block [a, b] split
+// at m: along each axis the child spans [a, e] or [m, b], e = min(m - 1, b). Each is
+// field_min_over's. Inside one table cell the descent of its patch to the least split that holds
+// the whole block is taken once (a child's own descent passes through it), and where the block
+// lies in one leaf, the two rows' interpolants along x once for each x.
+VRPD_FN uvec4 field_children_min(VRPD_IN(FieldTableView) t, uvec2 a, uvec2 e, uvec2 m, uvec2 b, uint open) {
+    uvec4 least = uvec4(0u);
+    uint i = a.x >> t.cell_bits;
+    uint j = a.y >> t.cell_bits;
+    bool one = field_in_one_cell(t, a, b);
+#if FIELD_KINKS
+    one = one && field_kink(t, i, j) < 0;
+#endif
+    if (!one) {
+        for (uint k = 0u; k < 4u; k++)
+            if (((open >> k) & 1u) != 0u)
+                least[k] = field_min_over(t, uvec2((k & 1u) != 0u ? m.x : a.x, (k >> 1u) != 0u ? m.y : a.y),
+                                          uvec2((k & 1u) != 0u ? b.x : e.x, (k >> 1u) != 0u ? b.y : e.y));
+        return least;
+    }
+    uint mask = (1u << t.cell_bits) - 1u;
+    uvec4 v = field_cell_nodes(t, i, j);
+    uvec2 fa = uvec2(a.x & mask, a.y & mask);
+    uvec2 fb = uvec2(b.x & mask, b.y & mask);
+    uint bits = t.cell_bits;
+    int s = field_descend_block(t, field_patch(t, i, j), v, fa, fb, bits);
+    // The children's corners as offsets in the square the descent ended in (m clipped to b where
+    // no child starts there).
+    uvec2 square = uvec2(a.x & mask, a.y & mask) - fa;
+    uvec2 fe = uvec2(e.x & mask, e.y & mask) - square;
+    uvec2 fm = uvec2(min(m.x, b.x) & mask, min(m.y, b.y) & mask) - square;
+    if (s >= 0) {
+        for (uint k = 0u; k < 4u; k++)
+            if (((open >> k) & 1u) != 0u)
+                least[k] =
+                    field_split_extremes(t, s, v, uvec2((k & 1u) != 0u ? fm.x : fa.x, (k >> 1u) != 0u ? fm.y : fa.y),
+                                         uvec2((k & 1u) != 0u ? fb.x : fe.x, (k >> 1u) != 0u ? fb.y : fe.y), bits)
+                        .x;
+        return least;
+    }
+    uint xs[4] = {fa.x, fe.x, fm.x, fb.x};
+    uint ys[4] = {fa.y, fe.y, fm.y, fb.y};
+    uint64_t row0[4];
+    uint64_t row1[4];
+    for (uint c = 0u; c < 4u; c++) {
+        row0[c] = field_row(v.x, v.y, xs[c], bits);
+        row1[c] = field_row(v.z, v.w, xs[c], bits);
+    }
+    for (uint k = 0u; k < 4u; k++) {
+        uint x = 2u * (k & 1u);
+        uint y = 2u * (k >> 1u);
+        least[k] =
+            min(min(field_blend(row0[x], row1[x], ys[y], bits), field_blend(row0[x + 1u], row1[x + 1u], ys[y], bits)),
+                min(field_blend(row0[x], row1[x], ys[y + 1u], bits),
+                    field_blend(row0[x + 1u], row1[x + 1u], ys[y + 1u], bits)));
+    }
+    return least;
+}
+
 VRPD_END
 #endif

@@ -157,56 +157,8 @@ std::pair<std::uint32_t, std::uint32_t> FieldTable::extremes_over(glm::uvec2 a, 
 
 std::array<std::uint32_t, 4> FieldTable::children_min(glm::uvec2 a, glm::uvec2 e, glm::uvec2 m, glm::uvec2 b,
                                                       std::uint32_t open) const {
-    std::array<std::uint32_t, 4> least{};
-    auto child = [&](std::uint32_t k, glm::uvec2& ka, glm::uvec2& kb) {
-        ka = {(k & 1) ? m.x : a.x, (k >> 1) ? m.y : a.y};
-        kb = {(k & 1) ? b.x : e.x, (k >> 1) ? b.y : e.y};
-    };
-    const std::uint32_t i = a.x >> cell_bits, j = a.y >> cell_bits;
-    if (!shared::field_in_one_cell(view(), a, b) || kink(i, j)) {
-        for (std::uint32_t k = 0; k < 4; ++k)
-            if (open >> k & 1) {
-                glm::uvec2 ka, kb;
-                child(k, ka, kb);
-                least[k] = min_over(ka, kb);
-            }
-        return least;
-    }
-    const std::uint32_t mask = (1u << cell_bits) - 1u;
-    if (const int q = shared::field_patch(view(), i, j); q >= 0) {
-        // field_patch_extremes of each child, the descent to the least split holding the whole
-        // block taken once: a child's own descent passes through it.
-        glm::uvec4 v = cell_nodes(i, j);
-        glm::uvec2 fa(a.x & mask, a.y & mask), fb(b.x & mask, b.y & mask);
-        std::uint32_t bits = cell_bits;
-        const int s = shared::field_descend_block(view(), q, v, fa, fb, bits);
-        const glm::uvec2 square = glm::uvec2(a.x & mask, a.y & mask) - fa;  // its corner in the cell
-        for (std::uint32_t k = 0; k < 4; ++k)
-            if (open >> k & 1) {
-                glm::uvec2 ka, kb;
-                child(k, ka, kb);
-                least[k] = shared::field_split_extremes(view(), s, v, (ka & glm::uvec2(mask)) - square,
-                                                        (kb & glm::uvec2(mask)) - square, bits)
-                               .x;
-            }
-        return least;
-    }
-    // field_interpolate at the corners x in {a, e, m, b} (m clipped to b where no child starts
-    // there) by y alike: the two rows' interpolants along x once for each x.
-    const glm::uvec4 v = cell_nodes(i, j);
-    const std::uint32_t xs[4] = {a.x & mask, e.x & mask, std::min(m.x, b.x) & mask, b.x & mask};
-    const std::uint32_t ys[4] = {a.y & mask, e.y & mask, std::min(m.y, b.y) & mask, b.y & mask};
-    std::uint64_t row0[4], row1[4];
-    for (int i = 0; i < 4; ++i) {
-        row0[i] = shared::field_row(v.x, v.y, xs[i], cell_bits);
-        row1[i] = shared::field_row(v.z, v.w, xs[i], cell_bits);
-    }
-    auto r = [&](int i, int j) { return shared::field_blend(row0[i], row1[i], ys[j], cell_bits); };
-    for (std::uint32_t k = 0; k < 4; ++k) {
-        const int i = 2 * int(k & 1), j = 2 * int(k >> 1);
-        least[k] = std::min({r(i, j), r(i + 1, j), r(i, j + 1), r(i + 1, j + 1)});
-    }
-    return least;
+    const glm::uvec4 least = shared::field_children_min(view(), a, e, m, b, open);
+    return {least.x, least.y, least.z, least.w};
 }
 
 int FieldTable::axis_ranges(std::uint32_t c, std::uint64_t reach, std::uint32_t extent, std::uint64_t lo[2],
