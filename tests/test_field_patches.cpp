@@ -72,6 +72,17 @@ std::int64_t worst_leaf_step(const detail::FieldTable& t) {
     return worst;
 }
 
+// Table t of s: no step across any leaf's edge beyond its slope and the rounding, and on one
+// thread the same patches, error and L as on several.
+void continuous_and_repeatable(const Sizing& s, const Box& box, const detail::FieldTable& t) {
+    CHECK(worst_leaf_step(t) <= std::int64_t(std::ceil(t.lipschitz)) + 2);
+    const detail::FieldTable one = detail::tabulate(s, box, 1);
+    CHECK(one.splits == t.splits);
+    CHECK(one.patched == t.patched);
+    CHECK(one.tabulation_error == t.tabulation_error);
+    CHECK(one.lipschitz == t.lipschitz);
+}
+
 }  // namespace
 
 TEST_CASE("a kink: patched table cells bring the table within 0.1 % of its source, continuous, with its L", "[field]") {
@@ -100,13 +111,7 @@ TEST_CASE("a kink: patched table cells bring the table within 0.1 % of its sourc
     each_patch_leaf(
         t, [&](glm::uvec2, std::uint32_t bits) { levels = std::max<std::size_t>(levels, t.cell_bits - bits); });
     CHECK(levels >= 3);
-    CHECK(worst_leaf_step(t) <= std::int64_t(std::ceil(t.lipschitz)) + 2);
-    // The same table on one thread.
-    const detail::FieldTable one = detail::tabulate(s, box, 1);
-    CHECK(one.splits == t.splits);
-    CHECK(one.patched == t.patched);
-    CHECK(one.tabulation_error == t.tabulation_error);
-    CHECK(one.lipschitz == t.lipschitz);
+    continuous_and_repeatable(s, box, t);
 }
 
 TEST_CASE("two kinks whose leaves change level along their lines: within the target and the budget", "[field]") {
@@ -125,10 +130,7 @@ TEST_CASE("two kinks whose leaves change level along their lines: within the tar
     // The kept slopes: steeper than the source's 0.05 sqrt(2), and measured.
     CHECK(t.lipschitz > 0.05 * std::sqrt(2.0));
     CHECK(t.lipschitz < 2 * 0.05 * std::sqrt(2.0));
-    CHECK(worst_leaf_step(t) <= std::int64_t(std::ceil(t.lipschitz)) + 2);
-    const detail::FieldTable one = detail::tabulate(s, box, 1);
-    CHECK(one.splits == t.splits);
-    CHECK(one.lipschitz == t.lipschitz);
+    continuous_and_repeatable(s, box, t);
 }
 
 TEST_CASE("a cusp: the settling stops, and the error it reports holds", "[field]") {
@@ -155,8 +157,7 @@ TEST_CASE("a cusp: the settling stops, and the error it reports holds", "[field]
         worst = std::max(worst, std::abs(t.radius(p) * t.quantum - source) / source);
     }
     CHECK(worst <= t.tabulation_error + 0.0005);
-    CHECK(worst_leaf_step(t) <= std::int64_t(std::ceil(t.lipschitz)) + 2);
-    CHECK(detail::tabulate(s, box, 1).splits == t.splits);
+    continuous_and_repeatable(s, box, t);
 }
 
 TEST_CASE("patches reach the least target their budget allows", "[field]") {
