@@ -118,8 +118,8 @@ TEST_CASE("two kinks whose leaves change level along their lines: within the tar
     // r, and with it the relative error, varies along each kink line, so the patches' leaves change
     // level along it; each change leaves a node moved for continuity and a leaf steeper than the
     // field, and splitting the coarser leaf only moves the change along the line. Fixed without
-    // end, those slopes took the line to its deepest level, past the budget at every target, and
-    // the table stopped at 0.37 %. Past two thirds of the budget the steeper leaves stay.
+    // end, those slopes would take the line to its deepest level, past the budget at every target
+    // (the table would stop at 0.37 %). Past two thirds of the budget the steeper leaves stay.
     Sizing s;
     s.expression = "0.002 + 0.05*abs(x - 0.5) + 0.05*abs(y - 0.3)";
     const Box box{1, 1, Boundary::Free};
@@ -136,8 +136,8 @@ TEST_CASE("two kinks whose leaves change level along their lines: within the tar
 TEST_CASE("a cusp: the settling stops, and the error it reports holds", "[field]") {
     // sqrt(x)'s slope has no bound at the box's edge x = 0: there a leaf past the target after
     // continuity splits into another past it, one split a settling pass, each pass settling its
-    // patches whole. Those passes took 150 000 splits (255 131 in all) and 14 s; they now stop
-    // at 32 times the budget's splits settled, and the leaves still past the target stay.
+    // patches whole: to its end the chain would make over 250 000 splits. The passes stop at 32
+    // times the budget's splits settled, and the leaves still past the target stay.
     Sizing s;
     s.expression = "0.001 + 0.004*sqrt(x)";
     const Box box{1, 1, Boundary::Free};
