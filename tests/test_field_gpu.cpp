@@ -68,6 +68,13 @@ TEST_CASE("a sizing field samples the same points on gpu, cpu and serial under e
     const auto [cpu, gpu] = on_cpu_and_gpu(o);
     REQUIRE(gpu.lattice == cpu.lattice);
     CHECK(test::judge(gpu, *o.sizing).uncovered == 0);
+    // A triangle wave: kinked cells along each of its three kinks, which the device's kernels read
+    // as the host does.
+    SampleOptions wave = field_options("0.004 + 0.02*abs(abs(x - 0.5) - 0.25)", SizingRule::Smaller, Boundary::Free, 4);
+    REQUIRE(detail::tabulate(*wave.sizing, wave.box).kink_count > 0);
+    const auto [wave_cpu, wave_gpu] = on_cpu_and_gpu(wave);
+    REQUIRE(wave_cpu.size() > 1000);
+    CHECK(wave_gpu.lattice == wave_cpu.lattice);
 }
 
 TEST_CASE("darts crowding the leaves where r is large resolve on gpu as on cpu, within lavapipe's budget",
@@ -170,7 +177,7 @@ TEST_CASE("a field kernel's search past its step budget stops the run with one l
     // round's searches pass it, and the run must say so rather than give other points.
     const SampleOptions o = field_options("0.01 + 0.05*x", SizingRule::Bigger, Boundary::Free, 1);
     const detail::FieldTable t = detail::tabulate(*o.sizing, o.box);
-    detail::FieldDevice tight(o, 40);
+    detail::FieldDevice tight(o, t, 40);
     try {
         tight.run(t, 1u << 24, {}, 0);
         FAIL("the run passed its budget without an error");
@@ -180,7 +187,7 @@ TEST_CASE("a field kernel's search past its step budget stops the run with one l
         CHECK(what.find('\n') == std::string::npos);
     }
     // With the device's own budget the same field samples.
-    detail::FieldDevice own(o);
+    detail::FieldDevice own(o, t);
     CHECK(own.run(t, 1u << 24, {}, 0).size() > 100);
 }
 
@@ -190,7 +197,7 @@ TEST_CASE("a sizing field's dispatches and passes longer than a row of workgroup
     // takes several, and the points must be the cpu backend's.
     const SampleOptions o = field_options("0.01 + 0.05*x", SizingRule::Bigger, Boundary::Free, 1);
     const detail::FieldTable t = detail::tabulate(*o.sizing, o.box);
-    detail::FieldDevice one_group(o, 0, 1);
+    detail::FieldDevice one_group(o, t, 0, 1);
     const Sampling s = one_group.run(t, 1u << 24, {}, 0);
     const Sampling expected = sample(o);
     CHECK(s.size() > 1000);

@@ -1,6 +1,6 @@
-// A sizing field's kinked cells (field/table.h): where the source's one kink (an abs, min or max)
-// crosses a table cell, the cell is the least or greatest of its two branches' interpolants, so
-// the table follows the kink as closely as it follows a smooth field.
+// A sizing field's kinked cells (field/table.h): where one of the source's kinks (an abs, min or
+// max, two a clamp) crosses a table cell, the cell is the least or greatest of its two branches'
+// interpolants, so the table follows the kink as closely as it follows a smooth field.
 #include <catch2/catch.hpp>
 
 #include <algorithm>
@@ -103,13 +103,49 @@ TEST_CASE("kinked cells follow a kink: within the target without patches, contin
         CHECK(one.kinked == t.kinked);
         CHECK(one.nodes == t.nodes);
     }
-    // Without kinked cells (plain nodes, patched along the kink) the same ridge takes thousands
-    // of splits: two kinks, one of them past the box.
+    // A second kink (past the box here) leaves the cells the first crosses kinked.
     Sizing two;
     two.expression = "0.01 + 0.05*abs(x - 0.3) + 0.0001*abs(y - 2)";
+    const detail::FieldTable both = detail::tabulate(two, {1, 1, Boundary::Free}, 2);
+    CHECK(both.kink_count > 0);
+    CHECK(both.patch_count == 0);
+    CHECK(both.tabulation_error <= 0.00075);
+    // Where two kinks cross, the cells around the crossing take both: without kinked cells (plain
+    // nodes, patched along the kinks) the same ridge takes thousands of splits.
+    two.expression = "0.01 + 0.05*abs(x - 0.3) + 0.0001*abs(y - 0.5)";
     const detail::FieldTable patched = detail::tabulate(two, {1, 1, Boundary::Free}, 2);
     CHECK(patched.kink_count == 0);
     CHECK(patched.splits.size() > 500);
+}
+
+TEST_CASE("kinked cells follow each of several kinks that do not cross", "[field]") {
+    // A triangle wave (nested abs: kinks at x = 0.25, 0.5 and 0.75) and a clamped ramp (a clamp's
+    // two kinks), whose branches are linear, so that the kinked cells take them exactly, and a
+    // disk's radius capped and floored (two circles): kinked cells along each kink, no patches.
+    struct Case {
+        const char* expression;
+        Box box;
+        double error;  // the most the table may stray by its measure (at random points its
+                       // rounding to lattice units adds about 1e-4)
+    };
+    for (const Case& c : {Case{"0.003 + 0.01*abs(abs(x - 0.5) - 0.25)", {1, 1, Boundary::Free}, 1e-9},
+                          Case{"clamp(0.002 + 0.03*x, 0.006, 0.02)", {1, 1, Boundary::Free}, 1e-9},
+                          Case{"max(0.003, min(0.02, 0.03*d))", {1, 1, Boundary::Free}, 0.00075}}) {
+        INFO(c.expression);
+        Sizing s;
+        s.expression = c.expression;
+        const detail::FieldTable t = detail::tabulate(s, c.box, 2);
+        CHECK(t.kink_count > 0);
+        CHECK(t.patch_count == 0);
+        CHECK(t.tabulation_error <= c.error);
+        const SizingExpression source(c.expression);
+        CHECK(measured_error(
+                  t, [&](double x, double y) { return source(x, y, c.box); }, 100000) <= 0.001);
+        CHECK(worst_kinked_step(t) <= std::int64_t(std::ceil(t.lipschitz)) + 2);
+        const detail::FieldTable one = detail::tabulate(s, c.box, 1);
+        CHECK(one.kinks == t.kinks);
+        CHECK(one.nodes == t.nodes);
+    }
 }
 
 TEST_CASE("a table takes no kinked cells where the branches cannot make it", "[field]") {

@@ -1,6 +1,6 @@
 // Sizing fields (paper section 5): the expression language against direct evaluation, its errors
 // with their positions, the field's range and Lipschitz constant, and the checker's four rules on
-// hand-made pairs whose verdict each rule decides differently; an expression's one kink's two
+// hand-made pairs whose verdict each rule decides differently; an expression's kinks and its
 // branches.
 #include <catch2/catch.hpp>
 
@@ -343,37 +343,70 @@ TEST_CASE("Table 1 measured: Delaunay edges and angles within each rule's bounds
     }
 }
 
-TEST_CASE("an expression's one kink gives two branches, one of which is its value at every point", "[field]") {
+TEST_CASE("an expression's kinks give its branches, one of which is its value at every point", "[field]") {
     const Box box{1.5, 1, Boundary::Periodic};
-    for (const std::string text : {"0.01 + 0.05*abs(x - 0.3)", "0.05 - 0.04*abs(sin(7*d))", "min(0.02, 0.01 + x*y)",
-                                   "max(0.3*x, 0.1*y) + 0.01", "0.02 + max(x - 0.5, 0)*0.1", "1/min(3*x + 1, 2)"}) {
+    std::mt19937_64 rng(7);
+    std::vector<double> x(1000), y(1000);
+    for (std::size_t i = 0; i < x.size(); ++i)
+        x[i] = box.width * double(rng() % 4096) / 4096, y[i] = box.height * double(rng() % 4096) / 4096;
+    // Each expression with the expressions of its branches, by mask (kink k is bit k, in program
+    // order; a clamp's max, then its min).
+    const std::vector<std::pair<std::string, std::vector<std::string>>> cases = {
+        {"0.01 + 0.05*abs(x - 0.3)", {"0.01 + 0.05*(x - 0.3)", "0.01 + 0.05*(-(x - 0.3))"}},
+        {"0.05 - 0.04*abs(sin(7*d))", {"0.05 - 0.04*sin(7*d)", "0.05 - 0.04*(-sin(7*d))"}},
+        {"min(0.02, 0.01 + x*y)", {"0.02", "0.01 + x*y"}},
+        {"max(0.3*x, 0.1*y) + 0.01", {"0.3*x + 0.01", "0.1*y + 0.01"}},
+        {"0.02 + max(x - 0.5, 0)*0.1", {"0.02 + (x - 0.5)*0.1", "0.02 + 0*0.1"}},
+        {"1/min(3*x + 1, 2)", {"1/(3*x + 1)", "1/2"}},
+        {"clamp(0.01*(1 + sin(9*x*y)), 0.005, 0.015)", {"0.01*(1 + sin(9*x*y))", "0.005", "0.015", "0.015"}},
+        {"0.01 + 0.05*abs(x - 0.7) + 0.02*abs(y - 0.6)",
+         {"0.01 + 0.05*(x - 0.7) + 0.02*(y - 0.6)", "0.01 + 0.05*(-(x - 0.7)) + 0.02*(y - 0.6)",
+          "0.01 + 0.05*(x - 0.7) + 0.02*(-(y - 0.6))", "0.01 + 0.05*(-(x - 0.7)) + 0.02*(-(y - 0.6))"}},
+        {"min(abs(x - 0.5), 0.2) + 0.01", {"(x - 0.5) + 0.01", "-(x - 0.5) + 0.01", "0.2 + 0.01", "0.2 + 0.01"}},
+    };
+    for (const auto& [text, branches] : cases) {
         INFO(text);
         const SizingExpression e(text);
         REQUIRE(e.kinked());
-        std::mt19937_64 rng(7);
-        std::vector<double> x(1000), y(1000), a(1000), b(1000), plain(1000);
-        std::vector<std::uint8_t> second(1000);
-        for (std::size_t i = 0; i < x.size(); ++i)
-            x[i] = box.width * double(rng() % 4096) / 4096, y[i] = box.height * double(rng() % 4096) / 4096;
-        e.branches(x.data(), y.data(), a.data(), b.data(), second.data(), x.size(), box);
+        REQUIRE(std::size_t(1) << e.kinks() == branches.size());
+        std::vector<double> plain(x.size()), taken(x.size()), forced(x.size()), expected(x.size());
+        std::vector<std::uint8_t> mask(x.size());
         e(x.data(), y.data(), plain.data(), x.size(), box);
-        // `taken`: the plain values, bit for bit, and the same branches.
-        std::vector<double> taken(x.size());
-        std::vector<std::uint8_t> taken_second(x.size());
-        e.taken(x.data(), y.data(), taken.data(), taken_second.data(), x.size(), box);
-        std::size_t seconds = 0;
+        e.taken(x.data(), y.data(), taken.data(), mask.data(), x.size(), box);
+        // `taken`: the plain values, bit for bit, and the branch of the mask each point takes.
+        std::vector<std::size_t> takes(branches.size(), 0);
         for (std::size_t i = 0; i < x.size(); ++i) {
-            REQUIRE((second[i] ? b[i] : a[i]) == plain[i]);
             REQUIRE(std::memcmp(&taken[i], &plain[i], sizeof(double)) == 0);
-            REQUIRE(taken_second[i] == second[i]);
-            seconds += second[i];
+            REQUIRE(mask[i] < branches.size());
+            ++takes[mask[i]];
+            const double branch = SizingExpression(branches[mask[i]])(x[i], y[i], box);
+            REQUIRE(plain[i] == Approx(branch).epsilon(1e-12).margin(1e-15));
         }
-        // Both branches are taken somewhere in the box.
-        CHECK(seconds > 0);
-        CHECK(seconds < x.size());
+        // Every branch is the plain value somewhere (a clamp's two kinks never take their second
+        // branches both).
+        for (std::size_t m = 0; m < branches.size(); ++m)
+            if (!(text.starts_with("clamp") && m == 3)) CHECK(takes[m] > 0);
+        // `forced`: each mask's branch at every point, the taken one the plain value.
+        for (std::size_t m = 0; m < branches.size(); ++m) {
+            const std::vector<std::uint8_t> all(x.size(), std::uint8_t(m));
+            e.forced(x.data(), y.data(), forced.data(), all.data(), x.size(), box);
+            const SizingExpression branch(branches[m]);
+            branch(x.data(), y.data(), expected.data(), x.size(), box);
+            for (std::size_t i = 0; i < x.size(); ++i) {
+                REQUIRE(forced[i] == Approx(expected[i]).epsilon(1e-12).margin(1e-15));
+                if (mask[i] == m) REQUIRE(forced[i] == plain[i]);
+            }
+        }
     }
-    // No kink, two, or a clamp's: no branches.
-    for (const std::string text : {"0.01 + 0.02*x", "0.01 + 0.05*abs(x - 0.3) + 0.02*abs(y - 0.6)",
-                                   "clamp(x, 0.01, 0.02)", "0.01 + abs(-0.3)*x", "min(abs(x - 0.5), 0.2) + 0.01"})
+    // No kink, or more than kMaxKinks: no branches.
+    for (const std::string text :
+         {"0.01 + 0.02*x", "0.01 + abs(-0.3)*x", "min(0.2, 0.3) + x",
+          "0.1 + abs(x - 0.1) + abs(x - 0.2) + abs(x - 0.3) + abs(x - 0.4) + clamp(y, 0.1, 0.2) + min(x, y) + "
+          "max(x, y)"}) {
+        INFO(text);
         CHECK_FALSE(SizingExpression(text).kinked());
+    }
+    CHECK(SizingExpression(
+              "0.1 + abs(x - 0.1) + abs(x - 0.2) + abs(x - 0.3) + clamp(y, 0.1, 0.2) + min(x, y) + max(x, y)")
+              .kinks() == SizingExpression::kMaxKinks);
 }

@@ -34,18 +34,25 @@ public:
     // runs over a batch of points, so its dispatch is paid once per batch, not once per point.
     void operator()(const double* x, const double* y, double* out, std::size_t n, const Box& box) const;
     const std::string& text() const { return text_; }
-    // Whether the program has one kink, the one step where its value can bend (an abs, min or
-    // max not on constants alone), and no clamp: then its value is one of two smooth branches.
-    bool kinked() const { return kink_ >= 0; }
-    // The two branches of the kink at n points: a[i] with the kink's first branch taken (abs: its
-    // argument; min and max: their first operand), b[i] with its second (abs: the argument
-    // negated; min and max: the second operand), and second[i] = 1 where the plain evaluation
-    // takes the second (so that its value is b[i], else a[i]). Requires kinked().
-    void branches(const double* x, const double* y, double* a, double* b, std::uint8_t* second, std::size_t n,
-                  const Box& box) const;
-    // The plain values at n points, bit for bit operator()'s, and `second` as branches gives it.
-    void taken(const double* x, const double* y, double* out, std::uint8_t* second, std::size_t n,
-               const Box& box) const;
+    // The most kinks a field's branches are told apart by (see kinked); a branch mask has a bit
+    // each, and the masks stay below 0xff.
+    static constexpr std::size_t kMaxKinks = 7;
+    // Whether the program has from one to kMaxKinks kinks, the steps where its value can bend (an
+    // abs, min or max not on constants alone; a clamp is two, its max and then its min): then its
+    // value at each point is one of its smooth branches, the program with each kink's branch
+    // fixed. Kink k (in program order) is bit k of a branch mask: 0 its first branch (abs: its
+    // argument; min and max: their first operand), 1 its second (abs: the argument negated; min
+    // and max: the second operand).
+    bool kinked() const { return kinks_ >= 1 && kinks_ <= kMaxKinks; }
+    std::size_t kinks() const { return kinks_; }
+    // The plain values at n points, bit for bit operator()'s, and in mask[i] the branch each kink
+    // takes there (std::abs(v) is -v where v < 0, std::min(a, b) is b where b < a, std::max(a, b)
+    // is b where a < b). Requires kinked().
+    void taken(const double* x, const double* y, double* out, std::uint8_t* mask, std::size_t n, const Box& box) const;
+    // The branch mask[i] gives at each of n points: every kink takes the branch of its bit.
+    // Requires kinked().
+    void forced(const double* x, const double* y, double* out, const std::uint8_t* mask, std::size_t n,
+                const Box& box) const;
 
     // In this order: the values, then the binary operators, then the rest (the stack depth relies on it).
     enum class Op : std::uint8_t {
@@ -60,19 +67,18 @@ public:
     };
 
 private:
-    // With `branch` 0 or 1 the kink step takes that branch, and second[i] says which the plain
-    // evaluation takes; with -1 every step is the plain one, the kink's saying so too where
-    // `second` is given.
+    // Runs the program over m <= stride points (see the definition). With `force`, each kink takes
+    // the branch its bit there gives; with `mask`, the branches the kinks take are written there.
     void run(const double* x, const double* y, double* out, std::size_t m, std::size_t stride, double* stack,
-             const Box& box, int branch = -1, std::uint8_t* second = nullptr) const;
+             const Box& box, const std::uint8_t* force = nullptr, std::uint8_t* mask = nullptr) const;
     // run over n points in batches, each step over a batch before the next.
-    void batched(const double* x, const double* y, double* out, std::size_t n, const Box& box, int branch,
-                 std::uint8_t* second) const;
+    void batched(const double* x, const double* y, double* out, std::size_t n, const Box& box,
+                 const std::uint8_t* force, std::uint8_t* mask) const;
 
     std::string text_;
     std::vector<Step> program_;
     std::size_t depth_ = 0;  // the stack the program needs
-    std::ptrdiff_t kink_ = -1;  // the kink's step, or -1
+    std::size_t kinks_ = 0;  // the kinks' bits (a clamp has two)
 };
 
 // The field a run of `sizing` over `box` samples (vrpd.h, Sizing): its source tabulated in fixed

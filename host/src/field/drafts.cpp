@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 
 namespace vrpd::detail {
@@ -17,21 +18,21 @@ double node_coordinate(std::int64_t i, std::int64_t n, bool periodic, double h) 
     return double(periodic && i == n ? 0 : i) * h;
 }
 
-// Whether the kink crosses the cell whose lower left node is `at` in rows of `row` nodes: the
-// source takes both branches at its corners.
-bool takes_both(const Bytes& second, std::size_t at, std::size_t row) {
-    const std::uint8_t s0 = second[at];
-    return second[at + 1] != s0 || second[at + row] != s0 || second[at + row + 1] != s0;
+// The kinks that cross the cell whose lower left node is `at` in rows of `row` nodes: the bits in
+// which the branch masks at its corners differ (0: the source takes one branch at all four).
+std::uint8_t crossing(const Bytes& mask, std::size_t at, std::size_t row) {
+    const std::uint8_t m0 = mask[at];
+    return std::uint8_t((mask[at + 1] ^ m0) | (mask[at + row] ^ m0) | (mask[at + row + 1] ^ m0));
 }
 
 // Fills entries first, first + step, ... of row j of the nodes of n_x x n_y cells of side h. On a
 // torus the last row and column are the first: the field wraps. Inside the box a node is the
 // source there, checked; past a free box's edge, the source there if it is a radius, else its
-// value at the edge. With branches g, `second` (as `row`) gets which branch of the kink the
-// source takes; a node that takes the source at the edge takes neither (0, its value on both).
+// value at the edge. With branches g, `mask` (as `row`) gets the branch the source takes; a node
+// that takes the source at the edge takes none (mask 0, its value on every branch).
 void fill_nodes(const FieldSource& f, const FieldBranches& g, const Box& box, bool periodic, std::uint32_t n_x,
                 std::uint32_t n_y, double h, std::size_t j, std::uint32_t first, std::uint32_t step, double* row,
-                std::uint8_t* second) {
+                std::uint8_t* mask) {
     const double y = node_coordinate(std::int64_t(j), n_y, periodic, h);
     std::vector<double> xs, ys, vs;
     std::vector<std::uint8_t> takes;
@@ -47,39 +48,49 @@ void fill_nodes(const FieldSource& f, const FieldBranches& g, const Box& box, bo
     for (std::size_t k = 0; k < xs.size(); ++k) {
         const double node = node_value(f, box, xs[k], y, vs[k]);
         row[first + k * step] = node;
-        if (g) second[first + k * step] = node == vs[k] ? takes[k] : 0;
+        if (g) mask[first + k * step] = node == vs[k] ? takes[k] : 0;
     }
 }
 
-// Sets `other` at the nodes of a draft's cells that the kink crosses (the source takes both
-// branches at their corners): the branch the source does not take there, or the node's own value
-// where it takes the source at a free box's edge (fill_nodes); by rows of nodes on the pool's
-// threads.
+// Sets `other` at the nodes of a draft's cells that a kink crosses (the source's branch masks
+// differ at their corners): the source with that kink's branch flipped, or the node's own value
+// where it takes the source at a free box's edge (fill_nodes); NaN, which cell_model takes for a
+// broken cell, where the cells around the node are crossed by more than one kink. By rows of
+// nodes on the pool's threads.
 void fill_others(ThreadPool& pool, const FieldBranches& g, bool periodic, std::uint32_t cells_x, std::uint32_t cells_y,
-                 double h, const Doubles& values, const Bytes& second, Doubles& other) {
+                 double h, const Doubles& values, const Bytes& mask, Doubles& other) {
     const std::size_t row = std::size_t(cells_x) + 1;
-    auto crossed = [&](std::int64_t i, std::int64_t j) {
-        if (i < 0 || j < 0 || i >= std::int64_t(cells_x) || j >= std::int64_t(cells_y)) return false;
-        return takes_both(second, std::size_t(j) * row + std::size_t(i), row);
+    auto crossed = [&](std::int64_t i, std::int64_t j) -> std::uint8_t {
+        if (i < 0 || j < 0 || i >= std::int64_t(cells_x) || j >= std::int64_t(cells_y)) return 0;
+        return crossing(mask, std::size_t(j) * row + std::size_t(i), row);
     };
     for_rows(pool, std::size_t(cells_y) + 1, [&](std::size_t jj) {
         const std::int64_t j = std::int64_t(jj);
         std::vector<std::size_t> at;
         std::vector<double> xs, ys;
-        for (std::int64_t i = 0; i <= std::int64_t(cells_x); ++i)
-            if (crossed(i - 1, j - 1) || crossed(i, j - 1) || crossed(i - 1, j) || crossed(i, j)) {
-                at.push_back(jj * row + std::size_t(i));
-                xs.push_back(node_coordinate(i, cells_x, periodic, h));
-                ys.push_back(node_coordinate(j, cells_y, periodic, h));
+        std::vector<std::uint8_t> own, flipped;
+        for (std::int64_t i = 0; i <= std::int64_t(cells_x); ++i) {
+            const std::uint8_t around[4] = {crossed(i - 1, j - 1), crossed(i, j - 1), crossed(i - 1, j), crossed(i, j)};
+            std::uint8_t kink = 0;  // the one kink crossing the cells around, or 0xff for more
+            for (const std::uint8_t c : around)
+                if (c != 0) kink = std::popcount(c) != 1 || (kink != 0 && kink != c) ? 0xff : c;
+            if (kink == 0) continue;
+            const std::size_t node = jj * row + std::size_t(i);
+            if (kink == 0xff) {
+                other[node] = NAN;
+                continue;
             }
-        if (at.empty()) return;
-        std::vector<double> as(at.size()), bs(at.size());
-        std::vector<std::uint8_t> takes(at.size());
-        g.both(xs.data(), ys.data(), as.data(), bs.data(), takes.data(), at.size());
-        for (std::size_t k = 0; k < at.size(); ++k) {
-            const double v = takes[k] ? bs[k] : as[k], node = values[at[k]];
-            other[at[k]] = node == v ? (takes[k] ? as[k] : bs[k]) : node;
+            at.push_back(node);
+            xs.push_back(node_coordinate(i, cells_x, periodic, h));
+            ys.push_back(node_coordinate(j, cells_y, periodic, h));
+            own.push_back(mask[node]);
+            flipped.push_back(std::uint8_t(mask[node] ^ kink));
         }
+        if (at.empty()) return;
+        std::vector<double> vs(at.size()), os(at.size());
+        g.forced(xs.data(), ys.data(), vs.data(), own.data(), at.size());
+        g.forced(xs.data(), ys.data(), os.data(), flipped.data(), at.size());
+        for (std::size_t k = 0; k < at.size(); ++k) other[at[k]] = values[at[k]] == vs[k] ? os[k] : values[at[k]];
     });
 }
 
@@ -149,10 +160,15 @@ inline double model_at(const CellModel& m, const double* n, std::size_t row, dou
 
 CellModel cell_model(const Draft& d, std::uint32_t i, std::uint32_t j) {
     CellModel m;
-    if (d.second.empty()) return m;
+    if (d.mask.empty()) return m;
     const std::size_t row = std::size_t(d.cells_x) + 1, at = std::size_t(j) * row + i;
     const std::size_t corner[4] = {at, at + 1, at + row, at + row + 1};
-    if (!takes_both(d.second, at, row)) return m;
+    const std::uint8_t kink = crossing(d.mask, at, row);
+    if (kink == 0) return m;
+    if (std::popcount(kink) != 1) {
+        m.join = kBroken;
+        return m;
+    }
     bool least = true, greatest = true;
     for (int c = 0; c < 4; ++c) {
         const double v = d.values[corner[c]], o = d.other[corner[c]];
@@ -162,8 +178,9 @@ CellModel cell_model(const Draft& d, std::uint32_t i, std::uint32_t j) {
         }
         least = least && v <= o;
         greatest = greatest && v >= o;
-        m.a[c] = d.second[corner[c]] ? o : v;
-        m.b[c] = d.second[corner[c]] ? v : o;
+        const bool second = (d.mask[corner[c]] & kink) != 0;
+        m.a[c] = second ? o : v;
+        m.b[c] = second ? v : o;
     }
     m.join = least ? kMin : greatest ? kMax : kBroken;
     return m;
@@ -203,35 +220,35 @@ Draft draft(ThreadPool& pool, const FieldSource& f, const FieldBranches& g, cons
     d.cells_y = cells_y;
     d.h = h;
     d.values = std::move(last.fine);
-    d.second = std::move(last.second_fine);
+    d.mask = std::move(last.mask_fine);
     const bool periodic = box.boundary == Boundary::Periodic;
     const std::size_t row = std::size_t(cells_x) + 1;
     if (d.values.empty()) {
         d.values.resize(row * (std::size_t(cells_y) + 1));
-        if (g) d.second.resize(d.values.size());
+        if (g) d.mask.resize(d.values.size());
         for_rows(pool, std::size_t(cells_y) + 1, [&](std::size_t j) {
             fill_nodes(f, g, box, periodic, cells_x, cells_y, h, j, 0, 1, &d.values[j * row],
-                       g ? &d.second[j * row] : nullptr);
+                       g ? &d.mask[j * row] : nullptr);
         });
     }
     if (g) {
         d.other.resize(d.values.size());
-        fill_others(pool, g, periodic, cells_x, cells_y, h, d.values, d.second, d.other);
+        fill_others(pool, g, periodic, cells_x, cells_y, h, d.values, d.mask, d.other);
     }
     // The halfway points: the nodes' rows with every other entry new, and the rows between them.
     const std::size_t fine_row = 2 * row - 1;
     d.fine.resize(fine_row * (2 * std::size_t(cells_y) + 1));
-    if (g) d.second_fine.resize(d.fine.size());
+    if (g) d.mask_fine.resize(d.fine.size());
     for_rows(pool, 2 * std::size_t(cells_y) + 1, [&](std::size_t j) {
         double* out = &d.fine[j * fine_row];
-        std::uint8_t* second = g ? &d.second_fine[j * fine_row] : nullptr;
+        std::uint8_t* mask = g ? &d.mask_fine[j * fine_row] : nullptr;
         const bool even = j % 2 == 0;
         if (even)
             for (std::size_t i = 0; i < row; ++i) {
                 out[2 * i] = d.values[j / 2 * row + i];
-                if (g) second[2 * i] = d.second[j / 2 * row + i];
+                if (g) mask[2 * i] = d.mask[j / 2 * row + i];
             }
-        fill_nodes(f, g, box, periodic, 2 * cells_x, 2 * cells_y, h / 2, j, even ? 1 : 0, even ? 2 : 1, out, second);
+        fill_nodes(f, g, box, periodic, 2 * cells_x, 2 * cells_y, h / 2, j, even ? 1 : 0, even ? 2 : 1, out, mask);
     });
     std::vector<double> error(cells_y, 0.0);  // per row, so that threads never share one
     std::vector<std::uint64_t> over(cells_y, 0);

@@ -26,20 +26,21 @@ struct Draft {
     double h = 0;
     Doubles values;
     Doubles fine;  // (2 cells_x + 1) x (2 cells_y + 1), at spacing h / 2
-    // With the source's branches (one kink): whether the branch the source takes is the second,
-    // beside each value, and at the corners of the cells the kink crosses, the branch it does not
-    // take (`other`, as `values`; elsewhere unset). Empty without them.
-    Bytes second, second_fine;
+    // With the source's branches (kinks): the branch mask the source takes beside each value,
+    // and at the corners of the cells a kink crosses, the source on that kink's other branch
+    // (`other`, as `values`; elsewhere unset). Empty without them.
+    Bytes mask, mask_fine;
     Doubles other;
     double error = 0;
     std::uint64_t over = 0;  // the points where the error is past the target
-    bool broken = false;     // a cell the kink crosses is no join of its branches (cell_model)
+    bool broken = false;     // a cell a kink crosses is no join of its branches (cell_model)
 };
 
 // How the table interpolates a draft's cell: its nodes (kPlain), or the least (kMin) or greatest
-// (kMax) of its branches' interpolants where the kink crosses it (the source takes both branches
-// at its corners) and the source is that join of them at every corner, each branch a radius
-// there. kBroken: the kink crosses it otherwise; the table then takes no branches.
+// (kMax) of its branches' interpolants where one kink crosses it (the source's branch masks at
+// its corners differ in that kink's bit alone) and the source is that join of them at every
+// corner, each branch a radius there. kBroken: kinks cross it otherwise; the table then takes no
+// branches.
 enum Join : int { kPlain = -1, kMin = int(shared::FIELD_KINK_MIN), kMax = int(shared::FIELD_KINK_MAX), kBroken = 2 };
 struct CellModel {
     int join = kPlain;
@@ -57,7 +58,7 @@ void for_rows(ThreadPool& pool, std::size_t n, const std::function<void(std::siz
 std::vector<double> cell_errors(ThreadPool& pool, const FieldSource& f, const Box& box, const Draft& d);
 
 // The draft of cells_x x cells_y cells of side h, from its nodes if the last draft's `fine` holds
-// them (with branches g, the last draft's `second_fine` too).
+// them (with branches g, the last draft's `mask_fine` too).
 Draft draft(ThreadPool& pool, const FieldSource& f, const FieldBranches& g, const Box& box, std::uint32_t cells_x,
             std::uint32_t cells_y, double h, Draft last);
 

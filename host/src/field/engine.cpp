@@ -364,7 +364,7 @@ Sampling sample_field(const SampleOptions& o, const FieldTable& t) {
     if (steps.size() > 1) pool.emplace(o.backend == Backend::Serial ? 1 : o.threads);
     // On a Vulkan device, one context and its kernels serve every level.
     std::optional<FieldDevice> device;
-    if (o.backend == Backend::Gpu) device.emplace(o);
+    if (o.backend == Backend::Gpu) device.emplace(o, t);
     std::string host;  // the host sampler's name, without a device
     for (std::size_t k = 0; k < steps.size(); ++k) {
         const auto [birth, scale] = steps[k];

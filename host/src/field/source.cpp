@@ -153,11 +153,11 @@ FieldBranches field_branches(const Sizing& s, const Box& box) {
     if (s.expression.empty()) return {};
     auto expr = std::make_shared<SizingExpression>(s.expression);
     if (!expr->kinked()) return {};
-    return {[expr, box](const double* x, const double* y, double* out, std::uint8_t* second, std::size_t n) {
-                expr->taken(x, y, out, second, n, box);
+    return {[expr, box](const double* x, const double* y, double* out, std::uint8_t* mask, std::size_t n) {
+                expr->taken(x, y, out, mask, n, box);
             },
-            [expr, box](const double* x, const double* y, double* a, double* b, std::uint8_t* second, std::size_t n) {
-                expr->branches(x, y, a, b, second, n, box);
+            [expr, box](const double* x, const double* y, double* out, const std::uint8_t* mask, std::size_t n) {
+                expr->forced(x, y, out, mask, n, box);
             }};
 }
 

@@ -20,18 +20,17 @@ namespace vrpd::detail {
 
 // A sizing field's source over points of the box: out[i] = r(x[i], y[i]) for i < n; throws nothing.
 using FieldSource = std::function<void(const double* x, const double* y, double* out, std::size_t n)>;
-// A source with one kink at points of the box: its values and which branch of the kink each
-// takes (SizingExpression::taken), and both branches (SizingExpression::branches).
+// A source with kinks at points of the box (SizingExpression::kinked): its values and the branch
+// mask each takes (SizingExpression::taken), and the branch a mask gives (SizingExpression::forced).
 struct FieldBranches {
-    std::function<void(const double* x, const double* y, double* out, std::uint8_t* second, std::size_t n)> taken;
-    std::function<void(const double* x, const double* y, double* a, double* b, std::uint8_t* second, std::size_t n)>
-        both;
+    std::function<void(const double* x, const double* y, double* out, std::uint8_t* mask, std::size_t n)> taken;
+    std::function<void(const double* x, const double* y, double* out, const std::uint8_t* mask, std::size_t n)> forced;
     explicit operator bool() const { return bool(taken); }
 };
 
 // The source a Sizing names: its expression, or its image (loaded, checked greyscale), over the box.
 FieldSource field_source(const Sizing& sizing, const Box& box);
-// Its branches where it is an expression with one kink (SizingExpression::kinked), else empty.
+// Its branches where it is an expression with kinks (SizingExpression::kinked), else empty.
 FieldBranches field_branches(const Sizing& sizing, const Box& box);
 
 // A table's data; FieldTable adds the view of its vectors that the lookups read.

@@ -298,20 +298,17 @@ SizingExpression::SizingExpression(std::string text) : text_(std::move(text)), p
     }
     if (depth_ > kMaxStack) throw Error("sizing expression: too deeply nested to evaluate");
     // Folding left no abs, min or max on constants alone, so each of these steps can bend.
-    std::size_t kinks = 0;
-    for (std::size_t k = 0; k < program_.size(); ++k) {
-        const Op op = program_[k].op;
-        if (op == Op::Clamp) kinks += 2;
-        if (op == Op::Abs || op == Op::Min || op == Op::Max) ++kinks, kink_ = std::ptrdiff_t(k);
+    for (const Step& s : program_) {
+        if (s.op == Op::Clamp) kinks_ += 2;
+        if (s.op == Op::Abs || s.op == Op::Min || s.op == Op::Max) ++kinks_;
     }
-    if (kinks != 1) kink_ = -1;
 }
 
 // Runs the program over m <= stride points: stack entry k of point i is stack[k * stride + i].
 // Each step runs over all the points before the next, so its dispatch is paid once per batch;
 // every point's arithmetic is the scalar evaluation's, in the same order.
 void SizingExpression::run(const double* x, const double* y, double* out, std::size_t m, std::size_t stride,
-                           double* stack, const Box& box, int branch, std::uint8_t* second) const {
+                           double* stack, const Box& box, const std::uint8_t* force, std::uint8_t* mask) const {
     std::size_t n = 0;  // entries on the stack
     auto row = [&](std::size_t k) { return stack + k * stride; };
     // A binary operator: both operands on the stack, or one of them the step's constant. Each
@@ -339,16 +336,19 @@ void SizingExpression::run(const double* x, const double* y, double* out, std::s
         double* a = row(n++);
         for (std::size_t i = 0; i < m; ++i) a[i] = value(i);
     };
-    // The kink with a branch forced, or plain (branch -1), saying which branch the plain one
-    // takes: std::abs(v) is -v where v < 0, std::min(a, b) is b where b < a, std::max(a, b) is b
-    // where a < b.
-    auto apply_kink = [&](const Step& s) {
+    // Kink `bit`, its branch forced or plain, writing the branch it takes into the mask where
+    // one is given: std::abs(v) is -v where v < 0, std::min(a, b) is b where b < a, std::max(a, b)
+    // is b where a < b.
+    auto takes_second = [&](std::size_t i, unsigned bit, bool plain) {
+        const bool second = force ? (force[i] >> bit & 1) != 0 : plain;
+        if (mask) mask[i] = std::uint8_t(mask[i] | unsigned(second) << bit);
+        return second;
+    };
+    auto apply_kink = [&](const Step& s, unsigned bit) {
         if (s.op == Op::Abs) {
             double* a = row(n - 1);
-            for (std::size_t i = 0; i < m; ++i) {
-                second[i] = a[i] < 0;
-                a[i] = branch == 1 ? -a[i] : branch == 0 ? a[i] : std::abs(a[i]);
-            }
+            for (std::size_t i = 0; i < m; ++i)
+                a[i] = takes_second(i, bit, a[i] < 0) ? -a[i] : force ? a[i] : std::abs(a[i]);  // abs(-0) is +0
             return;
         }
         if (s.constant == Constant::None) --n;
@@ -357,15 +357,33 @@ void SizingExpression::run(const double* x, const double* y, double* out, std::s
         for (std::size_t i = 0; i < m; ++i) {
             const double first = s.constant == Constant::Left ? s.value : a[i];
             const double other = s.constant == Constant::None ? b[i] : s.constant == Constant::Right ? s.value : a[i];
-            second[i] = s.op == Op::Min ? other < first : first < other;
-            a[i] = branch == 1 || (branch < 0 && second[i]) ? other : first;
+            a[i] = takes_second(i, bit, s.op == Op::Min ? other < first : first < other) ? other : first;
         }
     };
+    // A clamp's two kinks: std::max(v, lo), then std::min(that, hi).
+    auto apply_clamp = [&](unsigned bit) {
+        n -= 2;
+        double* a = row(n - 1);
+        const double *lo = row(n), *hi = row(n + 1);
+        for (std::size_t i = 0; i < m; ++i) {
+            const double low = takes_second(i, bit, a[i] < lo[i]) ? lo[i] : a[i];
+            a[i] = takes_second(i, bit + 1, hi[i] < low) ? hi[i] : low;
+        }
+    };
+    if (mask) std::fill(mask, mask + m, std::uint8_t(0));
+    unsigned bit = 0;  // the next kink's
     for (std::size_t k = 0; k < program_.size(); ++k) {
         const Step& s = program_[k];
-        if ((branch >= 0 || second) && std::ptrdiff_t(k) == kink_) {
-            apply_kink(s);
-            continue;
+        if (force || mask) {
+            if (s.op == Op::Abs || s.op == Op::Min || s.op == Op::Max) {
+                apply_kink(s, bit++);
+                continue;
+            }
+            if (s.op == Op::Clamp) {
+                apply_clamp(bit);
+                bit += 2;
+                continue;
+            }
         }
         switch (s.op) {
         case Op::Number: push([&](std::size_t) { return s.value; }); break;
@@ -442,28 +460,27 @@ double SizingExpression::operator()(double x, double y, const Box& box) const {
     return out;
 }
 
-void SizingExpression::batched(const double* x, const double* y, double* out, std::size_t n, const Box& box, int branch,
-                               std::uint8_t* second) const {
+void SizingExpression::batched(const double* x, const double* y, double* out, std::size_t n, const Box& box,
+                               const std::uint8_t* force, std::uint8_t* mask) const {
     constexpr std::size_t kBatch = 64;
     std::vector<double> stack(depth_ * kBatch);
     for (std::size_t first = 0; first < n; first += kBatch)
-        run(x + first, y + first, out + first, std::min(kBatch, n - first), kBatch, stack.data(), box, branch,
-            second ? second + first : nullptr);
+        run(x + first, y + first, out + first, std::min(kBatch, n - first), kBatch, stack.data(), box,
+            force ? force + first : nullptr, mask ? mask + first : nullptr);
 }
 
 void SizingExpression::operator()(const double* x, const double* y, double* out, std::size_t n, const Box& box) const {
-    batched(x, y, out, n, box, -1, nullptr);
+    batched(x, y, out, n, box, nullptr, nullptr);
 }
 
-void SizingExpression::taken(const double* x, const double* y, double* out, std::uint8_t* second, std::size_t n,
+void SizingExpression::taken(const double* x, const double* y, double* out, std::uint8_t* mask, std::size_t n,
                              const Box& box) const {
-    batched(x, y, out, n, box, -1, second);
+    batched(x, y, out, n, box, nullptr, mask);
 }
 
-void SizingExpression::branches(const double* x, const double* y, double* a, double* b, std::uint8_t* second,
-                                std::size_t n, const Box& box) const {
-    batched(x, y, a, n, box, 0, second);
-    batched(x, y, b, n, box, 1, second);
+void SizingExpression::forced(const double* x, const double* y, double* out, const std::uint8_t* mask, std::size_t n,
+                              const Box& box) const {
+    batched(x, y, out, n, box, mask, nullptr);
 }
 
 SizingRule parse_sizing_rule(const std::string& name) {

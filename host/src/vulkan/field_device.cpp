@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <stdexcept>
 
 #include "vulkan/field_engine.h"
 #include "vulkan/field_vulkan.h"
@@ -42,6 +43,8 @@ void FieldVulkan::place_given(const std::vector<glm::uvec2>& given, std::uint32_
 Sampling FieldVulkan::run(const FieldTable& table, const FieldQuadtree& tree, const std::vector<glm::uvec2>& given,
                           std::uint32_t first_round) {
     const auto start = std::chrono::steady_clock::now();
+    if (table.kink_count != 0 && !kinks_)
+        throw std::logic_error("a table with kinked cells on field kernels built without them");
     t_ = &table;
     tables_.clear();
     samples_ = darts_thrown_ = thrown_ = 0;
@@ -147,8 +150,9 @@ Sampling FieldVulkan::run(const FieldTable& table, const FieldQuadtree& tree, co
     return s;
 }
 
-FieldDevice::FieldDevice(const SampleOptions& o, std::uint32_t budget, std::uint32_t work_groups)
-    : impl_(std::make_unique<FieldVulkan>(o, budget, work_groups)), threads_(o.threads) {}
+FieldDevice::FieldDevice(const SampleOptions& o, const FieldTable& field, std::uint32_t budget,
+                         std::uint32_t work_groups)
+    : impl_(std::make_unique<FieldVulkan>(o, field.kink_count != 0, budget, work_groups)), threads_(o.threads) {}
 FieldDevice::~FieldDevice() = default;
 
 Sampling FieldDevice::run(const FieldTable& t, std::uint64_t max_leaves, const std::vector<glm::uvec2>& given,

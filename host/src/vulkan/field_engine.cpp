@@ -35,7 +35,6 @@
 #include "field_triage_kinks.h"
 #include "field_unmark.h"
 #include "field_unmark_kinks.h"
-#include "vrpd/sizing.h"
 #include "vulkan/field_vulkan.h"
 #include "work_args.h"
 
@@ -63,19 +62,15 @@ std::uint32_t FieldVulkan::variant_of(const SampleOptions& o) {
                          o.sizing->weighting == Weighting::Density);
 }
 
-bool FieldVulkan::may_kink(const Sizing& s) {
-    return s.lipschitz < 0 && !s.expression.empty() && SizingExpression(s.expression).kinked();
-}
-
 // The initializer of field kernel member name_: its build for kinked cells (NAME_kinks) where the
-// table may have them, in the run's variant.
+// tables have them, in the run's variant.
 #define VRPD_FIELD_KERNEL(name)                                                                                     \
     name##_(ctx_, #name, kinks_ ? spirv_words(spirv_##name##_kinks) : spirv_words(spirv_##name), sizeof(FieldArgs), \
             WORKGROUP_SIZE, variant_of(o))
 
-FieldVulkan::FieldVulkan(const SampleOptions& o, std::uint32_t budget, std::uint32_t work_groups)
+FieldVulkan::FieldVulkan(const SampleOptions& o, bool kinks, std::uint32_t budget, std::uint32_t work_groups)
     : o_(o),
-      kinks_(may_kink(*o.sizing)),
+      kinks_(kinks),
       lease_(o.device, o.vulkan),
       ctx_(lease_.get()),
       counters_(ctx_, FIELD_COUNTER_WORDS * 4, true),

@@ -22,8 +22,10 @@ public:
     // `budget`: the search steps an invocation may take (shared/field_search.h); 0 for the
     // device's own (6 000 on lavapipe, no limit elsewhere). `work_groups`: the most workgroups
     // in a row of a dispatch or a pass over a work list (work_args.comp); 0 for the least limit
-    // Vulkan allows.
-    explicit FieldDevice(const SampleOptions& o, std::uint32_t budget = 0, std::uint32_t work_groups = 0);
+    // Vulkan allows. Its kernels read kinked cells where `field` has them; the tables it runs
+    // have them where it does (a hierarchy's levels are `field` scaled).
+    FieldDevice(const SampleOptions& o, const FieldTable& field, std::uint32_t budget = 0,
+                std::uint32_t work_groups = 0);
     ~FieldDevice();
     // Samples the field t under the options' rule and weighting until maximal, from `given`
     // (lattice points, conflict-free under the rule: a hierarchy's earlier levels), first in the

@@ -27,8 +27,9 @@ namespace vrpd::detail {
 
 class FieldVulkan {
 public:
-    // On the options' device (or the application's); `budget`: FieldDevice's.
-    FieldVulkan(const SampleOptions& o, std::uint32_t budget, std::uint32_t work_groups);
+    // On the options' device (or the application's), its kernels the builds that read kinked
+    // cells where `kinks`; `budget`: FieldDevice's.
+    FieldVulkan(const SampleOptions& o, bool kinks, std::uint32_t budget, std::uint32_t work_groups);
 
     // One run (a hierarchy's level) on the field t and its leaves, from `given` (FieldDevice::run).
     Sampling run(const FieldTable& t, const FieldQuadtree& tree, const std::vector<glm::uvec2>& given,
@@ -38,9 +39,6 @@ public:
 private:
     // The kernels' variant (kernel.h) for the run's rule, box and weighting (shared/field_run.h).
     static std::uint32_t variant_of(const SampleOptions& o);
-    // Whether the table of s may have kinked cells (field/table.h): an expression with one kink,
-    // without --lipschitz.
-    static bool may_kink(const Sizing& s);
     // Counter slots of the scans' totals.
     static constexpr std::uint32_t kCellsTotal = shared::FIELD_COUNTER_TOTAL, kDartsTotal = kCellsTotal + 1,
                                    kKeptTotal = kCellsTotal + 2, kAcceptedTotal = kCellsTotal + 3,
@@ -109,7 +107,7 @@ private:
 
     const FieldTable* t_ = nullptr;  // the run's
     const SampleOptions& o_;
-    bool kinks_;  // the kernels read kinked cells (may_kink)
+    bool kinks_;  // the kernels read kinked cells
     ContextLease lease_;
     VulkanContext& ctx_;
     Buffer counters_;
