@@ -34,7 +34,7 @@ int halvings(double e, double t) {
 
 std::vector<PatchDraft> draft_patches(ThreadPool& pool, const FieldSource& f, const Box& box, const TableDraft& d,
                                       const std::vector<double>& cell_error, double target, std::uint64_t budget,
-                                      double& error) {
+                                      const std::vector<std::uint32_t>& fixed, double& error, bool& met_fixed) {
     const std::size_t cells = cell_error.size();
     // A kink's error halves with each level: a cell past the target by more than kMaxLevel halvings
     // (a jump, or a kink too sharp) is not patched, nor is the table.
@@ -168,6 +168,11 @@ std::vector<PatchDraft> draft_patches(ThreadPool& pool, const FieldSource& f, co
         forest.balance(work);
         if (forest.split_count > limit) return {};
         const std::size_t before = settled.size();
+        for (std::size_t p = before; p < forest.patches.size(); ++p)
+            if (std::binary_search(fixed.begin(), fixed.end(), forest.patches[p].cell)) {
+                met_fixed = true;
+                return {};
+            }
         settled.resize(forest.patches.size());
         dirty.assign(forest.patches.size(), 0);
         for (std::size_t p = before; p < settled.size(); ++p) dirty[p] = 1;

@@ -110,10 +110,12 @@ struct PatchDraft {
 // error at their own centre and edge midpoints does, neighbouring leaves at most one level apart,
 // and split further where continuity takes a leaf past the target. Within `budget` table words
 // (FIELD_SPLIT_WORDS a split), or none. Returns them in cell order; `error` (in: the table's error
-// without patches) becomes the patched table's.
+// without patches) becomes the patched table's. None, and `met_fixed` set, where a patch would
+// fall on one of the `fixed` cells (sorted: kinked cells, whose error is taken as 0 here, split
+// for the grading of patches beside them).
 std::vector<PatchDraft> draft_patches(ThreadPool& pool, const FieldSource& f, const Box& box, const TableDraft& d,
                                       const std::vector<double>& cell_error, double target, std::uint64_t budget,
-                                      double& error);
+                                      const std::vector<std::uint32_t>& fixed, double& error, bool& met_fixed);
 
 // Gives t (its lattice, quantum and nodes set) the patches' splits in lattice units, indexed by
 // cell, and their bounds.

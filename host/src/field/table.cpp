@@ -58,9 +58,9 @@ void require_memory(const char* what, double expected, double bytes_per_sample) 
 namespace {
 
 // The table of `s` over `box`, its kinked cells from the source's branches g (none if g is
-// empty). Empty where the branches fail it: a cell the kink crosses is no join of them, a patch
-// falls on a kinked cell, a branch passes the lattice's radii, or the kinked cells take more
-// words than the patches' budget; the table without branches is then made instead.
+// empty). Empty where the branches fail it: a cell kinks cross is no join of them, a branch
+// passes the lattice's radii, or the kinked cells take more words than the patches' budget; the
+// table without branches is then made instead.
 std::optional<FieldTable> tabulate_with(const Sizing& s, const Box& box, unsigned threads, const FieldBranches& g) {
     const BlocksReleased released;  // the drafts' blocks, once the drafts are gone
     if (s.lipschitz != -1 && !(std::isfinite(s.lipschitz) && s.lipschitz >= 0))
@@ -150,26 +150,40 @@ std::optional<FieldTable> tabulate_with(const Sizing& s, const Box& box, unsigne
         for (std::uint32_t j = 0; j < d.cells_y; ++j)
             for (std::uint32_t i = 0; i < d.cells_x; ++i)
                 if (cell_model(d, i, j).join != kPlain) kinked.push_back(j * d.cells_x + i);
-    double budget = std::max(s.table_budget * samples, double(kMinPatchWords));
-    budget -= double(kinked.size()) * shared::FIELD_KINK_WORDS;
-    if (budget < 0) return std::nullopt;
     // Patches where the table strays from the source past the target (a kink the cells do not
     // take as kinked, or a bend), within their own budget of table words; none under --lipschitz,
     // whose field is the table's nodes themselves, nor on a kinked cell. Where they cannot reach
     // the target within it, the least target they reach, from the target up by factors of 2^(1/4).
+    // Where a patch would fall on a kinked cell (the grading of patches beside it), the draft's
+    // cells are all taken plain and patched again: patches and kinked cells meet only where the
+    // patches' leaves beside a kinked cell are at most one level below it.
     double error = d.error;
     std::vector<PatchDraft> patches;
-    if (s.lipschitz < 0 && d.error > kTargetError) {
+    const bool patched = s.lipschitz < 0 && d.error > kTargetError;
+    std::vector<double> cell_error;
+    if (patched) cell_error = cell_errors(pool, f, box, d);
+    for (;;) {
+        double budget = std::max(s.table_budget * samples, double(kMinPatchWords));
+        budget -= double(kinked.size()) * shared::FIELD_KINK_WORDS;
+        if (budget < 0) return std::nullopt;
+        if (!patched) break;
         const TableDraft view{d.values.data(), d.fine.data(), d.cells_x, d.cells_y, d.h};
-        std::vector<double> cell_error = cell_errors(pool, f, box, d);
+        std::vector<double> unkinked = cell_error;
         double kinked_error = 0;
-        for (std::uint32_t c : kinked) kinked_error = std::max(kinked_error, cell_error[c]), cell_error[c] = 0;
-        const double rest = *std::max_element(cell_error.begin(), cell_error.end());
-        for (double target = kTargetError; patches.empty() && target < rest; target *= std::sqrt(std::sqrt(2.0)))
-            patches = draft_patches(pool, f, box, view, cell_error, target, std::uint64_t(budget), error);
+        for (std::uint32_t c : kinked) kinked_error = std::max(kinked_error, unkinked[c]), unkinked[c] = 0;
+        const double rest = *std::max_element(unkinked.begin(), unkinked.end());
+        bool met_kinked = false;
+        for (double target = kTargetError; patches.empty() && !met_kinked && target < rest;
+             target *= std::sqrt(std::sqrt(2.0)))
+            patches =
+                draft_patches(pool, f, box, view, unkinked, target, std::uint64_t(budget), kinked, error, met_kinked);
         if (!patches.empty()) error = std::max(error, kinked_error);
-        for (const PatchDraft& p : patches)
-            if (std::binary_search(kinked.begin(), kinked.end(), p.cell)) return std::nullopt;
+        if (!met_kinked) break;
+        kinked.clear();
+        patches.clear();
+        Bytes().swap(d.mask);
+        cell_error = cell_errors(pool, f, box, d);
+        error = *std::max_element(cell_error.begin(), cell_error.end());
     }
     Doubles().swap(d.fine);
     if (lo == hi && std::all_of(d.values.begin(), d.values.end(), [&](double v) { return v == lo; })) t.constant = lo;
