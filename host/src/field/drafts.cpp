@@ -7,7 +7,6 @@
 
 #include <algorithm>
 #include <array>
-#include <bit>
 #include <cmath>
 
 namespace vrpd::detail {
@@ -24,6 +23,8 @@ std::uint8_t crossing(const Bytes& mask, std::size_t at, std::size_t row) {
     const std::uint8_t m0 = mask[at];
     return std::uint8_t((mask[at + 1] ^ m0) | (mask[at + row] ^ m0) | (mask[at + row + 1] ^ m0));
 }
+// Whether more than one bit of a crossing is set: more than one kink.
+bool several(std::uint8_t kinks) { return (kinks & (kinks - 1)) != 0; }
 
 // Fills entries first, first + step, ... of row j of the nodes of n_x x n_y cells of side h. On a
 // torus the last row and column are the first: the field wraps. Inside the box a node is the
@@ -73,7 +74,7 @@ void fill_others(ThreadPool& pool, const FieldBranches& g, bool periodic, std::u
             const std::uint8_t around[4] = {crossed(i - 1, j - 1), crossed(i, j - 1), crossed(i - 1, j), crossed(i, j)};
             std::uint8_t kink = 0;  // the one kink crossing the cells around, or 0xff for more
             for (const std::uint8_t c : around)
-                if (c != 0) kink = std::popcount(c) != 1 || (kink != 0 && kink != c) ? 0xff : c;
+                if (c != 0) kink = several(c) || (kink != 0 && kink != c) ? 0xff : c;
             if (kink == 0) continue;
             const std::size_t node = jj * row + std::size_t(i);
             if (kink == 0xff) {
@@ -165,7 +166,7 @@ CellModel cell_model(const Draft& d, std::uint32_t i, std::uint32_t j) {
     const std::size_t corner[4] = {at, at + 1, at + row, at + row + 1};
     const std::uint8_t kink = crossing(d.mask, at, row);
     if (kink == 0) return m;
-    if (std::popcount(kink) != 1) {
+    if (several(kink)) {
         m.join = kBroken;
         return m;
     }
