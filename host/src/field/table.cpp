@@ -150,40 +150,56 @@ std::optional<FieldTable> tabulate_with(const Sizing& s, const Box& box, unsigne
         for (std::uint32_t j = 0; j < d.cells_y; ++j)
             for (std::uint32_t i = 0; i < d.cells_x; ++i)
                 if (cell_model(d, i, j).join != kPlain) kinked.push_back(j * d.cells_x + i);
+    double budget = std::max(s.table_budget * samples, double(kMinPatchWords));
+    if (budget < double(kinked.size()) * shared::FIELD_KINK_WORDS) return std::nullopt;
     // Patches where the table strays from the source past the target (a kink the cells do not
     // take as kinked, or a bend), within their own budget of table words; none under --lipschitz,
     // whose field is the table's nodes themselves, nor on a kinked cell. Where they cannot reach
     // the target within it, the least target they reach, from the target up by factors of 2^(1/4).
-    // Where a patch would fall on a kinked cell (the grading of patches beside it), the draft's
-    // cells are all taken plain and patched again: patches and kinked cells meet only where the
-    // patches' leaves beside a kinked cell are at most one level below it.
+    // `unpatched`: the table's error without them, or negative to measure it.
+    struct Patched {
+        std::vector<PatchDraft> patches;
+        double error = 0;
+        double kinked_error = 0;  // the kinked cells' own
+        bool met_kinked = false;
+    };
+    auto patch = [&](const std::vector<std::uint32_t>& fixed, double unpatched) {
+        Patched out;
+        const TableDraft view{d.values.data(), d.fine.data(), d.cells_x, d.cells_y, d.h};
+        std::vector<double> cell_error = cell_errors(pool, f, box, d);
+        out.error = unpatched >= 0 ? unpatched : *std::max_element(cell_error.begin(), cell_error.end());
+        for (std::uint32_t c : fixed) out.kinked_error = std::max(out.kinked_error, cell_error[c]), cell_error[c] = 0;
+        const double rest = *std::max_element(cell_error.begin(), cell_error.end());
+        const auto words = std::uint64_t(budget - double(fixed.size()) * shared::FIELD_KINK_WORDS);
+        for (double target = kTargetError; out.patches.empty() && !out.met_kinked && target < rest;
+             target *= std::sqrt(std::sqrt(2.0)))
+            out.patches =
+                draft_patches(pool, f, box, view, cell_error, target, words, fixed, out.error, out.met_kinked);
+        if (!out.patches.empty()) out.error = std::max(out.error, out.kinked_error);
+        return out;
+    };
     double error = d.error;
     std::vector<PatchDraft> patches;
-    const bool patched = s.lipschitz < 0 && d.error > kTargetError;
-    std::vector<double> cell_error;
-    if (patched) cell_error = cell_errors(pool, f, box, d);
-    for (;;) {
-        double budget = std::max(s.table_budget * samples, double(kMinPatchWords));
-        budget -= double(kinked.size()) * shared::FIELD_KINK_WORDS;
-        if (budget < 0) return std::nullopt;
-        if (!patched) break;
-        const TableDraft view{d.values.data(), d.fine.data(), d.cells_x, d.cells_y, d.h};
-        std::vector<double> unkinked = cell_error;
-        double kinked_error = 0;
-        for (std::uint32_t c : kinked) kinked_error = std::max(kinked_error, unkinked[c]), unkinked[c] = 0;
-        const double rest = *std::max_element(unkinked.begin(), unkinked.end());
-        bool met_kinked = false;
-        for (double target = kTargetError; patches.empty() && !met_kinked && target < rest;
-             target *= std::sqrt(std::sqrt(2.0)))
-            patches =
-                draft_patches(pool, f, box, view, unkinked, target, std::uint64_t(budget), kinked, error, met_kinked);
-        if (!patches.empty()) error = std::max(error, kinked_error);
-        if (!met_kinked) break;
-        kinked.clear();
-        patches.clear();
-        Bytes().swap(d.mask);
-        cell_error = cell_errors(pool, f, box, d);
-        error = *std::max_element(cell_error.begin(), cell_error.end());
+    if (s.lipschitz < 0 && d.error > kTargetError) {
+        Patched best = patch(kinked, d.error);
+        // The same draft with every cell plain, where a patch would fall on a kinked cell (the
+        // grading of patches beside it: patches and kinked cells meet only where the patches'
+        // leaves beside a kinked cell are at most one level below it), or where the kinked cells
+        // stay past the target themselves (branches that bend within a cell, which they cannot
+        // refine); the closer table is kept.
+        if (!kinked.empty() && (best.met_kinked || (best.error > kTargetError && best.kinked_error > kTargetError))) {
+            Bytes mask = std::move(d.mask);
+            d.mask.clear();
+            Patched plain = patch({}, -1);
+            if (best.met_kinked || plain.error < best.error) {
+                best = std::move(plain);
+                kinked.clear();
+            } else {
+                d.mask = std::move(mask);
+            }
+        }
+        patches = std::move(best.patches);
+        error = best.error;
     }
     Doubles().swap(d.fine);
     if (lo == hi && std::all_of(d.values.begin(), d.values.end(), [&](double v) { return v == lo; })) t.constant = lo;
