@@ -348,7 +348,8 @@ void SizingExpression::run(const double* x, const double* y, double* out, std::s
         if (s.op == Op::Abs) {
             double* a = row(n - 1);
             for (std::size_t i = 0; i < m; ++i)
-                a[i] = takes_second(i, bit, a[i] < 0) ? -a[i] : force ? a[i] : std::abs(a[i]);  // abs(-0) is +0
+                // The first branch as std::abs gives it where it takes it: -0 + 0.0 is +0.
+                a[i] = takes_second(i, bit, a[i] < 0) ? -a[i] : force ? a[i] + 0.0 : std::abs(a[i]);
             return;
         }
         if (s.constant == Constant::None) --n;
