@@ -66,6 +66,19 @@ double measured_error(const detail::FieldTable& t, Source&& source, int n) {
     return worst;
 }
 
+// A kinked table t of s over box: within 0.1 % of the source at 100 000 random lattice points, no
+// step across a kinked cell's edge beyond its slope and rounding, and the same table on one thread.
+void check_kinked(const Sizing& s, const Box& box, const detail::FieldTable& t) {
+    const SizingExpression source(s.expression);
+    CHECK(measured_error(
+              t, [&](double x, double y) { return source(x, y, box); }, 100000) <= 0.001);
+    CHECK(worst_kinked_step(t) <= std::int64_t(std::ceil(t.lipschitz)) + 2);
+    const detail::FieldTable one = detail::tabulate(s, box, 1);
+    CHECK(one.kinks == t.kinks);
+    CHECK(one.kinked == t.kinked);
+    CHECK(one.nodes == t.nodes);
+}
+
 }  // namespace
 
 TEST_CASE("kinked cells follow a kink: within the target without patches, continuous, with the branches' L",
@@ -92,16 +105,8 @@ TEST_CASE("kinked cells follow a kink: within the target without patches, contin
         CHECK(t.patch_count == 0);
         CHECK(t.kinks[shared::FIELD_KINK_WORDS - 1] == c.join);
         CHECK(t.tabulation_error <= 0.00075);
-        const SizingExpression source(c.expression);
-        CHECK(measured_error(
-                  t, [&](double x, double y) { return source(x, y, c.box); }, 100000) <= 0.001);
         CHECK(t.lipschitz == Approx(c.lipschitz).epsilon(0.02));
-        CHECK(worst_kinked_step(t) <= std::int64_t(std::ceil(t.lipschitz)) + 2);
-        // The same table on one thread.
-        const detail::FieldTable one = detail::tabulate(s, c.box, 1);
-        CHECK(one.kinks == t.kinks);
-        CHECK(one.kinked == t.kinked);
-        CHECK(one.nodes == t.nodes);
+        check_kinked(s, c.box, t);
     }
     // A second kink (past the box here) leaves the cells the first crosses kinked.
     Sizing two;
@@ -138,13 +143,7 @@ TEST_CASE("kinked cells follow each of several kinks that do not cross", "[field
         CHECK(t.kink_count > 0);
         CHECK(t.patch_count == 0);
         CHECK(t.tabulation_error <= c.error);
-        const SizingExpression source(c.expression);
-        CHECK(measured_error(
-                  t, [&](double x, double y) { return source(x, y, c.box); }, 100000) <= 0.001);
-        CHECK(worst_kinked_step(t) <= std::int64_t(std::ceil(t.lipschitz)) + 2);
-        const detail::FieldTable one = detail::tabulate(s, c.box, 1);
-        CHECK(one.kinks == t.kinks);
-        CHECK(one.nodes == t.nodes);
+        check_kinked(s, c.box, t);
     }
 }
 
