@@ -46,7 +46,7 @@ VRPD_FN int computed_row_reach(Domain dom, int dy, int reach, uint64_t limit2) {
 // computed_row_reach for the conflict scans (inhibition2, conflict_reach), which the plan
 // stores in bits 24-31 of Radii::reach: 0 to MAX_REACH, since the centre column of a row within
 // the reach is always within it. Those scans run for every dart (and with one radius for every
-// cell test too): computing their rows costs (docs/performance.md).
+// cell test too), so each reads its rows' reach from the plan instead of a loop of gap tests.
 VRPD_FN int conflict_row(Radii r, int dy) { return int((r.reach >> (24u + 2u * uint(dy < 0 ? -dy : dy))) & 3u); }
 
 VRPD_FN int row_reach(Domain dom, int dy, int reach, uint64_t limit2) {

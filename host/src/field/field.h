@@ -26,7 +26,7 @@ void require_memory(const char* what, double expected, double bytes_per_sample);
 
 // Bytes per final sample that a continuous hierarchy's events hold at the peak: the leaves and
 // samples, the queue of blocks (about 10 a sample, 40 bytes each) and the table. Measured:
-// 463-602 under the four rules on the bench's sine at S = 4 (docs/performance.md).
+// 501-901 under the four rules on the bench's sine at S = 4 (docs/performance.md).
 inline constexpr double kContinuousBytesPerSample = 1200;
 
 // A continuous hierarchy's events (field/continuous.cpp): `samples`, a maximal sampling at S
