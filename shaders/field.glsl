@@ -79,6 +79,13 @@ uint field_scan_end(FieldWords scan, uint i, uint count, uint total) {
     return i + 1u < count ? scan.value[i + 1u] : total;
 }
 
+// Refinement: whether active cell i (of `count`) splits if it stays open: it took darts (its
+// range in the round's scanned dart counts `darts`, of total `total`, is not empty), or `flags`
+// holds FIELD_SPLIT_EVERY.
+bool field_splits(uint flags, FieldWords darts, uint i, uint count, uint total) {
+    return (flags & FIELD_SPLIT_EVERY) != 0u || field_scan_end(darts, i, count, total) > darts.value[i];
+}
+
 // A leaf's word in FieldRun::touched for round stamp k: 2 k + 1 where one of the round's samples
 // covers the whole leaf, else 2 k (field_touch.comp writes the larger one, by atomicMax).
 uint field_touch_word(uint k, bool whole) { return 2u * k + (whole ? 1u : 0u); }

@@ -9,9 +9,10 @@
 // constant leaves dead as if it were live.
 // Balancing splits the cells whose biased exponent is p2 or more (and whose side is above one
 // lattice unit); the children a sample covers drop. Refining takes one of the lists
-// field_triage.comp made (in target, dispatched by work_args.comp; p0 = 0 the cells that search
-// for a cover, p0 = 1 the others; p1 cells in all): it drops a cell that a sample of this round
-// covers, keeps one that took no dart (or of one lattice unit), and splits the others
+// field_triage.comp made (in target, dispatched by work_args.comp; p0's list 0 the cells that
+// search for a cover, list 1 the others, with FIELD_SPLIT_EVERY beside it; p1 cells in all): it
+// drops a cell that a sample of this round covers, keeps one of one lattice unit or, unless
+// every cell splits, one that took no dart, and splits the others
 // (words2: the round's dart counts, scanned; their total in p2; p3: the round's stamp in
 // FieldRun::touched).
 
@@ -20,9 +21,10 @@ void main() {
     uint i = field_item();
     if (i >= a.count) return;
 #else
+    uint list = a.p0 & 1u;
     uint k = work_item();
-    if (k >= FieldWords(a.counters).value[FIELD_COUNTER_WORK + 4u * a.p0 + 3u]) return;
-    uint i = FieldWords(a.target).value[field_search_slot(a.p0, k, a.p1)];
+    if (k >= FieldWords(a.counters).value[FIELD_COUNTER_WORK + 4u * list + 3u]) return;
+    uint i = FieldWords(a.target).value[field_search_slot(list, k, a.p1)];
 #endif
     FieldRun run = field_run();
     uvec4 cell = field_cell(run, a.cells, i);
@@ -32,8 +34,7 @@ void main() {
     if (cell.z > 0u && field_exponent(cell) >= a.p2)
         fate = FIELD_SPLIT | field_open_children(run, cell.xy, cell.z, budget);
 #else
-    FieldWords offsets = FieldWords(a.words2);
-    bool got = field_scan_end(offsets, i, a.p1, a.p2) > offsets.value[i];
+    bool splits = field_splits(a.p0, FieldWords(a.words2), i, a.p1, a.p2);
     uvec2 leaf = field_leaf_at(run.tree, cell.xy);
     // Only a cell smaller than its leaf searches for a cover by this round's samples (touched
     // this round, p3); field_triage.comp settled the others, and the cells whose leaf holds a
@@ -42,7 +43,7 @@ void main() {
     uvec2 far = field_far_corner(run.lattice, cell.xy, cell.z);
     if (near && field_covered(run, cell.xy, far, FIELD_FRESH, budget))
         fate = 0u;
-    else if (got && cell.z > 0u)
+    else if (splits && cell.z > 0u)
         fate = FIELD_SPLIT | field_open_children(run, cell.xy, cell.z, budget);
 #endif
     field_note_budget(budget);

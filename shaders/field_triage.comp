@@ -8,8 +8,9 @@
 // of this round's samples covers whole is covered; a cell that is its whole leaf, stamped but not
 // so, is covered by none of them. So only a smaller cell near this round's samples searches for a
 // cover (list 0, its length in counter slot FIELD_COUNTER_WORK + 3), and only a
-// cell that took darts and stays open searches for its children's covers to split (list 1, its
-// length in slot FIELD_COUNTER_WORK + 7; field_search_slot places both). Kept apart from
+// cell that took darts (any, with FIELD_SPLIT_EVERY in p0) and stays open searches for its
+// children's covers to split (list 1, its length in slot FIELD_COUNTER_WORK + 7;
+// field_search_slot places both). Kept apart from
 // field_fates, and the two kinds apart from each other, since llvmpipe runs a search's code for
 // every SIMD batch of 8 cells that one of them reaches. words2: the round's dart counts, scanned
 // (their total in p2); p3: the round's stamp.
@@ -18,16 +19,15 @@ void main() {
     if (i >= a.count) return;
     FieldRun run = field_run();
     uvec3 cell = field_cell_block(a.cells, i);
-    FieldWords offsets = FieldWords(a.words2);
-    bool got = field_scan_end(offsets, i, a.count, a.p2) > offsets.value[i];
+    bool splits = field_splits(a.p0, FieldWords(a.words2), i, a.count, a.p2);
     uvec2 leaf = field_leaf_at(run.tree, cell.xy);
     uint stamp = run.touched.value[leaf.x];
     bool near = field_touched_in(stamp, a.p3);
     uint fate = FIELD_KEEP;
-    if (near || got) {
+    if (near || splits) {
         if (run.leaf_sample.value[leaf.x] != FIELD_NO_SAMPLE || stamp == field_touch_word(a.p3, true)) {
             fate = 0u;
-        } else if ((near && cell.z < leaf.y) || (got && cell.z > 0u)) {
+        } else if ((near && cell.z < leaf.y) || (splits && cell.z > 0u)) {
             uint list = near && cell.z < leaf.y ? 0u : 1u;
             uint k = atomicAdd(FieldWords(a.counters).value[FIELD_COUNTER_WORK + 4u * list + 3u], 1u);
             FieldWords(a.target).value[field_search_slot(list, k, a.count)] = i;

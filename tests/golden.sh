@@ -30,14 +30,14 @@ aeb0c3ec6bb26cba695373bfc0a4eb894ec33e404d908ec45f2902229d5f0f99 | --rf 0.02 --r
 3be2ba203644358cb0c3bf6849a97cdd3e8f0e517e538a371e3c4c76c1b48ccf | --rf 2 --rc 3 --extent 160,90 --seed 6
 51d1c63d86a54b8f2f8b8221b4307dbab453fbd3f288f861c49c98c7686aa83d | --radius 0.01 --hierarchy discrete:10 --seed 9
 d4a5705704c67a85e1afe053a6b82ff780958e8d146e859ea42ca29720707a27 | --radius 0.01 --hierarchy discrete:5 --boundary free --extent 1.2,1 --seed 4
-321befb78b3c069568e4a8c07695911e7c65533886f8b8008574559c26ac57ea | --sizing 0.01+0.05*x --rule smaller --boundary free --seed 1
-cbbe3632b2e90e9ed39f409da9fa237e54cb2e46bbc992fd5a13b760db72ced6 | --sizing 0.02+0.01*sin(2*pi*x)*cos(2*pi*y) --rule prior --seed 2
-b2be33571f6dfbe20e3364a2b4577af9b19a711afeb21e478de7d181ef8c4e29 | --sizing 0.004+0.02*d --rule bigger --weighting density --seed 3
-a3feafe0cf93c77bd41289f724a4a65ba96e9899e8d9a46e93459947738e6721 | --sizing 0.03+(0.006-0.03)*abs(sin(4*pi*d)) --rule current --extent 2,1 --seed 4
-1894ff5c05edab6c1db251d4024c5b52082332398a6d0d91be86347ab1d2faed | --sizing 0.002+0.04*x*y --rule prior --boundary free --extent 1.5,1 --seed 8
+45339365e1437a41d93a51332331367985ec45ee68cf25831faa787ff0f1fa9c | --sizing 0.01+0.05*x --rule smaller --boundary free --seed 1
+eb1476994a4e259e5d30721c08227381e59a856510b02409b9de52b006c7fe63 | --sizing 0.02+0.01*sin(2*pi*x)*cos(2*pi*y) --rule prior --seed 2
+9f0e6816fa9afc89c696875077a011067728f106660b962826b914a3a32b1972 | --sizing 0.004+0.02*d --rule bigger --weighting density --seed 3
+c0184423ca637f1ab26628202dc69bbc25e404064e712cfe4940ca8584e38d25 | --sizing 0.03+(0.006-0.03)*abs(sin(4*pi*d)) --rule current --extent 2,1 --seed 4
+a9a89960d0290fd9da220af96ac096b1a081793009a562dda16f9a08178774c9 | --sizing 0.002+0.04*x*y --rule prior --boundary free --extent 1.5,1 --seed 8
 c9c81e5824dd900774447ccd26c979c9b67a9d2767ed6ca3f16fadac1e1535a1 | --sizing 0.3+0.1*sin(2*pi*x) --rule current --seed 7
-44d57b5284d2ccddb713f1113168c1022075b83566caa00c3646c1ade3d3b915 | --sizing 0.006+0.003*sin(2*pi*x)*cos(2*pi*y) --rule bigger --hierarchy discrete:4:3 --seed 5
-8a5dcfbc8f2c41cd2d61fdb0fb34b075d9b3a139a5e884d3fd8c54639e41c7a8 | --sizing 0.004+0.03*abs(x-0.3) --rule bigger --boundary free --weighting density --seed 10
+e93fc60a2d01d4132a37cb1b1ff1a3ca69ccf1f73481dff368c09b7c817af1b2 | --sizing 0.006+0.003*sin(2*pi*x)*cos(2*pi*y) --rule bigger --hierarchy discrete:4:3 --seed 5
+985172adab7a4d7826aa3a90c27730e314912f277347f5c51404bc6e2242b999 | --sizing 0.004+0.03*abs(x-0.3) --rule bigger --boundary free --weighting density --seed 10
 EOF
 )
 

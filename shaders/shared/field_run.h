@@ -107,6 +107,9 @@ const uint FIELD_COUNTER_EXPONENTS = 24u;
 const uint FIELD_EXPONENT_BIAS = 64u;
 const uint FIELD_COUNTER_WORDS = FIELD_COUNTER_EXPONENTS + 128u;
 const uint FIELD_COUNTED = 0x80000000u;
+// Refinement's flag (field_triage.comp's p0, field_fates.comp's beside the list): every open cell
+// splits, not only those that took darts (field::splits_every_cell).
+const uint FIELD_SPLIT_EVERY = 2u;
 
 // The search steps an invocation has left, and whether it ran out (then its answers are void
 // and the run stops with an error).

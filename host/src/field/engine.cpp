@@ -1,9 +1,9 @@
 // The sampler of a sizing field (paper section 5): arrival-order random sequential adsorption on
 // the lattice, exact under the rule, maximal on the lattice. Rounds of darts, a Poisson process
 // over the active cells (uniform in the weighted measure), resolved in arrival order; active
-// cells dropped when one sample covers them under the rule, split where darts fell (the tests
-// against the samples: field/cover.cpp; resolution: field/resolve.cpp). Design and bounds:
-// docs/design.md, "Sizing fields".
+// cells dropped when one sample covers them under the rule, split where darts fell or, once few
+// are left, all open ones (the tests against the samples: field/cover.cpp; resolution:
+// field/resolve.cpp). Design and bounds: docs/design.md, "Sizing fields".
 #include <algorithm>
 #include <array>
 #include <atomic>
@@ -221,6 +221,7 @@ std::uint32_t FieldSampler::refine() {
     // cells to the next list from its offset: every cell is copied once, and no third list is held.
     std::vector<std::uint64_t> first(cell_chunks() + 1, 0);
     std::vector<std::uint32_t> least(first.size() - 1, UINT32_MAX);  // per chunk, the next list's least bits
+    const bool every = splits_every_cell(cells_.size(), tree_.leaves());
     for_cells([&](std::size_t begin, std::size_t end, unsigned w) {
         std::vector<std::uint32_t> near;
         std::uint64_t count = 0;
@@ -230,8 +231,9 @@ std::uint32_t FieldSampler::refine() {
             const uvec2 corner = cells_.corner(i);
             if (i == begin || !at.holds(corner)) at = tree_.leaf_at(corner);
             const std::uint32_t leaf = at.index;
-            const bool got = got_[i] != 0;
-            if (!got && !stamped(leaf)) {  // no dart and no sample of this round near: kept
+            // Whether it splits if it stays open: it took darts, or every cell does (field_splits).
+            const bool splits = got_[i] != 0 || every;
+            if (!splits && !stamped(leaf)) {  // no dart and no sample of this round near: kept
                 got_[i] = kKeep;
                 ++count;
                 least_bits = std::min(least_bits, cells_.bits(i));
@@ -242,7 +244,7 @@ std::uint32_t FieldSampler::refine() {
             std::uint8_t fate = 0;
             if (tree_.sample(leaf) != FieldQuadtree::kNone || covered_by_fresh(c.corner, far_corner(c), leaf, whole)) {
                 fate = 0;
-            } else if (!got || c.bits == 0) {
+            } else if (!splits || c.bits == 0) {
                 fate = kKeep;
             } else {
                 // Split: the children are tested against every sample that may cover part of the

@@ -15,6 +15,15 @@ namespace vrpd::detail::field {
 constexpr double kLambda = 0.3;
 constexpr double kSplitAbove = 4.0;
 
+// Refinement splits the open cells that took darts; once the active cells are at most a
+// kSplitEveryBelow-th of the leaves, it splits every open cell, as the one-radius sampler does at
+// each level. A cell without a dart then need not wait for one to shrink towards its gaps, so
+// the tail's rounds, each a few submits on a device however few its cells, are fewer; earlier,
+// when most cells would take no dart, searching each for its children's covers costs more than
+// the rounds it spares.
+constexpr std::uint64_t kSplitEveryBelow = 16;
+inline bool splits_every_cell(std::uint64_t cells, std::uint64_t leaves) { return cells * kSplitEveryBelow <= leaves; }
+
 // Cells counted by the exponent of their weighted area, entry e + kExponentBias.
 constexpr int kExponentBias = 64;
 using ExponentCounts = std::array<std::uint64_t, 128>;

@@ -56,7 +56,7 @@ Sampling FieldVulkan::run(const FieldTable& table, const FieldQuadtree& tree, co
     tree.each_leaf([&](std::uint32_t leaf, glm::uvec2 corner, std::uint32_t bits) {
         cells[leaf] = {2 * corner.x + (1u << bits), corner.y};
     });
-    active_ = cells.size();
+    active_ = leaves_ = cells.size();
     capacity_ = std::max<std::uint64_t>({1024, active_ / 4, given.size()});
     std::vector<Buffer> staging;
     run_ = Buffer(ctx_, sizeof(FieldRun), true);

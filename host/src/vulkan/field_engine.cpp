@@ -182,6 +182,8 @@ bool FieldVulkan::refine_list(std::uint32_t mode, std::uint32_t param, std::uint
         // The cells whose fate needs a search listed, those that search for a cover apart from
         // those that only split, and each list dispatched to field_fates.
         a.target = searches_.address();
+        const std::uint32_t every = field::splits_every_cell(active_, leaves_) ? FIELD_SPLIT_EVERY : 0u;
+        a.p0 = every;
         dispatch(field_triage_, a, 0, active_);
         ctx_.barrier();
         for (std::uint32_t list = 0; list < 2; ++list) {
@@ -193,7 +195,7 @@ bool FieldVulkan::refine_list(std::uint32_t mode, std::uint32_t param, std::uint
         a.first = 0;
         a.p1 = std::uint32_t(active_);
         for (std::uint32_t list = 0; list < 2; ++list) {
-            a.p0 = list;
+            a.p0 = list | every;
             ctx_.dispatch_indirect(field_fates_, &a, counters_, (FIELD_COUNTER_WORK + 4 * list) * 4);
         }
     }

@@ -125,6 +125,8 @@ private:
     Buffer cells_, next_, fates_, counts_, offsets_, raw_, flags_, darts_, states_, pairs_, keys_;
     Buffer searches_;  // the refinement's work list: the cells whose fate needs a search
     std::uint64_t active_ = 0, samples_ = 0, capacity_ = 0, darts_thrown_ = 0, thrown_ = 0;  // thrown_: this round's
+    // The run's leaves, against which the active cells' count decides whether every open cell splits.
+    std::uint64_t leaves_ = 0;
     std::uint32_t least_bits_ = UINT32_MAX;
     shared::FieldRun run_args_{};
 };
