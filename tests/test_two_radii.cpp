@@ -16,6 +16,7 @@
 #include "vulkan/buffer.h"
 #include "vulkan/device.h"
 #include "vulkan/kernel.h"
+#include "vulkan/vulkan_engine.h"
 
 using namespace vrpd;
 using vrpd::test::options;
@@ -104,6 +105,29 @@ TEST_CASE("two radii: conflict-free at Rf, inside the box, gpu = cpu = serial", 
             CHECK(gpu.stats.darts == serial.stats.darts);
         }
     }
+}
+
+// A submit the host waits on costs a real GPU a queue's latency however little it carries. Past
+// the first rounds a two-radii round waits twice: once for its dart cells' list at its worst-case
+// size and the darts counted over it, once for the resolution passes with the round's end behind
+// their gate. Setup, read-back and the first rounds' larger lists add ten.
+TEST_CASE("two radii: the Vulkan engine waits on the device twice a deep round", "[two-radii][gpu]") {
+    const Sampling gpu = sample(two_radii(0.004, 0.008, 3, Backend::Gpu));
+    CHECK(gpu.stats.rounds >= 5);
+    CHECK(gpu.stats.round_trips > gpu.stats.rounds);
+    CHECK(gpu.stats.round_trips <= 2 * gpu.stats.rounds + 10);
+}
+
+// With one resolution pass a submit, the T tests' waits make the deep rounds' resolutions outrun
+// the submit that carries their gated end: the gate must hold it, and the end recorded with the
+// submit that finishes the passes gives the host's points.
+TEST_CASE("two radii: a gated round end waits for its resolution's last submit", "[two-radii][gpu]") {
+    const SampleOptions o = two_radii(0.004, 0.008, 5, Backend::Gpu);
+    const detail::Plan plan = detail::make_plan(o);
+    detail::VulkanEngine engine(plan, o.device, nullptr, 1);
+    const Sampling gpu = detail::run_plan(o, plan, engine);
+    CHECK(engine.shut_gates() > 0);
+    CHECK(gpu.lattice == sample(two_radii(0.004, 0.008, 5, Backend::Cpu)).lattice);
 }
 
 // The cpu backend on two threads decides a round in arrival order, a strip of base-cell rows a

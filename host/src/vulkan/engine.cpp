@@ -172,15 +172,17 @@ RoundResult VulkanEngine::round(const RoundSpec& spec, const RoundSpec* next) {
     // Cells whose children refinement counts: the list's, or in mask mode none (the masks go
     // to the ranks region, over the base cells).
     const std::uint32_t listed = masked ? 0 : active_;
-    // One radius, list mode: when the next active list is small even at its worst-case size
-    // (every cell keeping all its children), this round's last submit writes it at that size and
-    // counts the next round's darts over it, so that the next round starts with its throw: two
-    // round trips fewer. Larger lists (the first levels) are written at their exact size.
+    // List mode: when the next active list is small even at its worst-case size (every cell
+    // keeping all its children), this round's last submit writes it at that size, one round trip
+    // fewer; with one radius it also counts the next round's darts over it (`precount`), so that
+    // the next round starts with its throw, one more (two radii's darts go to the base cells near
+    // the list, which the next round lists first). Larger lists (the first levels) are written at
+    // their exact size.
     const bool counted = counted_ && *counted_ == spec;
     counted_.reset();
     const std::uint64_t bound = std::uint64_t(active_) * spec.fanout();
-    const RoundSpec* next_listed = next && !masked && !two ? next : nullptr;
-    const bool worst_case = next_listed && bound * sizeof(uvec2) <= ctx_.peak_allocated_bytes() / kWorstCaseShare;
+    const bool worst_case = !masked && bound * sizeof(uvec2) <= ctx_.peak_allocated_bytes() / kWorstCaseShare;
+    const RoundSpec* precount = !masked && !two ? next : nullptr;
 
     // Submit 1, unless counted: dart counts and their prefix sums.
     if (!counted) {
@@ -195,20 +197,20 @@ RoundResult VulkanEngine::round(const RoundSpec& spec, const RoundSpec* next) {
     const std::uint32_t darts = counter(COUNTER_DARTS);
     if (darts >= MAX_ROUND_DARTS) throw Error("a round would throw more than 2^30 darts");
 
-    // One radius: the commit shares a submit with the emission when the darts are few (an eighth
+    // The commit shares a submit with the emission when the darts are few (an eighth
     // of the peak device memory, at the sort's 12 bytes each) and the samples' buffer has room for
     // every dart. The emission then sorts all the darts' key slots, those of darts not accepted
     // keyed past every dart (2^32 - 1, after any accepted dart by stability), for the accepted
     // count is not known when it is recorded. Else the commit takes a submit of its own, whose
     // count sizes the emission and the sort.
-    const bool few = !two && std::uint64_t(darts) * 12 <= ctx_.peak_allocated_bytes() / kWorstCaseShare;
+    const bool few = std::uint64_t(darts) * 12 <= ctx_.peak_allocated_bytes() / kWorstCaseShare;
     const std::uint64_t room = (emitted_ + darts) * sizeof(uvec2);
     // Submit 2..: throw (rejecting darts covered by earlier samples), resolve in arrival order.
     const Scratch at(n, darts, listed, masked);
     // Keeps the prefix sums; makes room for the next round's (precount).
-    grow(ctx_, scratch_, worst_case ? std::max(at.end, (bound + 1) * 4) : at.end, true);
+    grow(ctx_, scratch_, worst_case && precount ? std::max(at.end, (bound + 1) * 4) : at.end, true);
     primitives_.reserve_scan(std::uint64_t(std::max(darts, active_)) + 1);
-    if (worst_case) primitives_.reserve_scan(bound + 1);  // the next round's counts (record_refinement)
+    if (worst_case && precount) primitives_.reserve_scan(bound + 1);  // the next round's counts (record_refinement)
     // The darts get a buffer of their own, freed once they are emitted: the next active list
     // is then allocated in their place. When mask mode ends, refine_masked parks half of each
     // base cell's 64-bit mask there too.
@@ -226,10 +228,11 @@ RoundResult VulkanEngine::round(const RoundSpec& spec, const RoundSpec* next) {
     const bool grow_samples =
         few && samples_.size() < room && ctx_.allocated_bytes() + grown + later <= ctx_.peak_allocated_bytes();
     const bool one_submit = few && (samples_.size() >= room || grow_samples);
-    // Gated (the deep rounds of one radius): each submit of resolution passes also carries the
-    // whole end of the round, its next active list at the worst-case size, behind a gate that
-    // zeroes the end's dispatches while darts are left undecided. Most such rounds are then one
-    // round trip; one whose passes outrun a submit runs the end with the submit that finishes them.
+    // Gated (the deep rounds): each submit of resolution passes also carries the whole end of the
+    // round, its next active list at the worst-case size, behind a gate that zeroes the end's
+    // dispatches while darts are left undecided. Most such rounds are then one round trip (two
+    // radii: one more, which lists the round's dart cells); one whose passes outrun a submit runs
+    // the end with the submit that finishes them.
     const bool gated = one_submit && worst_case;
     if (one_submit) primitives_.reserve_sort(darts);
     VkCommandBuffer cmd = ctx_.begin();
@@ -261,7 +264,7 @@ RoundResult VulkanEngine::round(const RoundSpec& spec, const RoundSpec* next) {
     // List mode: the round's end up to its last submit; returns the next active list.
     auto record_end = [&] {
         record_emission(a, d, one_submit);
-        return record_refinement(spec, regions, ranks, child_side, fanout, next_listed, worst_case);
+        return record_refinement(spec, regions, ranks, child_side, fanout, precount, worst_case);
     };
     Buffer list;  // gated: the next active list
     std::uint32_t in = 0;
@@ -306,6 +309,8 @@ RoundResult VulkanEngine::round(const RoundSpec& spec, const RoundSpec* next) {
         ctx_.submit_and_wait();
         active_ = adopt(std::move(list));
     }
+    // Two radii: a dart whose T test passed its bounds (flagged by the commit) fails the run.
+    if (counter(COUNTER_TOO_COMPLEX)) throw Error(kTooComplex);
     emitted_ += counter(COUNTER_ACCEPTED);
     return {darts, active_};
 }
@@ -321,7 +326,6 @@ void VulkanEngine::record_emission(const CellArgs& a, const DartArgs& d, bool on
     primitives_.scan(d.scan, std::uint64_t(darts) + 1, COUNTER_ACCEPTED);
     if (!one_submit) {
         ctx_.submit_and_wait();
-        if (counter(COUNTER_TOO_COMPLEX)) throw Error(kTooComplex);
         const std::uint64_t need = (emitted_ + counter(COUNTER_ACCEPTED)) * sizeof(uvec2);
         if (samples_.size() < need) grow(ctx_, samples_, std::max(need, samples_.size() + samples_.size() / 4), true);
         primitives_.reserve_sort(counter(COUNTER_ACCEPTED));
@@ -448,13 +452,25 @@ std::uint32_t VulkanEngine::list_flagged(CellArgs a, const Kernel& lister, std::
 
 // Two radii: lists the base cells that get darts this round (flag_dart_cells or
 // flag_free_cells, a scan of the flags, list_dart_cells) and returns their count. The flags
-// lie at the start of the scratch buffer; the list gets a buffer of its exact size.
+// lie at the start of the scratch buffer. Where the list is small even at its worst-case size
+// (each active base cell flags at most the (2 cover_reach + 1)^2 cells around it), it gets that
+// size, its unused entries (GRID_EMPTY, GRID_EMPTY), and the round's darts are counted over it
+// in the same submit (the counts' prefix sums over the unused entries add nothing): one round
+// trip where the exact size takes three. Else the list gets a buffer of its exact size.
 std::uint32_t VulkanEngine::list_dart_cells(const RoundSpec& spec) {
     const std::uint64_t bases = plan_.base_cells;
     grow(ctx_, scratch_, (bases + 1) * 4);
     primitives_.reserve_scan(bases + 1);
     const std::uint64_t flags = scratch_.address();
+    const std::uint64_t around = 2 * std::uint64_t(cover_reach(plan_.domain.radii)) + 1;
+    const std::uint64_t bound = spec.every_free_cell ? bases : std::min(bases, active_ * around * around);
+    const bool worst_case = bound * sizeof(uvec2) <= ctx_.peak_allocated_bytes() / kWorstCaseShare;
+    if (worst_case) {
+        dart_cells_ = Buffer();  // free first: the peak is then the new size, not both
+        dart_cells_ = Buffer(ctx_, std::max<std::uint64_t>(bound, 1) * sizeof(uvec2), false);
+    }
     VkCommandBuffer cmd = ctx_.begin();
+    if (worst_case) ctx_.vk().vkCmdFillBuffer(cmd, dart_cells_.handle(), 0, VK_WHOLE_SIZE, GRID_EMPTY);
     CellArgs a = cell_args(cells_.address(), {}, active_, spec.round, spec.side, 0);
     a.scan = flags;
     if (spec.every_free_cell) {
@@ -465,7 +481,17 @@ std::uint32_t VulkanEngine::list_dart_cells(const RoundSpec& spec) {
         ctx_.barrier();  // cleared flags before they are set
         ctx_.dispatch(flag_dart_cells_, &a, dispatch_groups(std::uint64_t(active_) + 1, WORKGROUP_SIZE));
     }
-    return list_flagged(a, list_dart_cells_, COUNTER_DART_CELLS, dart_cells_, sizeof(uvec2), &CellArgs::cells_out);
+    if (!worst_case)
+        return list_flagged(a, list_dart_cells_, COUNTER_DART_CELLS, dart_cells_, sizeof(uvec2), &CellArgs::cells_out);
+    ctx_.barrier();  // flags before their scan
+    primitives_.scan(flags, bases + 1, COUNTER_DART_CELLS);
+    a.cell_count = std::uint32_t(bases);
+    a.cells_out = dart_cells_.address();
+    ctx_.dispatch(list_dart_cells_, &a, dispatch_groups(bases, WORKGROUP_SIZE));
+    ctx_.barrier();  // the list before its counts overwrite the flags' ranks
+    record_counts(spec, count_darts_, dart_cells_.address(), std::uint32_t(bound));
+    ctx_.submit_and_wait();
+    return counter(COUNTER_DART_CELLS);
 }
 
 CellArgs VulkanEngine::cell_args(std::uint64_t cells, const Regions& r, std::uint32_t n, std::uint32_t round,
