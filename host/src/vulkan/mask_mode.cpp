@@ -99,7 +99,17 @@ void VulkanEngine::list_active_bases() {
     CellArgs a = cell_args(0, {}, std::uint32_t(bases), 0, 0, 0);
     a.scan = scratch_.address();
     ctx_.dispatch(flag_masked_, &a, dispatch_groups(bases + 1, WORKGROUP_SIZE));
-    listed_bases_ = list_flagged(a, list_masked_, COUNTER_LISTED, base_list_, sizeof(uint), &CellArgs::work);
+    ctx_.barrier();  // flags before their scan
+    primitives_.scan(a.scan, bases + 1, COUNTER_LISTED);
+    ctx_.submit_and_wait();
+    listed_bases_ = counter(COUNTER_LISTED);
+    base_list_ = Buffer();  // free first: the peak is then the new size, not both
+    base_list_ = Buffer(ctx_, std::uint64_t(listed_bases_) * sizeof(uint), false);
+    a.work = base_list_.address();
+    ctx_.begin();
+    ctx_.dispatch(list_masked_, &a, dispatch_groups(bases, WORKGROUP_SIZE));
+    ctx_.barrier();  // the list before the round's kernels read it
+    ctx_.submit_and_wait();
 }
 
 }  // namespace vrpd::detail

@@ -39,6 +39,10 @@ public:
     std::uint64_t shut_gates() const { return shut_gates_; }
 
 private:
+    // A round writes a list at its worst-case size, or sorts all its darts' slots (round), only
+    // while those bytes are at most 1 / kWorstCaseShare of the most device memory held so far:
+    // the early rounds, whose arrays make the peak, keep their exact sizes.
+    static constexpr std::uint64_t kWorstCaseShare = 8;
     // The device addresses of the scratch regions that the kernels over cells read.
     struct Regions {
         std::uint64_t scan = 0, darts = 0, work = 0, masks = 0;
@@ -89,8 +93,7 @@ private:
     std::uint32_t refine_masked(const RoundSpec& spec, std::uint64_t ranks, std::uint32_t child_side,
                                 std::uint32_t fanout, std::uint32_t n, std::uint64_t targets, const RoundSpec* next);
     void list_active_bases();
-    std::uint32_t list_flagged(shared::CellArgs a, const Kernel& lister, std::uint32_t total_slot, Buffer& list,
-                               std::uint64_t entry, std::uint64_t shared::CellArgs::*out);
+    // dart_cells.cpp: two radii's dart cells, and the round's darts counted over them.
     std::uint32_t list_dart_cells(const RoundSpec& spec);
     shared::CellArgs cell_args(std::uint64_t cells, const Regions& r, std::uint32_t n, std::uint32_t round,
                                std::uint32_t side, std::uint32_t param) const;
