@@ -21,7 +21,7 @@ std::uint32_t VulkanEngine::list_dart_cells(const RoundSpec& spec) {
     const std::uint64_t flags = scratch_.address();
     const std::uint64_t around = 2 * std::uint64_t(cover_reach(plan_.domain.radii)) + 1;
     std::uint64_t size = spec.every_free_cell ? bases : std::min(bases, active_ * around * around);
-    const bool worst_case = size * sizeof(uvec2) <= ctx_.peak_allocated_bytes() / kWorstCaseShare;
+    const bool worst_case = within_share(size * sizeof(uvec2));
     auto allocate = [&] {
         dart_cells_ = Buffer();  // free first: the peak is then the new size, not both
         dart_cells_ = Buffer(ctx_, std::max<std::uint64_t>(size, 1) * sizeof(uvec2), false);

@@ -174,7 +174,7 @@ RoundResult VulkanEngine::round(const RoundSpec& spec, const RoundSpec* next) {
     const bool counted = counted_ && *counted_ == spec;
     counted_.reset();
     const std::uint64_t bound = std::uint64_t(active_) * spec.fanout();
-    const bool worst_case = !masked && bound * sizeof(uvec2) <= ctx_.peak_allocated_bytes() / kWorstCaseShare;
+    const bool worst_case = !masked && within_share(bound * sizeof(uvec2));
     const RoundSpec* precount = !masked && !two ? next : nullptr;
 
     // Submit 1, unless counted: dart counts and their prefix sums.
@@ -196,7 +196,7 @@ RoundResult VulkanEngine::round(const RoundSpec& spec, const RoundSpec* next) {
     // keyed past every dart (2^32 - 1, after any accepted dart by stability), for the accepted
     // count is not known when it is recorded. Else the commit takes a submit of its own, whose
     // count sizes the emission and the sort.
-    const bool few = std::uint64_t(darts) * 12 <= ctx_.peak_allocated_bytes() / kWorstCaseShare;
+    const bool few = within_share(std::uint64_t(darts) * 12);
     const std::uint64_t room = (emitted_ + darts) * sizeof(uvec2);
     // Submit 2..: throw (rejecting darts covered by earlier samples), resolve in arrival order.
     const Scratch at(n, darts, listed, masked);

@@ -43,6 +43,7 @@ private:
     // while those bytes are at most 1 / kWorstCaseShare of the most device memory held so far:
     // the early rounds, whose arrays make the peak, keep their exact sizes.
     static constexpr std::uint64_t kWorstCaseShare = 8;
+    bool within_share(std::uint64_t bytes) const { return bytes <= ctx_.peak_allocated_bytes() / kWorstCaseShare; }
     // The device addresses of the scratch regions that the kernels over cells read.
     struct Regions {
         std::uint64_t scan = 0, darts = 0, work = 0, masks = 0;
