@@ -9,8 +9,9 @@
 // would be a locked or at a random place, into a word that 15 other darts share). Arrival order
 // is random in space, so the loop fetches the record of the dart 16 ahead and the grid rows
 // around the dart 8 ahead (with two radii, the rows of its T test's window). On several threads
-// each takes a strip of base-cell rows, waiting at its borders for the neighbouring strips'
-// earlier darts (decide_strip), and the strips' accepted darts are merged by arrival.
+// each takes a strip of base-cell rows, a dart near a border waiting for the neighbouring strip's
+// earlier darts near that border (decide_strip), and the strips' accepted darts are merged by
+// arrival.
 #include "arrival_order.h"
 
 #include <algorithm>
@@ -64,19 +65,34 @@ uint state_given_samples(const Domain& dom, Grid grid, uvec2 p, uvec2 cell) {
     return state_of_t(reaches_uncovered_at(dom, p, n));
 }
 
-// The strips of base-cell rows the threads take, and how far a dart's judgement reads.
+// The strips of base-cell rows the threads take, and how far a dart's judgement reads. A strip's
+// bottom zone is its rows within reach of the strip below (none at a free box's edge), its top
+// zone those within reach of the strip above; a dart's scans read another strip's rows only from
+// a zone, and then only the neighbour's facing zone.
 struct Strips {
     uint parts = 1;  // strip w holds rows [rows * w / parts, rows * (w + 1) / parts)
     uint rows = 0;
     int reach = 0;  // rows a dart's scans read either side of its own
     bool periodic = false;
     uint first_row(uint w) const { return uint(std::uint64_t(rows) * w / parts); }
-    // The strip holding row y: the last w with first_row(w) <= y.
-    uint of_row(uint y) const { return uint((std::uint64_t(y + 1u) * parts - 1u) / rows); }
+    uint below(uint w) const { return w > 0u ? w - 1u : periodic ? parts - 1u : parts; }  // parts: none
+    uint above(uint w) const { return w + 1u < parts ? w + 1u : periodic ? 0u : parts; }
+    // Each row's strip (the low bits) and zones (kBottom, kTop).
+    static constexpr uint kBottom = 1u << 30, kTop = 1u << 31;
+    std::vector<uint> row_strip;
+    void place_rows() {
+        row_strip.resize(rows);
+        for (uint w = 0; w < parts; ++w) {
+            const uint lo = first_row(w), hi = first_row(w + 1u);
+            for (uint y = lo; y < hi; ++y)
+                row_strip[y] = w | (below(w) < parts && int(y) < int(lo) + reach ? kBottom : 0u) |
+                               (above(w) < parts && int(y) + reach >= int(hi) ? kTop : 0u);
+        }
+    }
 };
 
-// Progress of one strip's thread through a quarter of the round: below it, every dart of the
-// strip is decided. Apart so the threads' stores do not share a cache line.
+// Progress of one strip's thread through one zone's darts of a quarter of the round: below it,
+// every dart of the zone is decided. Apart so the threads' stores do not share a cache line.
 struct alignas(64) Progress {
     std::atomic<std::uint64_t> next{0};
 };
@@ -111,6 +127,7 @@ std::uint64_t decide_in_arrival_order(const Domain& dom, Grid grid, Darts darts,
     // side, and of it only rows within reach of their border; and strip_darts darts a thread.
     const uint tall = uint(2 * strips.reach + 1);
     strips.parts = std::max(1u, std::min({pool.size(), dom.cells_y / tall, strip_darts ? count / strip_darts : count}));
+    if (strips.parts > 1u) strips.place_rows();
     // The window a dart's judgement reads: Rf's with one radius; with two radii the 2 Rc window
     // that the T test gathers, which about half the darts past the Rf and Rc scans take.
     const int fetched = two_radii(dom.radii) ? int(influence_reach(dom.radii)) : conflict;
@@ -138,9 +155,12 @@ std::uint64_t decide_in_arrival_order(const Domain& dom, Grid grid, Darts darts,
     };
     const uint parts = strips.parts;
     const bool whole = parts == 1u;
-    std::vector<Progress> progress(parts);
-    // listed[v][w]: the quarter's undecided darts of strip w among chunk v of the dart indices.
+    // progress[2 w]: strip w's bottom zone; progress[2 w + 1]: its top zone.
+    std::vector<Progress> progress(2 * parts);
+    // listed[v][w]: the quarter's undecided darts of strip w among chunk v of the dart indices;
+    // zoned[v][2 w + z]: those of them in the strip's bottom (z = 0) or top (z = 1) zone.
     std::vector<std::vector<Keys>> listed(parts, std::vector<Keys>(parts));
+    std::vector<std::vector<Keys>> zoned(parts, std::vector<Keys>(2 * parts));
     std::vector<std::vector<Accepted, Uninitialised<Accepted, true>>> accepted(parts);
     std::vector<std::uint64_t> held(parts, 0);
     std::atomic<bool> failed = false;
@@ -148,6 +168,7 @@ std::uint64_t decide_in_arrival_order(const Domain& dom, Grid grid, Darts darts,
         const uint begin = uint(std::uint64_t(count) * v / parts) & ~15u,
                    end = v + 1u == parts ? count : uint(std::uint64_t(count) * (v + 1u) / parts) & ~15u;
         std::vector<Keys>& lists = listed[v];
+        std::vector<Keys>& zones = zoned[v];
         for (uint block = begin; block < end; block += 16u) {  // darts.h: 16 records, then their states
             // Bit 2 i: dart block + i is undecided (state 0); the block's records past `end` are not.
             const uint states = load_state_word(darts, dart_state_word(block));
@@ -157,17 +178,38 @@ std::uint64_t decide_in_arrival_order(const Domain& dom, Grid grid, Darts darts,
             for (; open != 0u; open &= open - 1u) {
                 const uint i = uint(std::countr_zero(open)) / 2u;
                 const uint* word = record + 3u * i;
-                if (word[2] >> 30 == quarter)
-                    lists[whole ? 0u : strips.of_row(word[1] >> dom.cell_bits)].push_back(std::uint64_t(word[2]) << 32 |
-                                                                                          (block + i));
+                if (word[2] >> 30 != quarter) continue;
+                const std::uint64_t entry = std::uint64_t(word[2]) << 32 | (block + i);
+                if (whole) {
+                    lists[0].push_back(entry);
+                    continue;
+                }
+                const uint row = strips.row_strip[word[1] >> dom.cell_bits],
+                           w = row & ~(Strips::kBottom | Strips::kTop);
+                lists[w].push_back(entry);
+                if (row & Strips::kBottom) zones[2u * w].push_back(entry);
+                if (row & Strips::kTop) zones[2u * w + 1u].push_back(entry);
             }
         }
     };
-    // Strip w's darts of the quarter, in arrival order. A dart within reach of a neighbouring
-    // strip first waits until that strip's thread has decided every earlier dart of its own;
-    // that thread's later darts near the border wait in turn for this one. So a dart's scans see
-    // the earlier darts accepted near it and no later one, as on one thread: the same states.
-    // The thread furthest behind never waits, so the waits end.
+    // The quarter's darts of zone z (0 bottom, 1 top) of strip w, in arrival order.
+    auto zone_order = [&](uint w, uint z) {
+        Keys order;
+        for (uint v = 0; v < parts; ++v) {  // chunks in index order, as the sort needs
+            order.insert(order.end(), zoned[v][2u * w + z].begin(), zoned[v][2u * w + z].end());
+            Keys().swap(zoned[v][2u * w + z]);
+        }
+        sort_by_key(order);
+        return order;
+    };
+    // Strip w's darts of the quarter, in arrival order. A dart in a zone first waits until the
+    // neighbouring strip's thread has decided every earlier dart of its facing zone, the only
+    // darts of that strip the dart's scans can meet; that thread's later darts there wait in
+    // turn for this one. So a dart's scans see the earlier darts accepted near it and no later
+    // one, as on one thread: the same states. A zone's progress is the arrival key of its next
+    // undecided dart, which never arrived before its thread's current dart: so a dart waits only
+    // on a thread whose current dart arrived earlier, the thread whose current dart arrived first
+    // never waits, and the waits end.
     auto decide_strip = [&](uint w) {
         Keys order;
         std::size_t lists = 0;  // the listed capacity, held beside the list while it is copied
@@ -184,10 +226,19 @@ std::uint64_t decide_in_arrival_order(const Domain& dom, Grid grid, Darts darts,
         }
         sort_by_key(order);
         const std::size_t n = order.size();
-        if (!whole) progress[w].next.store(n > 0 ? order[0] : kQuarterDone, std::memory_order_release);
-        const uint lo = strips.first_row(w), hi = strips.first_row(w + 1u);
-        const uint below = w > 0u ? w - 1u : strips.periodic ? parts - 1u : parts;  // parts: none
-        const uint above = w + 1u < parts ? w + 1u : strips.periodic ? 0u : parts;
+        Keys zone[2];
+        std::size_t next_in_zone[2] = {0, 0};
+        if (!whole)
+            for (uint z = 0; z < 2u; ++z) {
+                zone[z] = zone_order(w, z);
+                progress[2u * w + z].next.store(zone[z].empty() ? kQuarterDone : zone[z][0], std::memory_order_release);
+            }
+        // After a dart of zone z: the zone's progress moves to its next dart.
+        auto passed = [&](uint z) {
+            const std::size_t i = ++next_in_zone[z];
+            progress[2u * w + z].next.store(i < zone[z].size() ? zone[z][i] : kQuarterDone, std::memory_order_release);
+        };
+        const uint below = strips.below(w), above = strips.above(w);
         auto wait_for = [&](uint u, std::uint64_t o) {
             for (uint spins = 0; progress[u].next.load(std::memory_order_acquire) <= o;) {
                 if (failed.load(std::memory_order_relaxed)) return false;
@@ -204,10 +255,9 @@ std::uint64_t decide_in_arrival_order(const Domain& dom, Grid grid, Darts darts,
             const uint r = dart_record(uint(order[k]));
             const uvec2 p(darts.word[r], darts.word[r + 1u]);
             const uvec2 cell = base_cell_of(dom, p);
-            if (!whole) {
-                if (below < parts && int(cell.y) < int(lo) + strips.reach && !wait_for(below, order[k])) return;
-                if (above < parts && int(cell.y) + strips.reach >= int(hi) && !wait_for(above, order[k])) return;
-            }
+            const uint row = whole ? 0u : strips.row_strip[cell.y];
+            if ((row & Strips::kBottom) && !wait_for(2u * below + 1u, order[k])) return;
+            if ((row & Strips::kTop) && !wait_for(2u * above, order[k])) return;
             uint state;
 #ifdef VRPD_HOST_AVX2
             if (vector_darts && inner_cell(dom, cell))
@@ -231,9 +281,11 @@ std::uint64_t decide_in_arrival_order(const Domain& dom, Grid grid, Darts darts,
                 else
                     accepted[w].push_back({order[k], p});
             }
-            if (!whole) progress[w].next.store(k + 1 < n ? order[k + 1] : kQuarterDone, std::memory_order_release);
+            if (row & Strips::kBottom) passed(0u);
+            if (row & Strips::kTop) passed(1u);
         }
-        const std::size_t lists_held = std::max(lists + order.capacity(), 2 * order.capacity());
+        const std::size_t lists_held =
+            std::max(lists + order.capacity(), 2 * order.capacity()) + zone[0].capacity() + zone[1].capacity();
         held[w] = std::max<std::uint64_t>(
             held[w], lists_held * sizeof(std::uint64_t) + accepted[w].capacity() * sizeof(Accepted));
     };
@@ -273,7 +325,7 @@ std::uint64_t decide_in_arrival_order(const Domain& dom, Grid grid, Darts darts,
                 failed = true;
                 throw;
             }
-            progress[w].next.store(kQuarterDone, std::memory_order_release);
+            for (uint z = 0; z < 2u; ++z) progress[2u * w + z].next.store(kQuarterDone, std::memory_order_release);
         });
         const std::size_t base = out.size();
         std::size_t total = 0;
