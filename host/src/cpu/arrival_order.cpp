@@ -192,12 +192,16 @@ std::uint64_t decide_in_arrival_order(const Domain& dom, Grid grid, Darts darts,
             }
         }
     };
-    // The quarter's darts of zone z (0 bottom, 1 top) of strip w, in arrival order.
-    auto zone_order = [&](uint w, uint z) {
+    // The chunks' lists in slot `slot` of `lists` (listed or zoned) joined and sorted into
+    // arrival order, each freed once copied; `held` gains the capacity they held beside the join.
+    auto join_sorted = [&](std::vector<std::vector<Keys>>& lists, uint slot, std::size_t& held) {
         Keys order;
+        std::size_t n = 0;
+        for (uint v = 0; v < parts; ++v) n += lists[v][slot].size(), held += lists[v][slot].capacity();
+        order.reserve(n);
         for (uint v = 0; v < parts; ++v) {  // chunks in index order, as the sort needs
-            order.insert(order.end(), zoned[v][2u * w + z].begin(), zoned[v][2u * w + z].end());
-            Keys().swap(zoned[v][2u * w + z]);
+            order.insert(order.end(), lists[v][slot].begin(), lists[v][slot].end());
+            Keys().swap(lists[v][slot]);
         }
         sort_by_key(order);
         return order;
@@ -212,25 +216,19 @@ std::uint64_t decide_in_arrival_order(const Domain& dom, Grid grid, Darts darts,
     // never waits, and the waits end.
     auto decide_strip = [&](uint w) {
         Keys order;
-        std::size_t lists = 0;  // the listed capacity, held beside the list while it is copied
+        std::size_t lists = 0;  // the chunks' lists' capacity, held beside the joined lists while copied
         if (whole) {
             order.swap(listed[0][0]);
+            sort_by_key(order);
         } else {
-            std::size_t n = 0;
-            for (uint v = 0; v < parts; ++v) n += listed[v][w].size(), lists += listed[v][w].capacity();
-            order.reserve(n);
-            for (uint v = 0; v < parts; ++v) {  // chunks in index order, as the sort needs
-                order.insert(order.end(), listed[v][w].begin(), listed[v][w].end());
-                Keys().swap(listed[v][w]);
-            }
+            order = join_sorted(listed, w, lists);
         }
-        sort_by_key(order);
         const std::size_t n = order.size();
         Keys zone[2];
         std::size_t next_in_zone[2] = {0, 0};
         if (!whole)
             for (uint z = 0; z < 2u; ++z) {
-                zone[z] = zone_order(w, z);
+                zone[z] = join_sorted(zoned, 2u * w + z, lists);
                 progress[2u * w + z].next.store(zone[z].empty() ? kQuarterDone : zone[z][0], std::memory_order_release);
             }
         // After a dart of zone z: the zone's progress moves to its next dart.
@@ -336,7 +334,7 @@ std::uint64_t decide_in_arrival_order(const Domain& dom, Grid grid, Darts darts,
         });
         for (auto& a : accepted) a.clear();
     }
-    std::uint64_t total = 0;
+    std::uint64_t total = strips.row_strip.capacity() * sizeof(uint);
     for (std::uint64_t h : held) total += h;
     return total;
 }
